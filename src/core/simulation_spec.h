@@ -1,0 +1,162 @@
+// SimulationSpec: everything a simulation is built from, as plain data. The deck parser
+// (io/deck) produces it from YAML keeping each value's source location; sim/world builds a
+// World from it; the C ABI and tests can fill it directly without any deck. SI units.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/vec3.h"
+
+namespace quarry {
+
+enum class Integrator { velocity_verlet, symplectic_euler };
+enum class NormalModel { hertz_mindlin, linear };
+enum class RollingModel { none, constant_torque, epsd };
+
+struct SimulationSettings {
+  Located<double> end_time{0.0};              // s
+  // Time step: either fixed (s) or a fraction of the Rayleigh time step (default 0.2).
+  std::optional<Located<double>> fixed_time_step;  // s
+  Located<double> rayleigh_fraction{0.2};     // 1
+  // Expected impact speed for the Hertz contact-time check (m/s); if absent, estimated from
+  // the factories' initial speed and free fall over the domain height.
+  std::optional<Located<double>> impact_speed;
+  Located<Vec3> gravity{Vec3{0.0, 0.0, -9.81}};  // m/s²
+  Located<Aabb> domain;                       // m; particles leaving it are removed and counted
+  Located<Integrator> integrator{Integrator::velocity_verlet};
+  Located<int> threads{0};                    // 0 = OpenMP default
+  Located<double> skin{-1.0};                 // m; < 0 = 0.1 × smallest diameter
+  Located<int> sort_interval{1000};           // steps between spatial re-sorts (0 = never)
+  Located<double> max_overlap_fraction{0.1};  // guard: overlap / smaller radius
+  std::uint64_t seed = 12345;                 // random seed for factories
+};
+
+struct MaterialSpec {
+  Located<std::string> name;
+  Located<double> density{0.0};        // kg/m³
+  Located<double> youngs_modulus{0.0}; // Pa
+  Located<double> poisson_ratio{0.0};  // 1
+};
+
+// Interaction between two materials (order-independent).
+struct InteractionSpec {
+  Located<std::string> material_a, material_b;
+  Located<double> restitution{0.5};             // 1, in (0, 1]
+  Located<double> static_friction{0.5};         // 1
+  Located<double> rolling_friction{0.0};        // 1
+  Located<RollingModel> rolling_model{RollingModel::constant_torque};
+  Located<double> cohesion_energy_density{0.0}; // J/m³ (SJKR)
+  Located<NormalModel> normal_model{NormalModel::hertz_mindlin};
+  // Linear spring-dashpot: normal stiffness (N/m); tangential = ratio × normal.
+  Located<double> linear_stiffness{0.0};
+  Located<double> linear_tangential_ratio{2.0 / 7.0};
+  Located<bool> clip_attraction{false};         // clip total normal force at zero
+};
+
+enum class SizeDistributionKind { fixed, uniform, normal, log_normal, discrete };
+
+struct SizeDistributionSpec {
+  Located<SizeDistributionKind> kind{SizeDistributionKind::fixed};
+  Located<double> radius{0.0};             // fixed (m)
+  Located<double> min_radius{0.0}, max_radius{0.0};  // uniform; also clip bounds for normal/log-normal
+  Located<double> mean_radius{0.0}, std_radius{0.0};  // normal (m)
+  Located<double> log_mean{0.0}, log_std{0.0};        // log-normal: ln(R/1 m) mean and std
+  std::vector<Located<double>> discrete_radii;          // m
+  std::vector<Located<double>> discrete_mass_fractions; // sum to 1
+};
+
+struct ParticleTypeSpec {
+  Located<std::string> name;
+  Located<std::string> material;
+  SizeDistributionSpec size;
+};
+
+enum class MotionKind { none, translation, rotation, vibration };
+
+struct MotionSpec {
+  Located<MotionKind> kind{MotionKind::none};
+  Located<Vec3> velocity;              // translation (m/s)
+  Located<Vec3> axis_point, axis_direction{Vec3{0, 0, 1}};  // rotation axis
+  Located<double> angular_velocity{0.0};  // rad/s about axis_direction (right hand)
+  Located<Vec3> amplitude;             // vibration displacement amplitude (m)
+  Located<double> frequency{0.0};      // Hz; x(t) = x0 + A sin(2π f t)
+  Located<double> start_time{0.0}, stop_time{1e300};  // s
+};
+
+enum class SurfaceKind { stl, plane, box, cylinder };
+
+struct SurfaceSpec {
+  Located<std::string> name;
+  Located<SurfaceKind> kind{SurfaceKind::stl};
+  Located<std::string> file;            // stl: path relative to the deck
+  Located<double> scale{1.0};           // stl: coordinates × scale (e.g. 0.001 for mm files)
+  Located<Vec3> offset;                 // stl: added after scaling (m)
+  // plane: point + normal, finite extent given by size (m) as a square centred at point.
+  Located<Vec3> point, normal{Vec3{0, 0, 1}};
+  Located<double> size{1.0};
+  // box: closed box [min, max] with inward-facing walls; cylinder: axis from base along
+  // axis_direction, radius, length, optional caps.
+  Located<Vec3> min, max;
+  Located<Vec3> base, axis{Vec3{0, 0, 1}};
+  Located<double> radius{0.0}, length{0.0};
+  Located<bool> capped{false};
+  Located<int> resolution{32};           // cylinder: segments around
+  Located<std::string> material;
+  MotionSpec motion;
+  Located<Vec3> conveyor_velocity;      // tangential surface velocity (m/s), no geometric motion
+  Located<bool> export_loads{false};    // flagged for FEM load export (issue 4)
+};
+
+enum class RegionKind { box, cylinder };
+
+struct RegionSpec {
+  Located<RegionKind> kind{RegionKind::box};
+  Located<Vec3> min, max;               // box (m)
+  Located<Vec3> base, axis{Vec3{0, 0, 1}};  // cylinder
+  Located<double> radius{0.0}, length{0.0};
+};
+
+struct FactorySpec {
+  Located<std::string> name;
+  Located<std::string> particle_type;
+  RegionSpec region;
+  std::optional<Located<std::int64_t>> target_count;  // particles
+  std::optional<Located<double>> target_mass;         // kg
+  std::optional<Located<double>> mass_rate;           // kg/s; absent = all at start_time
+  Located<double> start_time{0.0}, stop_time{1e300};  // s
+  Located<Vec3> initial_velocity;                     // m/s
+  Located<int> max_attempts{50};                      // placement tries per particle
+};
+
+struct MonitorSpec {
+  Located<std::string> name;
+  // Mass inside this region is reported if present.
+  std::optional<RegionSpec> region;
+};
+
+struct OutputSpec {
+  Located<std::string> directory{std::string("out")};
+  Located<double> interval{0.0};        // s between VTU frames (0 = only final)
+  Located<double> monitor_interval{0.0};  // s between CSV monitor rows (0 = every output)
+  Located<double> checkpoint_interval{0.0};  // s (0 = none, except on SIGINT/SIGTERM)
+  Located<bool> plots{true};            // PNG plots of the monitors at the end
+  Located<double> progress_interval{2.0};  // wall-clock s between progress lines
+};
+
+struct SimulationSpec {
+  std::string deck_path;                // for messages; empty when built in code
+  SimulationSettings simulation;
+  std::vector<MaterialSpec> materials;
+  std::vector<InteractionSpec> interactions;
+  std::vector<ParticleTypeSpec> particle_types;
+  std::vector<SurfaceSpec> surfaces;
+  std::vector<FactorySpec> factories;
+  std::vector<MonitorSpec> monitors;
+  OutputSpec output;
+};
+
+}  // namespace quarry

@@ -1,0 +1,59 @@
+// Surface: a triangle mesh that particles touch — walls, moving equipment, and (later) the
+// skin of an FEM structure. Vertices can be moved from outside (prescribed motion or
+// coupling). Each step it accumulates contact forces per triangle and per vertex; over an
+// output window it averages them into pressure and shear stress. Element ids = input order.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/vec3.h"
+
+namespace quarry {
+
+struct Surface {
+  std::string name;
+  std::uint16_t material = 0;
+  // ---- geometry (m, m/s); triangle t has vertices vertices[triangles[t][k]] ----
+  std::vector<Vec3> reference_vertices;          // as read/generated, before motion
+  std::vector<Vec3> vertices;                    // current positions
+  std::vector<Vec3> vertex_velocities;           // current velocities (m/s)
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<Vec3> triangle_normals;            // unit, right-hand rule of vertex order
+  std::vector<double> triangle_areas;            // m²
+  Vec3 conveyor_velocity;                        // tangential surface velocity added at contacts
+  bool export_loads = false;
+
+  // ---- per-step contact loads (reset each step, filled by the particle–surface stage) ----
+  std::vector<Vec3> triangle_force;              // N, force the particles exert on the triangle
+  std::vector<Vec3> vertex_force;                // N, barycentric share of each contact force
+  Vec3 total_force;                              // N
+  Vec3 total_torque;                             // N·m about the origin
+
+  // ---- output-window accumulators: ∫ quantity dt over the window (N·s), window length ----
+  std::vector<Vec3> window_force_impulse;        // N·s
+  std::vector<double> window_normal_impulse;     // N·s, compressive normal part (along −normal)
+  std::vector<Vec3> window_shear_impulse;        // N·s, tangential part
+  double window_time = 0.0;                      // s
+
+  std::size_t triangle_count() const { return triangles.size(); }
+  std::size_t vertex_count() const { return vertices.size(); }
+
+  // Recomputes triangle_normals and triangle_areas from vertices.
+  void update_normals_and_areas();
+  // Sizes the load arrays to the mesh and zeroes them (call after the mesh changes).
+  void reset_loads();
+  // Zeroes the per-step loads (triangle_force, vertex_force, totals).
+  void clear_step_loads();
+  // Adds this step's loads × dt to the window accumulators.
+  void accumulate_window(double dt);
+  // Window means: pressure (Pa) and shear stress (Pa, vector) and force (N) per triangle.
+  void window_means(std::vector<double>& pressure, std::vector<Vec3>& shear,
+                    std::vector<Vec3>& force) const;
+  void clear_window();
+  Aabb bounds() const;
+};
+
+}  // namespace quarry
