@@ -14,6 +14,11 @@ namespace quarry {
 
 using ParticleId = std::uint64_t;
 
+// Loops over fewer particles than this run on one thread: below it, starting an OpenMP team
+// costs more than the work. Results are bit-identical either way; the determinism tests set it
+// to 0 so that small scenes do run on several threads.
+inline std::size_t parallel_threshold = 2048;
+
 struct ParticleStore {
   // ---- hot: the time step reads/writes these ----
   std::vector<Vec3> position;          // m
