@@ -1,0 +1,122 @@
+// SurfaceGrid: sparse uniform grid (sorted occupied-cell keys + compressed triangle lists).
+// A triangle is stored only in the cells its plane crosses, so a large slanted triangle costs a
+// sheet of cells, not the volume of its bounding box.
+#include "geometry/surface_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace quarry {
+
+std::int64_t SurfaceGrid::cell_coordinate(double value, int axis) const {
+  // Clamped in floating point first: a far-away (or NaN) value must not overflow the cast.
+  const double scaled = std::floor((value - origin_[axis]) / cell_size_);
+  if (!(scaled > 0.0)) return 0;
+  if (scaled >= static_cast<double>(dims_[axis] - 1)) return dims_[axis] - 1;
+  return static_cast<std::int64_t>(scaled);
+}
+
+void SurfaceGrid::build(const Surface& surface, double cell_size) {
+  if (!(cell_size > 0.0)) throw std::invalid_argument("SurfaceGrid::build: cell_size must be positive");
+  cell_keys_.clear();
+  cell_offsets_.assign(1, 0);
+  cell_triangles_.clear();
+  triangle_boxes_.resize(surface.triangles.size());
+  Aabb all;
+  for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
+    Aabb box;
+    for (int k = 0; k < 3; ++k) box.expand(surface.vertices[surface.triangles[t][k]]);
+    triangle_boxes_[t] = box;
+    all.expand(box.lo);
+    all.expand(box.hi);
+  }
+  cell_size_ = cell_size;
+  if (all.empty()) {
+    dims_[0] = dims_[1] = dims_[2] = 1;
+    return;
+  }
+  origin_ = all.lo;
+  const Vec3 extent = all.hi - all.lo;
+  for (;;) {
+    std::uint64_t total = 1;
+    bool fits = true;
+    for (int a = 0; a < 3; ++a) {
+      dims_[a] = static_cast<std::int64_t>(std::floor(extent[a] / cell_size_)) + 1;
+      if (dims_[a] > static_cast<std::int64_t>(max_cells)) fits = false;
+      if (fits) total *= static_cast<std::uint64_t>(dims_[a]);
+      if (total > max_cells) fits = false;
+    }
+    if (fits) break;
+    cell_size_ *= 1.25;  // coarsen until the grid fits; few iterations for any sane mesh
+  }
+
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;  // (cell key, triangle)
+  entries.reserve(2 * surface.triangles.size());
+  const double half_cell = 0.5 * cell_size_;
+  for (std::uint32_t t = 0; t < surface.triangles.size(); ++t) {
+    const Aabb& box = triangle_boxes_[t];
+    const Vec3& a = surface.vertices[surface.triangles[t][0]];
+    const Vec3 normal_unnormalised = cross(surface.vertices[surface.triangles[t][1]] - a,
+                                           surface.vertices[surface.triangles[t][2]] - a);
+    const double normal_length = norm(normal_unnormalised);
+    const Vec3 normal = normal_length > 0.0 ? normal_unnormalised / normal_length : Vec3{};
+    // Projected half-width of a cell onto the normal (plane–box overlap test, Akenine-Möller
+    // 2001), with 1e-9 slack so a plane lying exactly on a cell face lands in both cells.
+    const double reach = half_cell * (std::abs(normal.x) + std::abs(normal.y) + std::abs(normal.z)) * (1.0 + 1e-9);
+    const std::int64_t i0 = cell_coordinate(box.lo.x, 0), i1 = cell_coordinate(box.hi.x, 0);
+    const std::int64_t j0 = cell_coordinate(box.lo.y, 1), j1 = cell_coordinate(box.hi.y, 1);
+    const std::int64_t k0 = cell_coordinate(box.lo.z, 2), k1 = cell_coordinate(box.hi.z, 2);
+    for (std::int64_t k = k0; k <= k1; ++k)
+      for (std::int64_t j = j0; j <= j1; ++j)
+        for (std::int64_t i = i0; i <= i1; ++i) {
+          if (normal_length > 0.0) {
+            const Vec3 centre = origin_ + Vec3{(i + 0.5) * cell_size_, (j + 0.5) * cell_size_, (k + 0.5) * cell_size_};
+            if (std::abs(dot(normal, centre - a)) > reach) continue;
+          }
+          entries.emplace_back(key(i, j, k), t);
+        }
+  }
+  std::sort(entries.begin(), entries.end());
+  cell_triangles_.resize(entries.size());
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    if (e == 0 || entries[e].first != entries[e - 1].first) {
+      if (e > 0) cell_offsets_.push_back(static_cast<std::uint32_t>(e));
+      cell_keys_.push_back(entries[e].first);
+    }
+    cell_triangles_[e] = entries[e].second;
+  }
+  if (!entries.empty()) cell_offsets_.push_back(static_cast<std::uint32_t>(entries.size()));
+}
+
+void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_out) const {
+  triangles_out.clear();
+  if (cell_keys_.empty() || box.empty()) return;
+  // A box entirely outside the grid touches nothing (cell_coordinate clamps, so test first).
+  const Vec3 grid_hi = origin_ + Vec3{dims_[0] * cell_size_, dims_[1] * cell_size_, dims_[2] * cell_size_};
+  for (int a = 0; a < 3; ++a)
+    if (box.hi[a] < origin_[a] || box.lo[a] > grid_hi[a]) return;
+  const std::int64_t i0 = cell_coordinate(box.lo.x, 0), i1 = cell_coordinate(box.hi.x, 0);
+  const std::int64_t j0 = cell_coordinate(box.lo.y, 1), j1 = cell_coordinate(box.hi.y, 1);
+  const std::int64_t k0 = cell_coordinate(box.lo.z, 2), k1 = cell_coordinate(box.hi.z, 2);
+  for (std::int64_t k = k0; k <= k1; ++k)
+    for (std::int64_t j = j0; j <= j1; ++j) {
+      // Cells of one row are consecutive keys: one binary search per row.
+      const std::uint64_t row_first = key(i0, j, k), row_last = key(i1, j, k);
+      auto it = std::lower_bound(cell_keys_.begin(), cell_keys_.end(), row_first);
+      for (; it != cell_keys_.end() && *it <= row_last; ++it) {
+        const std::size_t cell = static_cast<std::size_t>(it - cell_keys_.begin());
+        for (std::uint32_t e = cell_offsets_[cell]; e < cell_offsets_[cell + 1]; ++e) {
+          const std::uint32_t t = cell_triangles_[e];
+          const Aabb& tb = triangle_boxes_[t];
+          if (tb.lo.x <= box.hi.x && tb.hi.x >= box.lo.x && tb.lo.y <= box.hi.y && tb.hi.y >= box.lo.y &&
+              tb.lo.z <= box.hi.z && tb.hi.z >= box.lo.z)
+            triangles_out.push_back(t);
+        }
+      }
+    }
+  std::sort(triangles_out.begin(), triangles_out.end());
+  triangles_out.erase(std::unique(triangles_out.begin(), triangles_out.end()), triangles_out.end());
+}
+
+}  // namespace quarry

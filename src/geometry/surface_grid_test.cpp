@@ -1,0 +1,101 @@
+// Tests of the surface cell grid against brute force: no triangle that intersects a query box
+// is missed, nothing outside the box's reach is returned, output sorted and unique.
+#include "geometry/surface_grid.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "geometry/primitives.h"
+
+namespace quarry {
+namespace {
+
+bool boxes_overlap(const Aabb& a, const Aabb& b) {
+  return a.lo.x <= b.hi.x && a.hi.x >= b.lo.x && a.lo.y <= b.hi.y && a.hi.y >= b.lo.y && a.lo.z <= b.hi.z &&
+         a.hi.z >= b.lo.z;
+}
+
+Aabb triangle_box(const Surface& s, std::size_t t) {
+  Aabb box;
+  for (int k = 0; k < 3; ++k) box.expand(s.vertices[s.triangles[t][k]]);
+  return box;
+}
+
+// Checks one query: sorted, unique, ⊆ bounding-box overlaps, ⊇ triangles with a sample point
+// (vertex or centroid) inside the box (those certainly intersect it).
+void check_query(const Surface& surface, const SurfaceGrid& grid, const Aabb& box) {
+  std::vector<std::uint32_t> found;
+  grid.query(box, found);
+  ASSERT_TRUE(std::is_sorted(found.begin(), found.end()));
+  ASSERT_EQ(std::adjacent_find(found.begin(), found.end()), found.end());
+  for (const std::uint32_t t : found) ASSERT_TRUE(boxes_overlap(triangle_box(surface, t), box));
+  for (std::uint32_t t = 0; t < surface.triangle_count(); ++t) {
+    const auto& tri = surface.triangles[t];
+    const Vec3 centroid = (surface.vertices[tri[0]] + surface.vertices[tri[1]] + surface.vertices[tri[2]]) / 3.0;
+    bool must = box.contains(centroid);
+    for (int k = 0; k < 3; ++k) must = must || box.contains(surface.vertices[tri[k]]);
+    if (must) {
+      ASSERT_TRUE(std::binary_search(found.begin(), found.end(), t)) << "missed triangle " << t;
+    }
+  }
+}
+
+TEST(SurfaceGrid, QueriesMatchBruteForceOnATiltedDrum) {
+  const Surface drum = make_cylinder({0.1, 0.2, 0.3}, {1, 2, 3}, 0.4, 0.9, 40, true);
+  SurfaceGrid grid;
+  grid.build(drum, 0.05);
+  EXPECT_DOUBLE_EQ(grid.cell_size(), 0.05);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> coordinate(-0.6, 1.4), half(0.005, 0.15);
+  for (int q = 0; q < 300; ++q) {
+    const Vec3 centre{coordinate(random), coordinate(random), coordinate(random)};
+    const double h = half(random);
+    check_query(drum, grid, Aabb{centre - Vec3{h, h, h}, centre + Vec3{h, h, h}});
+  }
+}
+
+TEST(SurfaceGrid, LargeSlantedTrianglesFoundInEveryCellTheyCross) {
+  // Two triangles spanning 1 m with 1 cm cells: stored only along their plane.
+  const Surface plane = make_plane({0, 0, 0}, {1, 1, 1}, 1.0, 1);
+  SurfaceGrid grid;
+  grid.build(plane, 0.01);
+  EXPECT_LT(grid.occupied_cell_count(), 60000u);  // a sheet (~1.7e4 cells), not its ~1e6-cell bounding-box volume
+  std::vector<std::uint32_t> found;
+  for (double s = -0.35; s <= 0.35; s += 0.01) {  // |p| ≤ 0.39 m: inside the square
+    // Points on the plane: p = s·u + s·v/2 with u ⟂ v ⟂ (1,1,1).
+    const Vec3 u = normalized(Vec3{1, -1, 0}), v = normalized(Vec3{1, 1, -2});
+    const Vec3 p = u * s + v * (0.5 * s);
+    grid.query(Aabb{p - Vec3{1e-3, 1e-3, 1e-3}, p + Vec3{1e-3, 1e-3, 1e-3}}, found);
+    EXPECT_FALSE(found.empty()) << "s = " << s;
+  }
+}
+
+TEST(SurfaceGrid, HugeCellCountIsCappedByCoarsening) {
+  const Surface box = make_box({0, 0, 0}, {100, 100, 100}, 2);
+  SurfaceGrid grid;
+  grid.build(box, 1e-3);  // would be 1e15 cells
+  EXPECT_GT(grid.cell_size(), 1e-3);
+  const double cells_per_axis = std::floor(100.0 / grid.cell_size()) + 1;
+  EXPECT_LE(cells_per_axis * cells_per_axis * cells_per_axis, static_cast<double>(SurfaceGrid::max_cells));
+  check_query(box, grid, Aabb{{-1, -1, -1}, {3, 3, 3}});
+  check_query(box, grid, Aabb{{40, 40, 99}, {41, 41, 101}});
+}
+
+TEST(SurfaceGrid, HundredThousandTrianglesBuildAndQueryCorrectly) {
+  const Surface plane = make_plane({0, 0, 0}, {0, 0, 1}, 1.0, 224);  // 100,352 triangles
+  SurfaceGrid grid;
+  grid.build(plane, 0.01);
+  std::vector<std::uint32_t> found;
+  // A sphere-sized box (radius 5 mm) around a point in the plate touches a handful of triangles.
+  grid.query(Aabb{{0.1 - 0.005, 0.2 - 0.005, -0.005}, {0.1 + 0.005, 0.2 + 0.005, 0.005}}, found);
+  EXPECT_GT(found.size(), 4u);
+  EXPECT_LT(found.size(), 40u);
+  check_query(plane, grid, Aabb{{-0.3, 0.1, -0.01}, {-0.28, 0.13, 0.01}});
+  grid.query(Aabb{{0, 0, 0.5}, {0.1, 0.1, 0.6}}, found);  // above the plate: outside the grid
+  EXPECT_TRUE(found.empty());
+}
+
+}  // namespace
+}  // namespace quarry
