@@ -1,0 +1,80 @@
+// make_interaction: turns two materials and the deck's interaction into the per-pair constants
+// of the contact law, at setup. User values are checked here, every problem reported at once.
+#include "contact/contact_law.h"
+
+#include <fmt/format.h>
+
+#include <string>
+#include <utility>
+
+#include "core/diagnostics.h"
+
+namespace quarry {
+namespace {
+
+void check_material(const MaterialProperties& material, const Located<std::string>& name,
+                    Diagnostics& diagnostics) {
+  if (!(material.youngs_modulus > 0.0)) {
+    diagnostics.error(name.where,
+                      fmt::format("material \"{}\" has Young's modulus {} Pa; it must be positive",
+                                  name.value, material.youngs_modulus));
+  }
+  // Isotropic elasticity needs −1 < ν <= 0.5 (positive bulk and shear moduli).
+  if (!(material.poisson_ratio > -1.0 && material.poisson_ratio <= 0.5)) {
+    diagnostics.error(name.where,
+                      fmt::format("material \"{}\" has Poisson ratio {}; it must lie in (-1, 0.5]",
+                                  name.value, material.poisson_ratio));
+  }
+}
+
+void check_non_negative(const Located<double>& value, const char* what, Diagnostics& diagnostics) {
+  if (!(value.value >= 0.0)) {
+    diagnostics.error(value.where, fmt::format("{} is {}; it must be >= 0", what, value.value));
+  }
+}
+
+}  // namespace
+
+InteractionParameters make_interaction(const MaterialProperties& a, const MaterialProperties& b,
+                                       const InteractionSpec& spec) {
+  Diagnostics diagnostics;
+  check_material(a, spec.material_a, diagnostics);
+  check_material(b, spec.material_b, diagnostics);
+  if (!(spec.restitution.value > 0.0 && spec.restitution.value <= 1.0)) {
+    diagnostics.error(spec.restitution.where,
+                      fmt::format("coefficient of restitution is {}; it must lie in (0, 1]",
+                                  spec.restitution.value),
+                      "1 is perfectly elastic; a value near 0 is almost fully damped");
+  }
+  check_non_negative(spec.static_friction, "static friction coefficient", diagnostics);
+  check_non_negative(spec.rolling_friction, "rolling friction coefficient", diagnostics);
+  check_non_negative(spec.cohesion_energy_density, "cohesion energy density", diagnostics);
+  if (spec.normal_model.value == NormalModel::linear) {
+    if (!(spec.linear_stiffness.value > 0.0)) {
+      diagnostics.error(spec.linear_stiffness.where,
+                        fmt::format("linear normal stiffness is {} N/m; the linear contact model "
+                                    "needs a positive stiffness",
+                                    spec.linear_stiffness.value));
+    }
+    check_non_negative(spec.linear_tangential_ratio, "linear tangential stiffness ratio",
+                       diagnostics);
+  }
+  if (diagnostics.has_errors()) throw UserError(std::move(diagnostics));
+
+  InteractionParameters parameters;
+  parameters.normal_model = spec.normal_model.value;
+  parameters.effective_youngs_modulus = contact::effective_youngs_modulus(a, b);
+  parameters.effective_shear_modulus = contact::effective_shear_modulus(a, b);
+  parameters.restitution = spec.restitution.value;
+  parameters.damping_ratio_beta = contact::damping_ratio_from_restitution(spec.restitution.value);
+  parameters.static_friction = spec.static_friction.value;
+  parameters.rolling_friction = spec.rolling_friction.value;
+  parameters.rolling_model = spec.rolling_model.value;
+  parameters.cohesion_energy_density = spec.cohesion_energy_density.value;
+  parameters.linear_normal_stiffness = spec.linear_stiffness.value;
+  parameters.linear_tangential_ratio = spec.linear_tangential_ratio.value;
+  parameters.clip_attraction = spec.clip_attraction.value;
+  return parameters;
+}
+
+}  // namespace quarry

@@ -1,0 +1,184 @@
+// The contact law: one call per touching pair (particle–particle or particle–wall) in the force
+// stage, composing normal (Hertz or linear), tangential (Mindlin spring + Coulomb), rolling and
+// SJKR cohesion kernels. EDEM's Hertz-Mindlin no-slip (EDEM theory reference guide), DESIGN §4.
+#pragma once
+
+#include "contact/cohesion_sjkr.h"
+#include "contact/effective_properties.h"
+#include "contact/normal_hertz.h"
+#include "contact/normal_linear.h"
+#include "contact/rolling_resistance.h"
+#include "contact/tangential_spring.h"
+#include "core/simulation_spec.h"
+#include "core/vec3.h"
+
+namespace quarry {
+
+// Everything the law needs about one material pair, precomputed once (make_interaction).
+struct InteractionParameters {
+  NormalModel normal_model = NormalModel::hertz_mindlin;
+  double effective_youngs_modulus = 0.0;  // E* (Pa)
+  double effective_shear_modulus = 0.0;   // G* (Pa)
+  double restitution = 1.0;               // e (1)
+  double damping_ratio_beta = 0.0;        // β = ln e / sqrt(ln² e + π²) (1), in [−1, 0]
+  double static_friction = 0.0;           // μs (1)
+  double rolling_friction = 0.0;          // μr (1)
+  RollingModel rolling_model = RollingModel::none;
+  double cohesion_energy_density = 0.0;  // k (J/m³), SJKR
+  double linear_normal_stiffness = 0.0;  // kn (N/m), linear law only
+  double linear_tangential_ratio = 0.0;  // kt / kn (1), linear law only
+  bool clip_attraction = false;          // clip elastic + damping normal force at 0
+};
+
+// Builds the pair parameters from two materials and the deck's interaction. Always checks the
+// user's values (restitution in (0, 1], frictions and cohesion >= 0, positive moduli, Poisson
+// ratio in (−1, 0.5], linear stiffness > 0 for the linear law) and throws UserError listing
+// every problem at the spec's source locations. Cost: negligible; call once per pair at setup.
+InteractionParameters make_interaction(const MaterialProperties& a, const MaterialProperties& b,
+                                       const InteractionSpec& spec);
+
+// Geometry and motion of one contact at the current configuration.
+struct ContactKinematics {
+  Vec3 normal;                  // unit, from j's centre (or the surface point) towards i's
+  double overlap = 0.0;         // m (> 0 when touching)
+  double radius_i = 0.0;        // m
+  double radius_j = 0.0;        // m; 0 means a wall (flat, infinite radius and mass)
+  double mass_i = 0.0;          // kg
+  double mass_j = 0.0;          // kg; 0 for a wall
+  Vec3 velocity_i, velocity_j;  // m/s (wall: surface velocity at the contact point,
+                                // conveyor velocity included)
+  Vec3 angular_velocity_i, angular_velocity_j;  // rad/s (wall: zero)
+};
+
+// Per-contact state carried from step to step (kept by the contact list, keyed by pair).
+struct ContactHistory {
+  Vec3 tangential_displacement;  // m, δt (in the current tangent plane)
+  Vec3 rolling_torque;           // N·m, EPSD spring torque on i
+};
+
+struct ContactResult {
+  Vec3 force_i;               // N on i; j (or the wall) gets −force_i at the contact point
+  Vec3 torque_i, torque_j;    // N·m about each centre (torque_j = 0 for a wall)
+  double normal_force = 0.0;  // N, signed component of force_i along normal (+ = repulsive),
+                              // cohesion included
+};
+
+// Evaluates the contact law for one pair and updates its history. No allocation, inline.
+// Conventions (DESIGN §4): R*, m* from effective_radius/effective_mass (wall: Ri, mi).
+// Contact point at distance Ri − δ/2 from i's centre along −n (wall: Ri − δ, i.e. on the wall),
+// and Rj − δ/2 from j's centre along +n. Relative velocity at the contact point includes ω × r.
+// Normal: elastic + dashpot (no clipping unless clip_attraction, so the end of a contact may be
+// attractive and the input restitution is reproduced). Tangential: tangential_spring_force
+// with the Coulomb limit μs |Fn| using the elastic + dashpot normal force, before cohesion.
+// Rolling: constant directional torque uses each body's own ω and radius and the same |Fn|;
+// EPSD limits |Mr| to μr R* |Fn|. Cohesion (SJKR) pulls i towards j: −k A n.
+// Precondition: dt > 0. If overlap <= 0 the pair is not touching: the result is zero and the
+// history is cleared (the spring is released when contact is lost).
+inline ContactResult evaluate_contact(const InteractionParameters& parameters,
+                                      const ContactKinematics& kinematics, ContactHistory& history,
+                                      double dt) {
+  if (!(kinematics.overlap > 0.0)) {
+    history = ContactHistory{};
+    return ContactResult{};
+  }
+  const Vec3& normal = kinematics.normal;
+  const double overlap = kinematics.overlap;  // m
+  const bool against_wall = !(kinematics.radius_j > 0.0);
+  const double effective_radius =
+      contact::effective_radius(kinematics.radius_i, kinematics.radius_j);
+  const double effective_mass = contact::effective_mass(kinematics.mass_i, kinematics.mass_j);
+
+  // Distances (m) from each centre to the contact point: r_i = −lever_i n, r_j = +lever_j n.
+  const double lever_i =
+      against_wall ? kinematics.radius_i - overlap : kinematics.radius_i - 0.5 * overlap;
+  const double lever_j = against_wall ? 0.0 : kinematics.radius_j - 0.5 * overlap;
+  // Velocity of each body's material point at the contact: v + ω × r (m/s).
+  const Vec3 contact_velocity_i =
+      kinematics.velocity_i - lever_i * cross(kinematics.angular_velocity_i, normal);
+  const Vec3 contact_velocity_j =
+      kinematics.velocity_j + lever_j * cross(kinematics.angular_velocity_j, normal);
+  const Vec3 relative_velocity = contact_velocity_i - contact_velocity_j;  // m/s
+  const double normal_velocity = dot(relative_velocity, normal);           // m/s, < 0 closing
+  const Vec3 tangential_velocity = relative_velocity - normal_velocity * normal;  // m/s
+
+  contact::NormalSpring normal_spring;
+  double normal_damping = 0.0;        // N·s/m
+  double tangential_stiffness = 0.0;  // N/m
+  double tangential_damping = 0.0;    // N·s/m
+  switch (parameters.normal_model) {
+    case NormalModel::hertz_mindlin:
+      normal_spring = contact::hertz_normal_spring(parameters.effective_youngs_modulus,
+                                                   effective_radius, overlap);
+      normal_damping = contact::hertz_mindlin_damping_coefficient(
+          parameters.damping_ratio_beta, normal_spring.stiffness, effective_mass);
+      tangential_stiffness = contact::mindlin_tangential_stiffness(
+          parameters.effective_shear_modulus, effective_radius, overlap);
+      tangential_damping = contact::hertz_mindlin_damping_coefficient(
+          parameters.damping_ratio_beta, tangential_stiffness, effective_mass);
+      break;
+    case NormalModel::linear:
+      normal_spring = contact::linear_normal_spring(parameters.linear_normal_stiffness, overlap);
+      normal_damping = contact::linear_damping_coefficient(parameters.damping_ratio_beta,
+                                                           normal_spring.stiffness, effective_mass);
+      tangential_stiffness = parameters.linear_tangential_ratio * normal_spring.stiffness;
+      tangential_damping = contact::linear_damping_coefficient(
+          parameters.damping_ratio_beta, tangential_stiffness, effective_mass);
+      break;
+  }
+
+  double contact_normal_force =
+      normal_spring.elastic_force - normal_damping * normal_velocity;  // N
+  if (parameters.clip_attraction && contact_normal_force < 0.0) contact_normal_force = 0.0;
+  const double normal_force_magnitude = std::fabs(contact_normal_force);  // N, |Fn|
+
+  const Vec3 tangential_force = contact::tangential_spring_force(
+      history.tangential_displacement, normal, tangential_velocity, tangential_stiffness,
+      tangential_damping, parameters.static_friction * normal_force_magnitude, dt);
+
+  double cohesion_force = 0.0;  // N, attractive magnitude
+  if (parameters.cohesion_energy_density > 0.0) {
+    const double contact_area =
+        against_wall ? contact::sphere_wall_contact_area(kinematics.radius_i, overlap)
+                     : contact::sphere_sphere_contact_area(kinematics.radius_i, kinematics.radius_j,
+                                                           overlap);  // m²
+    cohesion_force = contact::sjkr_cohesion_force(parameters.cohesion_energy_density, contact_area);
+  }
+
+  ContactResult result;
+  result.normal_force = contact_normal_force - cohesion_force;
+  result.force_i = result.normal_force * normal + tangential_force;
+  // Both bodies feel the tangential force at the same point: τi = (−lever_i n) × Ft,
+  // τj = (lever_j n) × (−Ft).
+  const Vec3 normal_cross_tangential_force = cross(normal, tangential_force);  // N
+  result.torque_i = -lever_i * normal_cross_tangential_force;
+  result.torque_j = -lever_j * normal_cross_tangential_force;
+
+  switch (parameters.rolling_model) {
+    case RollingModel::none:
+      break;
+    case RollingModel::constant_torque:
+      result.torque_i += contact::constant_directional_rolling_torque(
+          parameters.rolling_friction, normal_force_magnitude, kinematics.radius_i,
+          kinematics.angular_velocity_i);
+      if (!against_wall) {
+        result.torque_j += contact::constant_directional_rolling_torque(
+            parameters.rolling_friction, normal_force_magnitude, kinematics.radius_j,
+            kinematics.angular_velocity_j);
+      }
+      break;
+    case RollingModel::epsd: {
+      const double rolling_stiffness = contact::epsd_rolling_stiffness(
+          normal_spring.stiffness, parameters.rolling_friction, effective_radius);  // N·m/rad
+      const Vec3 rolling_torque = contact::epsd_rolling_torque(
+          history.rolling_torque, normal,
+          kinematics.angular_velocity_i - kinematics.angular_velocity_j, rolling_stiffness,
+          parameters.rolling_friction * effective_radius * normal_force_magnitude, dt);
+      result.torque_i += rolling_torque;
+      if (!against_wall) result.torque_j -= rolling_torque;
+      break;
+    }
+  }
+  return result;
+}
+
+}  // namespace quarry

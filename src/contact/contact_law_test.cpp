@@ -1,0 +1,152 @@
+// Contact-law composition: pair parameters from materials (E*, G*, β), user-error checks,
+// conservation of momentum and angular momentum at one contact, wall conventions, release.
+#include "contact/contact_law.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace quarry {
+namespace {
+
+const MaterialProperties steel{7800.0, 2.0e11, 0.3};
+const MaterialProperties glass{2500.0, 7.0e10, 0.25};
+
+TEST(MakeInteraction, EffectiveModuliAndDampingRatioMatchHandComputation) {
+  InteractionSpec spec;
+  spec.restitution = 0.5;
+  spec.static_friction = 0.4;
+  spec.rolling_friction = 0.01;
+  const InteractionParameters parameters = make_interaction(steel, glass, spec);
+  // 1/E* = (1 − 0.09)/2e11 + (1 − 0.0625)/7e10 = 4.55e-12 + 1.3392857e-11 = 1.7942857e-11 1/Pa
+  // → E* = 5.5732484e10 Pa (Johnson 1985 eq. 4.22).
+  EXPECT_NEAR(parameters.effective_youngs_modulus, 5.5732484e10, 1e3);
+  // 1/G* = 2 · 1.7 · 1.3 / 2e11 + 2 · 1.75 · 1.25 / 7e10 = 2.21e-11 + 6.25e-11 = 8.46e-11 1/Pa
+  // → G* = 1.1820331e10 Pa (EDEM guide; Mindlin & Deresiewicz 1953).
+  EXPECT_NEAR(parameters.effective_shear_modulus, 1.1820331e10, 1e3);
+  // β = ln 0.5 / sqrt(ln² 0.5 + π²) = −0.693147 / sqrt(0.480453 + 9.869604)
+  //   = −0.693147 / 3.217151 = −0.215454 (EDEM guide; Tsuji et al. 1992).
+  EXPECT_NEAR(parameters.damping_ratio_beta, -0.215454, 1e-6);
+  EXPECT_EQ(parameters.static_friction, 0.4);
+  EXPECT_EQ(parameters.rolling_friction, 0.01);
+  EXPECT_EQ(parameters.rolling_model, RollingModel::constant_torque);
+  // Order-independent pair.
+  const InteractionParameters swapped = make_interaction(glass, steel, spec);
+  EXPECT_DOUBLE_EQ(swapped.effective_youngs_modulus, parameters.effective_youngs_modulus);
+  EXPECT_DOUBLE_EQ(swapped.effective_shear_modulus, parameters.effective_shear_modulus);
+}
+
+TEST(MakeInteraction, ElasticRestitutionGivesZeroDamping) {
+  InteractionSpec spec;
+  spec.restitution = 1.0;
+  EXPECT_EQ(make_interaction(steel, glass, spec).damping_ratio_beta, 0.0);
+}
+
+TEST(MakeInteraction, ReportsEveryBadValueAtItsSourceLocation) {
+  InteractionSpec spec;
+  spec.material_a = Located<std::string>("rubber", SourceLocation{"deck.yaml", 3, 5});
+  spec.material_b = Located<std::string>("glass", SourceLocation{"deck.yaml", 4, 5});
+  spec.restitution = Located<double>(1.2, SourceLocation{"deck.yaml", 7, 18});
+  spec.static_friction = Located<double>(-0.1, SourceLocation{"deck.yaml", 8, 22});
+  spec.normal_model = NormalModel::linear;  // without a stiffness
+  const MaterialProperties no_stiffness{1000.0, 0.0, 0.3};
+  try {
+    make_interaction(no_stiffness, glass, spec);
+    FAIL() << "expected UserError";
+  } catch (const UserError& error) {
+    const auto& all = error.diagnostics().all();
+    ASSERT_EQ(all.size(), 4u);
+    EXPECT_EQ(all[0].where.line, 3);  // Young's modulus of "rubber"
+    EXPECT_NE(all[0].message.find("rubber"), std::string::npos);
+    EXPECT_EQ(all[1].where.line, 7);  // restitution
+    EXPECT_EQ(all[1].where.column, 18);
+    EXPECT_EQ(all[2].where.line, 8);  // friction
+    EXPECT_NE(all[3].message.find("linear"), std::string::npos);
+  }
+}
+
+ContactKinematics oblique_pair() {
+  ContactKinematics kinematics;
+  kinematics.normal = normalized(Vec3{1.0, 2.0, -0.5});
+  kinematics.overlap = 3.0e-5;  // m
+  kinematics.radius_i = 0.01;   // m
+  kinematics.radius_j = 0.015;  // m
+  kinematics.mass_i = 0.01;     // kg
+  kinematics.mass_j = 0.034;    // kg
+  kinematics.velocity_i = Vec3{-0.3, 0.2, 0.1};
+  kinematics.velocity_j = Vec3{0.1, -0.1, 0.4};
+  kinematics.angular_velocity_i = Vec3{5.0, -3.0, 2.0};
+  kinematics.angular_velocity_j = Vec3{-1.0, 4.0, 7.0};
+  return kinematics;
+}
+
+// Both bodies feel ±F at the same contact point and the rolling couple is ±Mr, so the total
+// angular momentum rate about any origin vanishes: xi × F + τi + xj × (−F) + τj = 0.
+// Holds for no rolling resistance and for EPSD (the constant torque acts on each body alone).
+TEST(EvaluateContact, ConservesAngularMomentumAboutAnyPoint) {
+  for (RollingModel model : {RollingModel::none, RollingModel::epsd}) {
+    InteractionSpec spec;
+    spec.restitution = 0.6;
+    spec.static_friction = 0.3;
+    spec.rolling_friction = 0.2;
+    spec.rolling_model = model;
+    const InteractionParameters parameters = make_interaction(steel, glass, spec);
+    const ContactKinematics kinematics = oblique_pair();
+    ContactHistory history{Vec3{1e-5, -2e-5, 0.0}, Vec3{1e-4, 0.0, 2e-4}};
+    const ContactResult result = evaluate_contact(parameters, kinematics, history, 1.0e-6);
+    const Vec3 centre_i{0.2, -0.1, 0.3};  // m, arbitrary placement consistent with the normal
+    const Vec3 centre_j = centre_i - (0.01 + 0.015 - 3.0e-5) * kinematics.normal;  // m
+    const Vec3 total = cross(centre_i, result.force_i) + result.torque_i +
+                       cross(centre_j, -result.force_i) + result.torque_j;    // N·m
+    const double scale = norm(result.force_i) * 0.3 + norm(result.torque_i);  // N·m
+    EXPECT_LT(norm(total), 1e-13 * scale);
+    // The tangential part is really there (a Coulomb-capped force at this sliding speed).
+    const Vec3 tangential = result.force_i - result.normal_force * kinematics.normal;
+    EXPECT_NEAR(norm(tangential), 0.3 * std::fabs(result.normal_force),
+                1e-12 * std::fabs(result.normal_force));
+  }
+}
+
+TEST(EvaluateContact, TangentialForceOpposesSlipOfTheContactPointIncludingSpin) {
+  // A sphere spinning in place on a wall: the contact point moves at −(R − δ) ω × n, and the
+  // friction pushes the other way; the wall receives no torque.
+  InteractionSpec spec;
+  spec.restitution = 0.5;
+  spec.static_friction = 0.5;
+  spec.rolling_model = RollingModel::none;
+  const InteractionParameters parameters = make_interaction(steel, glass, spec);
+  ContactKinematics kinematics;
+  kinematics.normal = Vec3{0.0, 0.0, 1.0};
+  kinematics.overlap = 1.0e-6;                           // m
+  kinematics.radius_i = 0.01;                            // m
+  kinematics.mass_i = 0.01;                              // kg
+  kinematics.angular_velocity_i = Vec3{0.0, 10.0, 0.0};  // contact point moves along −x
+  ContactHistory history;
+  const ContactResult result = evaluate_contact(parameters, kinematics, history, 1.0e-6);
+  EXPECT_GT(result.force_i.x, 0.0);
+  EXPECT_EQ(result.torque_j, Vec3{});
+  // Lever R − δ for a wall: τi = (−(R − δ) n) × Ft.
+  EXPECT_NEAR(result.torque_i.y, -(0.01 - 1.0e-6) * result.force_i.x, 1e-18);
+  EXPECT_LT(result.torque_i.y, 0.0);  // the spin is braked
+}
+
+TEST(EvaluateContact, SeparatedPairGivesNoForceAndReleasesTheSprings) {
+  InteractionSpec spec;
+  spec.cohesion_energy_density = 1.0e5;  // J/m³: no reach beyond touching (SJKR)
+  spec.rolling_model = RollingModel::epsd;
+  spec.rolling_friction = 0.1;
+  const InteractionParameters parameters = make_interaction(steel, glass, spec);
+  ContactKinematics kinematics = oblique_pair();
+  kinematics.overlap = -1.0e-6;  // m, a gap
+  ContactHistory history{Vec3{1e-7, 0.0, 0.0}, Vec3{0.0, 1e-4, 0.0}};
+  const ContactResult result = evaluate_contact(parameters, kinematics, history, 1.0e-6);
+  EXPECT_EQ(result.force_i, Vec3{});
+  EXPECT_EQ(result.torque_i, Vec3{});
+  EXPECT_EQ(result.normal_force, 0.0);
+  EXPECT_EQ(history.tangential_displacement, Vec3{});
+  EXPECT_EQ(history.rolling_torque, Vec3{});
+}
+
+}  // namespace
+}  // namespace quarry
