@@ -1,0 +1,81 @@
+// PairList: half Verlet list (pairs i < j closer than Ri + Rj + skin; Verlet, Phys. Rev. 159
+// (1967) 98) in CSR form with per-pair contact history and a reverse index for a fixed-order
+// gather. Rebuilt in time-step stage 2 when a particle moved > skin/2; stage 3 iterates it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "core/particle_store.h"
+#include "core/vec3.h"
+#include "neighbor/cell_grid.h"
+#include "neighbor/counting_sort.h"
+
+namespace quarry {
+
+// A particle sphere packed for the candidate loop: position (m) and radius (m) side by side.
+struct PackedSphere {
+  double x, y, z, radius;
+};
+
+// Scratch memory of build_pair_list, kept between builds so that a warmed-up rebuild does not
+// allocate. Not part of the list's meaning; callers never read it.
+struct PairListWorkspace {
+  CellGrid grid;
+  std::vector<PackedSphere> spheres_by_cell;          // grid order
+  std::vector<std::vector<std::uint64_t>> thread_pairs;  // per thread: lower << 32 | higher
+  std::vector<std::uint32_t> pair_lower;              // all found pairs, lower index
+  std::vector<std::uint32_t> pair_higher;             //   and higher index
+  CountingSortWorkspace pair_sort;
+  std::vector<std::uint32_t> old_index_of;            // per new particle: index at the last build
+  std::vector<ParticleId> id_table_keys;              // open-addressing hash: particle id
+  std::vector<std::uint32_t> id_table_values;         //   → index at the last build (~0u: empty)
+  // The previous build's list, swapped out while the new one is made.
+  std::vector<std::uint32_t> previous_offsets;
+  std::vector<std::uint32_t> previous_partner;
+  std::vector<Vec3> previous_tangential_displacement;  // m
+  std::vector<Vec3> previous_rolling_torque;           // N·m
+  std::vector<ParticleId> previous_ids;
+  CountingSortWorkspace reverse_sort;
+};
+
+struct PairList {
+  std::vector<std::uint32_t> offsets;   // n+1; pairs of i are [offsets[i], offsets[i+1])
+  std::vector<std::uint32_t> partner;   // j > i (index), ascending within each i
+  // Contact history aligned with `partner` (carried across rebuilds by particle-id pair):
+  std::vector<Vec3> tangential_displacement;   // m
+  std::vector<Vec3> rolling_torque;            // N·m
+  // Reverse index to gather pair forces onto the partner in a fixed order:
+  std::vector<std::uint32_t> reverse_offsets;  // n+1
+  std::vector<std::uint32_t> reverse_pairs;    // pair indices where the particle is the partner, ascending
+  std::vector<Vec3> reference_positions;       // m, positions at the last build
+  std::vector<ParticleId> ids_at_build;        // particle ids at the last build (index order)
+  double skin = 0;                             // m
+  std::size_t builds = 0;
+  PairListWorkspace workspace;
+
+  std::size_t size() const { return partner.size(); }
+};
+
+// Rebuilds the list: pairs i < j with |xj − xi|² < ((Ri + Rj) + skin)² (evaluated in exactly
+// this order in double precision, so a brute-force check with the same expression agrees).
+// History of pairs present at the last build is carried over, matched by ParticleStore::id,
+// so it survives re-sorting, removal and insertion between builds; new pairs start with zero
+// history. History is stored as seen from the lower index i (δt of i relative
+// to j, rolling torque on i): if a re-sort makes the former partner the lower index, both
+// vectors are negated, so contact kernels must treat them as antisymmetric in the pair.
+// Also refreshes reference_positions, ids_at_build and the reverse index.
+// Deterministic: the same particles give the same list, bit for bit, for any thread count.
+// Pre: skin ≥ 0; ids unique; n < 2^32 and fewer than 2^32 pairs. Throws PhysicsError if a
+// position is not finite. Cost: O(n + pairs) with a cell grid of edge 2·Rmax + skin; OpenMP.
+void build_pair_list(const ParticleStore& particles, double skin, PairList& list);
+
+// True if the list must be rebuilt before it can be trusted: it was never built, the particle
+// count or ids (order) changed, or max_i |xi − xi(build)| + extra_displacement > skin/2 (m).
+// extra_displacement (m) lets a caller spend part of the skin elsewhere (e.g. growing radii).
+// Cost: O(n), one parallel pass over positions; the answer does not depend on thread count.
+bool pair_list_needs_rebuild(const ParticleStore& particles, const PairList& list,
+                             double extra_displacement = 0.0);
+
+}  // namespace quarry

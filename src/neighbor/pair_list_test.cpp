@@ -1,0 +1,299 @@
+// Tests of the half Verlet pair list: same pair set as an O(n²) search, CSR and reverse-index
+// invariants, contact history carried by id pair across re-sorting/removal/insertion, identical
+// lists for 1 and 2 threads, and the skin/2 rebuild criterion (Verlet, Phys. Rev. 159 (1967) 98).
+#include "neighbor/pair_list.h"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <string>
+#include <utility>
+
+#include "core/diagnostics.h"
+#include "neighbor/spatial_sort.h"
+#include "neighbor/test_scenes.h"
+
+namespace quarry {
+namespace {
+
+using IndexPair = std::pair<std::uint32_t, std::uint32_t>;
+
+// The definition the list promises, by brute force: |xj − xi|² < ((Ri + Rj) + skin)².
+std::set<IndexPair> brute_force_pairs(const ParticleStore& particles, double skin) {
+  std::set<IndexPair> pairs;
+  for (std::uint32_t i = 0; i < particles.size(); ++i)
+    for (std::uint32_t j = i + 1; j < particles.size(); ++j) {
+      const double reach = (particles.radius[i] + particles.radius[j]) + skin;  // m
+      if (norm2(particles.position[j] - particles.position[i]) < reach * reach) pairs.insert({i, j});
+    }
+  return pairs;
+}
+
+std::set<IndexPair> listed_pairs(const PairList& list) {
+  std::set<IndexPair> pairs;
+  for (std::uint32_t i = 0; i + 1 < list.offsets.size(); ++i)
+    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) pairs.insert({i, list.partner[k]});
+  return pairs;
+}
+
+void expect_csr_invariants(const PairList& list, std::size_t particle_count) {
+  ASSERT_EQ(list.offsets.size(), particle_count + 1);
+  EXPECT_EQ(list.offsets.front(), 0u);
+  EXPECT_EQ(list.offsets.back(), list.size());
+  EXPECT_EQ(list.tangential_displacement.size(), list.size());
+  EXPECT_EQ(list.rolling_torque.size(), list.size());
+  for (std::uint32_t i = 0; i < particle_count; ++i) {
+    ASSERT_LE(list.offsets[i], list.offsets[i + 1]);
+    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+      EXPECT_GT(list.partner[k], i);
+      EXPECT_LT(list.partner[k], particle_count);
+      if (k > list.offsets[i]) {
+        EXPECT_LT(list.partner[k - 1], list.partner[k]);
+      }
+    }
+  }
+  // Reverse index: exactly the pairs whose partner is j, ascending.
+  ASSERT_EQ(list.reverse_offsets.size(), particle_count + 1);
+  ASSERT_EQ(list.reverse_pairs.size(), list.size());
+  std::vector<std::vector<std::uint32_t>> expected(particle_count);
+  for (std::uint32_t k = 0; k < list.size(); ++k) expected[list.partner[k]].push_back(k);
+  for (std::uint32_t j = 0; j < particle_count; ++j) {
+    const std::vector<std::uint32_t> got(list.reverse_pairs.begin() + list.reverse_offsets[j],
+                                         list.reverse_pairs.begin() + list.reverse_offsets[j + 1]);
+    ASSERT_EQ(got, expected[j]) << "particle " << j;
+  }
+}
+
+// A history value that encodes the ordered id pair (lower index first), to check carrying.
+Vec3 history_of(ParticleId first, ParticleId second) {
+  return {static_cast<double>(first), static_cast<double>(second), 1.0};
+}
+
+void stamp_history(const ParticleStore& particles, PairList& list) {
+  for (std::uint32_t i = 0; i < particles.size(); ++i)
+    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+      const ParticleId a = particles.id[i], b = particles.id[list.partner[k]];
+      list.tangential_displacement[k] = history_of(a, b);
+      list.rolling_torque[k] = 2.0 * history_of(a, b);
+    }
+}
+
+// Checks every pair: history present iff the id pair was listed before (old_pairs, by ids),
+// negated when the order of the pair flipped.
+void expect_history_carried(const ParticleStore& particles, const PairList& list,
+                            const std::set<std::pair<ParticleId, ParticleId>>& old_pairs,
+                            std::size_t& carried, std::size_t& fresh) {
+  for (std::uint32_t i = 0; i < particles.size(); ++i)
+    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+      const ParticleId a = particles.id[i], b = particles.id[list.partner[k]];
+      Vec3 expected{};
+      if (old_pairs.count({a, b})) expected = history_of(a, b);
+      if (old_pairs.count({b, a})) expected = -history_of(b, a);
+      EXPECT_EQ(list.tangential_displacement[k], expected) << "ids " << a << ", " << b;
+      EXPECT_EQ(list.rolling_torque[k], 2.0 * expected);
+      ++(expected == Vec3{} ? fresh : carried);
+    }
+}
+
+std::set<std::pair<ParticleId, ParticleId>> id_pairs(const ParticleStore& particles, const PairList& list) {
+  std::set<std::pair<ParticleId, ParticleId>> pairs;
+  for (const auto& [i, j] : listed_pairs(list)) pairs.insert({particles.id[i], particles.id[j]});
+  return pairs;
+}
+
+TEST(PairList, SamePairsAsBruteForceForPolydisperseCloud) {
+  // Radii 0.3–2 mm in a 3 cm cube: a wide size ratio, so small particles meet large ones
+  // across more than their own cell width.
+  const ParticleStore cloud = test_scenes::random_cloud(3000, 0.03, 0.3e-3, 2e-3, 21);
+  for (double skin : {0.0, 0.1e-3, 1e-3}) {
+    SCOPED_TRACE(skin);
+    PairList list;
+    build_pair_list(cloud, skin, list);
+    expect_csr_invariants(list, cloud.size());
+    const auto expected = brute_force_pairs(cloud, skin);
+    EXPECT_GT(expected.size(), cloud.size() / 2);  // the test is not vacuous
+    EXPECT_EQ(listed_pairs(list), expected);
+    EXPECT_EQ(list.skin, skin);
+    EXPECT_EQ(list.builds, 1u);
+  }
+}
+
+TEST(PairList, SamePairsAsBruteForceWithAFarAwayParticleAndOnLatticeBed) {
+  // The far particle forces coarse cells (the cell-count cap); pairs must not change.
+  ParticleStore cloud = test_scenes::random_cloud(1500, 0.02, 0.5e-3, 1e-3, 22);
+  cloud.add(9999, 0, 0, {-500.0, 20.0, 1e4}, {}, 1e-3, 2500.0, 0.0);
+  PairList list;
+  build_pair_list(cloud, 0.2e-3, list);
+  expect_csr_invariants(list, cloud.size());
+  EXPECT_EQ(listed_pairs(list), brute_force_pairs(cloud, 0.2e-3));
+
+  const ParticleStore bed = test_scenes::lattice_bed(2000, 23);
+  build_pair_list(bed, 0.2e-3, list);
+  expect_csr_invariants(list, bed.size());
+  EXPECT_EQ(listed_pairs(list), brute_force_pairs(bed, 0.2e-3));
+  // Cubic lattice, spacing 2.1 mm, reach ≈ 2.2 mm: only the ~3 axial neighbours per particle.
+  EXPECT_GT(list.size(), 2 * bed.size());
+  EXPECT_LT(list.size(), 3 * bed.size());
+}
+
+TEST(PairList, EmptyAndSingleParticleAndZeroRadius) {
+  ParticleStore particles;
+  PairList list;
+  build_pair_list(particles, 1e-3, list);
+  EXPECT_EQ(list.size(), 0u);
+  ASSERT_EQ(list.offsets.size(), 1u);
+  particles.add(1, 0, 0, {0, 0, 0}, {}, 1e-3, 2500.0, 0.0);
+  build_pair_list(particles, 1e-3, list);
+  expect_csr_invariants(list, 1);
+  EXPECT_EQ(list.size(), 0u);
+  // Point particles with no skin cannot pair even when coincident: |d|² < 0 never holds.
+  ParticleStore points;
+  points.add(1, 0, 0, {0, 0, 0}, {}, 1.0, 2500.0, 0.0);
+  points.add(2, 0, 0, {0, 0, 0}, {}, 1.0, 2500.0, 0.0);
+  points.radius = {0.0, 0.0};
+  build_pair_list(points, 0.0, list);
+  EXPECT_EQ(list.size(), 0u);
+}
+
+TEST(PairList, HistorySurvivesARebuildWithoutChanges) {
+  const ParticleStore bed = test_scenes::lattice_bed(3000, 31);
+  PairList list;
+  build_pair_list(bed, 0.2e-3, list);
+  stamp_history(bed, list);
+  const auto before = id_pairs(bed, list);
+  build_pair_list(bed, 0.2e-3, list);
+  std::size_t carried = 0, fresh = 0;
+  expect_history_carried(bed, list, before, carried, fresh);
+  EXPECT_EQ(carried, list.size());
+  EXPECT_EQ(list.builds, 2u);
+}
+
+TEST(PairList, HistoryFollowsIdsThroughSpatialSortAndRandomPermutation) {
+  ParticleStore cloud = test_scenes::random_cloud(2500, 0.025, 0.5e-3, 1.5e-3, 32);
+  PairList list;
+  build_pair_list(cloud, 0.3e-3, list);
+  stamp_history(cloud, list);
+  auto before = id_pairs(cloud, list);
+
+  cloud.permute(spatial_order(cloud, 3.3e-3));
+  EXPECT_TRUE(pair_list_needs_rebuild(cloud, list));  // the order changed
+  build_pair_list(cloud, 0.3e-3, list);
+  std::size_t carried = 0, fresh = 0;
+  expect_history_carried(cloud, list, before, carried, fresh);
+  EXPECT_EQ(carried, list.size());  // same positions: every pair is an old pair
+
+  // A random permutation flips the order of about half the pairs (history changes sign).
+  stamp_history(cloud, list);
+  before = id_pairs(cloud, list);
+  std::vector<std::size_t> order(cloud.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(5));
+  cloud.permute(order);
+  build_pair_list(cloud, 0.3e-3, list);
+  carried = fresh = 0;
+  expect_history_carried(cloud, list, before, carried, fresh);
+  EXPECT_EQ(carried, list.size());
+}
+
+TEST(PairList, HistoryAfterRemovalAndInsertion) {
+  ParticleStore cloud = test_scenes::random_cloud(2500, 0.025, 0.5e-3, 1.5e-3, 33);
+  PairList list;
+  build_pair_list(cloud, 0.3e-3, list);
+  stamp_history(cloud, list);
+  const auto before = id_pairs(cloud, list);
+
+  std::vector<char> remove(cloud.size(), 0);
+  for (std::size_t i = 0; i < cloud.size(); i += 7) remove[i] = 1;
+  cloud.remove_flagged(remove);
+  const ParticleStore extra = test_scenes::random_cloud(400, 0.025, 0.5e-3, 1.5e-3, 34, 100000);
+  for (std::size_t k = 0; k < extra.size(); ++k)
+    cloud.add(extra.id[k], 0, 0, extra.position[k], {}, extra.radius[k], 2500.0, 0.0);
+  EXPECT_TRUE(pair_list_needs_rebuild(cloud, list));
+  build_pair_list(cloud, 0.3e-3, list);
+  expect_csr_invariants(list, cloud.size());
+  EXPECT_EQ(listed_pairs(list), brute_force_pairs(cloud, 0.3e-3));
+  std::size_t carried = 0, fresh = 0;
+  expect_history_carried(cloud, list, before, carried, fresh);
+  EXPECT_GT(carried, 0u);  // surviving old pairs kept their history
+  EXPECT_GT(fresh, 0u);    // pairs with inserted particles start from zero
+}
+
+TEST(PairList, IdenticalForOneAndTwoThreads) {
+  // Big enough for every parallel path (pair search, both counting sorts, id remapping).
+  ParticleStore bed = test_scenes::lattice_bed(40000, 41);
+  std::vector<std::size_t> order(bed.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = order.size() - 1 - k;
+  const int threads_before = omp_get_max_threads();
+  PairList lists[2];
+  for (int t = 0; t < 2; ++t) {
+    omp_set_num_threads(t + 1);
+    ParticleStore particles = bed;
+    build_pair_list(particles, 0.2e-3, lists[t]);
+    stamp_history(particles, lists[t]);
+    particles.permute(order);
+    build_pair_list(particles, 0.2e-3, lists[t]);
+  }
+  omp_set_num_threads(threads_before);
+  EXPECT_GT(lists[0].size(), 40000u);
+  EXPECT_EQ(lists[0].offsets, lists[1].offsets);
+  EXPECT_EQ(lists[0].partner, lists[1].partner);
+  EXPECT_EQ(lists[0].tangential_displacement, lists[1].tangential_displacement);
+  EXPECT_EQ(lists[0].rolling_torque, lists[1].rolling_torque);
+  EXPECT_EQ(lists[0].reverse_offsets, lists[1].reverse_offsets);
+  EXPECT_EQ(lists[0].reverse_pairs, lists[1].reverse_pairs);
+}
+
+TEST(PairList, RebuildCriterionIsHalfTheSkin) {
+  ParticleStore bed = test_scenes::lattice_bed(500, 51);
+  const double skin = 0.2e-3;  // m
+  PairList list;
+  EXPECT_TRUE(pair_list_needs_rebuild(bed, list));  // never built
+  build_pair_list(bed, skin, list);
+  EXPECT_FALSE(pair_list_needs_rebuild(bed, list));
+  bed.position[17].x += 0.49 * skin;
+  EXPECT_FALSE(pair_list_needs_rebuild(bed, list));
+  EXPECT_TRUE(pair_list_needs_rebuild(bed, list, 0.02 * skin));  // 0.49 + 0.02 > 0.5
+  bed.position[17].x += 0.02 * skin;
+  EXPECT_TRUE(pair_list_needs_rebuild(bed, list));
+  bed.position[17] = list.reference_positions[17];
+  EXPECT_FALSE(pair_list_needs_rebuild(bed, list));
+  bed.position[3].z = std::nan("");
+  EXPECT_TRUE(pair_list_needs_rebuild(bed, list));
+  try {
+    build_pair_list(bed, skin, list);
+    ADD_FAILURE() << "a NaN position must stop the build";
+  } catch (const PhysicsError& error) {
+    EXPECT_NE(std::string(error.what()).find("particle id 4 "), std::string::npos) << error.what();
+  }
+  EXPECT_EQ(list.builds, 1u);  // the failed build left the previous list intact
+  EXPECT_EQ(list.offsets.size(), bed.size() + 1);
+  bed.position[3] = list.reference_positions[3];
+  bed.add(10000, 0, 0, {0, 0, 0}, {}, 1e-3, 2500.0, 0.0);
+  EXPECT_TRUE(pair_list_needs_rebuild(bed, list));  // count changed
+}
+
+TEST(PairList, ListStaysCompleteWhileEveryParticleMovesLessThanHalfTheSkin) {
+  // Verlet's guarantee: if no particle moved more than skin/2, every pair now touching
+  // (|xi − xj| < Ri + Rj) was within Ri + Rj + skin at the build, hence is listed.
+  ParticleStore cloud = test_scenes::random_cloud(2000, 0.02, 0.5e-3, 1e-3, 61);
+  const double skin = 0.4e-3;  // m
+  PairList list;
+  build_pair_list(cloud, skin, list);
+  const auto listed = listed_pairs(list);
+  std::mt19937_64 random(62);
+  std::normal_distribution<double> normal;
+  for (auto& x : cloud.position) {
+    const Vec3 direction = normalized(Vec3{normal(random), normal(random), normal(random)});
+    x += 0.4999 * skin * direction;
+  }
+  ASSERT_FALSE(pair_list_needs_rebuild(cloud, list));
+  const auto touching = brute_force_pairs(cloud, 0.0);
+  EXPECT_GT(touching.size(), 100u);
+  for (const auto& pair : touching) EXPECT_TRUE(listed.count(pair));
+}
+
+}  // namespace
+}  // namespace quarry
