@@ -1,0 +1,230 @@
+// Deck parser entry points: YAML text → SimulationSpec. Reads every section (deck_settings,
+// deck_geometry), then checks what spans sections — names that refer to other entries and
+// the material interactions every possible contact needs — and reports all errors at once.
+#include "io/deck.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "io/deck_sections.h"
+
+namespace quarry {
+
+namespace {
+
+using deck_detail::DeckContext;
+using deck_detail::MapReader;
+
+const std::vector<std::string> kTopLevelKeys = {"simulation",     "materials", "interactions",
+                                                "particle_types", "surfaces",  "factories",
+                                                "monitors",       "output"};
+
+// Reports a second entry of the same name in one section; empty names were reported already.
+void check_unique_names(DeckContext& context, const std::string& noun,
+                        const std::vector<const Located<std::string>*>& names) {
+  std::map<std::string, const Located<std::string>*> first_of;
+  for (const Located<std::string>* name : names) {
+    if (name->value.empty()) continue;
+    const auto [entry, inserted] = first_of.emplace(name->value, name);
+    if (!inserted)
+      context.error(name->where, fmt::format("duplicate {} name \"{}\"", noun, name->value),
+                    fmt::format("first defined on line {}", entry->second->where.line));
+  }
+}
+
+template <class Spec>
+std::vector<const Located<std::string>*> names_of(const std::vector<Spec>& entries) {
+  std::vector<const Located<std::string>*> names;
+  for (const Spec& entry : entries) names.push_back(&entry.name);
+  return names;
+}
+
+template <class Spec>
+std::vector<std::string> spellings_of(const std::vector<Spec>& entries) {
+  std::vector<std::string> names;
+  for (const Spec& entry : entries)
+    if (!entry.name.value.empty()) names.push_back(entry.name.value);
+  return names;
+}
+
+// Reports a reference to a name that no entry of the section defines. An empty reference
+// was reported already (missing or malformed key).
+bool check_reference(DeckContext& context, const std::string& noun,
+                     const Located<std::string>& reference,
+                     const std::vector<std::string>& defined) {
+  if (reference.value.empty()) return false;
+  if (std::find(defined.begin(), defined.end(), reference.value) != defined.end()) return true;
+  context.error(reference.where, fmt::format("unknown {} \"{}\"", noun, reference.value),
+                defined.empty() ? fmt::format("no {} is defined", noun)
+                                : deck_detail::suggestion_hint(reference.value, defined));
+  return false;
+}
+
+// Unordered pair of material names, so that [ore, steel] and [steel, ore] are one interaction.
+std::pair<std::string, std::string> material_pair(const std::string& a, const std::string& b) {
+  return a < b ? std::make_pair(a, b) : std::make_pair(b, a);
+}
+
+// Every pair of materials that can meet needs an interaction: particle–particle for all
+// particle-type materials (each with itself and with the others), particle–surface for every
+// particle material with every surface material.
+void check_interactions(DeckContext& context, const SimulationSpec& spec,
+                        const std::vector<std::string>& material_names) {
+  std::map<std::pair<std::string, std::string>, const InteractionSpec*> defined;
+  for (const InteractionSpec& interaction : spec.interactions) {
+    const bool known_a =
+        check_reference(context, "material", interaction.material_a, material_names);
+    const bool known_b =
+        check_reference(context, "material", interaction.material_b, material_names);
+    if (!known_a || !known_b) continue;
+    const auto [entry, inserted] = defined.emplace(
+        material_pair(interaction.material_a.value, interaction.material_b.value), &interaction);
+    if (!inserted)
+      context.error(interaction.material_a.where,
+                    fmt::format("duplicate interaction for materials \"{}\" and \"{}\"",
+                                interaction.material_a.value, interaction.material_b.value),
+                    fmt::format("first defined on line {}", entry->second->material_a.where.line));
+  }
+
+  std::set<std::pair<std::string, std::string>> reported;
+  const auto require_pair = [&](const std::string& a, const std::string& b,
+                                const SourceLocation& where, const std::string& why) {
+    const auto pair = material_pair(a, b);
+    if (defined.count(pair) || !reported.insert(pair).second) return;
+    context.error(
+        where,
+        fmt::format("no interaction defined for materials \"{}\" and \"{}\" ({})", a, b, why),
+        fmt::format("add to interactions: - {{materials: [{}, {}], restitution: 0.5, "
+                    "static_friction: 0.5, rolling_friction: 0.05}}",
+                    pair.first, pair.second));
+  };
+  // Only references that resolved: an unknown material was reported on its own.
+  const auto known = [&](const Located<std::string>& material) {
+    return std::find(material_names.begin(), material_names.end(), material.value) !=
+           material_names.end();
+  };
+  for (std::size_t i = 0; i < spec.particle_types.size(); ++i) {
+    const ParticleTypeSpec& later = spec.particle_types[i];
+    if (!known(later.material)) continue;
+    for (std::size_t j = 0; j <= i; ++j) {
+      const ParticleTypeSpec& earlier = spec.particle_types[j];
+      if (!known(earlier.material)) continue;
+      require_pair(earlier.material.value, later.material.value, later.material.where,
+                   i == j
+                       ? fmt::format("particles of type \"{}\" touch each other", later.name.value)
+                       : fmt::format("particle types \"{}\" and \"{}\" touch", earlier.name.value,
+                                     later.name.value));
+    }
+  }
+  for (const SurfaceSpec& surface : spec.surfaces) {
+    if (!known(surface.material)) continue;
+    for (const ParticleTypeSpec& particle_type : spec.particle_types) {
+      if (!known(particle_type.material)) continue;
+      require_pair(particle_type.material.value, surface.material.value, surface.material.where,
+                   fmt::format("particles of type \"{}\" touch surface \"{}\"",
+                               particle_type.name.value, surface.name.value));
+    }
+  }
+}
+
+void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
+  check_unique_names(context, "material", names_of(spec.materials));
+  check_unique_names(context, "particle type", names_of(spec.particle_types));
+  check_unique_names(context, "surface", names_of(spec.surfaces));
+  check_unique_names(context, "factory", names_of(spec.factories));
+  check_unique_names(context, "monitor", names_of(spec.monitors));
+
+  const std::vector<std::string> material_names = spellings_of(spec.materials);
+  for (const ParticleTypeSpec& particle_type : spec.particle_types)
+    check_reference(context, "material", particle_type.material, material_names);
+  for (const SurfaceSpec& surface : spec.surfaces)
+    check_reference(context, "material", surface.material, material_names);
+  const std::vector<std::string> particle_type_names = spellings_of(spec.particle_types);
+  for (const FactorySpec& factory : spec.factories)
+    check_reference(context, "particle type", factory.particle_type, particle_type_names);
+  check_interactions(context, spec, material_names);
+}
+
+// Errors in the order of the file (the first line of the output is the first mistake in the
+// deck); errors without a line go last.
+Diagnostics in_file_order(const Diagnostics& diagnostics) {
+  std::vector<Diagnostic> items = diagnostics.all();
+  const auto line_key = [](const Diagnostic& item) {
+    return item.where.line > 0 ? item.where.line : std::numeric_limits<int>::max();
+  };
+  std::stable_sort(items.begin(), items.end(), [&](const Diagnostic& a, const Diagnostic& b) {
+    return std::make_pair(line_key(a), a.where.column) <
+           std::make_pair(line_key(b), b.where.column);
+  });
+  Diagnostics sorted;
+  for (Diagnostic& item : items) {
+    if (item.severity == Severity::error)
+      sorted.error(std::move(item.where), std::move(item.message), std::move(item.hint));
+    else
+      sorted.warning(std::move(item.where), std::move(item.message), std::move(item.hint));
+  }
+  return sorted;
+}
+
+SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& display_name,
+                          const std::string& base_directory) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& error) {
+    // A syntax error stops the YAML reader; nothing after it can be trusted.
+    const SourceLocation where =
+        error.mark.is_null()
+            ? SourceLocation{display_name, 0, 0}
+            : SourceLocation{display_name, error.mark.line + 1, error.mark.column + 1};
+    throw UserError(where, "YAML syntax error: " + error.msg,
+                    "check the indentation and the brackets on this line and the line above");
+  }
+  if (root.IsNull())
+    throw UserError({display_name, 0, 0}, "the deck is empty",
+                    "a deck needs at least the simulation: and materials: sections (docs/deck.md)");
+
+  DeckContext context{display_name, {}};
+  SimulationSpec spec;
+  spec.deck_path = display_name;
+  MapReader top(context, root, root, "the deck");
+  if (top.is_map()) {
+    top.reject_unknown_keys(kTopLevelKeys);
+    deck_detail::read_simulation_section(top, spec.simulation);
+    deck_detail::read_materials_section(top, spec.materials);
+    deck_detail::read_interactions_section(top, spec.interactions);
+    deck_detail::read_particle_types_section(top, spec.particle_types);
+    deck_detail::read_surfaces_section(top, base_directory, spec.surfaces);
+    deck_detail::read_factories_section(top, spec.factories);
+    deck_detail::read_monitors_section(top, spec.monitors);
+    deck_detail::read_output_section(top, spec.output);
+    check_cross_references(context, spec);
+  }
+  if (context.diagnostics.has_errors()) throw UserError(in_file_order(context.diagnostics));
+  return spec;
+}
+
+}  // namespace
+
+SimulationSpec parse_deck(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw UserError({path, 0, 0}, "cannot open the deck file",
+                    "check the path; it is relative to the current directory");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_yaml(text.str(), path, std::filesystem::path(path).parent_path().string());
+}
+
+SimulationSpec parse_deck_string(const std::string& yaml_text, const std::string& display_name) {
+  return parse_yaml(yaml_text, display_name, std::string());
+}
+
+}  // namespace quarry

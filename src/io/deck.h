@@ -1,0 +1,25 @@
+// Deck parser: reads a YAML simulation deck (docs/deck.md) into a SimulationSpec before any
+// simulation exists. Every value keeps the line:column where the user wrote it, and every error
+// of the deck is reported at once (unknown keys with "did you mean", ranges with units, names).
+#pragma once
+
+#include <string>
+
+#include "core/simulation_spec.h"
+
+namespace quarry {
+
+// Reads the deck file at `path` and returns the complete specification.
+// Locations in the spec and in errors name the file as `path` was given; STL files are
+// resolved relative to the deck's folder and stored as absolute paths in SurfaceSpec::file.
+// Throws UserError carrying every error found (syntax, unknown keys and enum values, wrong
+// types, missing required keys, out-of-range values, unknown or duplicate names, missing
+// material interactions, missing STL files); never returns a partially filled spec.
+// Cost: one pass over the YAML tree plus one filesystem lookup per STL surface.
+SimulationSpec parse_deck(const std::string& path);
+
+// As parse_deck, for YAML held in memory (tests, the C ABI): locations name `display_name`,
+// STL files are resolved relative to the current working directory.
+SimulationSpec parse_deck_string(const std::string& yaml_text, const std::string& display_name);
+
+}  // namespace quarry

@@ -1,0 +1,251 @@
+// Deck sections with geometry: surfaces (STL or primitives, prescribed motion), factories with
+// their insertion regions, and monitors. STL paths are resolved against the deck's folder here
+// so that the world builder never depends on the current directory.
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "io/deck_sections.h"
+
+namespace quarry::deck_detail {
+
+namespace {
+
+const EnumChoices<SurfaceKind> kSurfaceKinds{"surface type",
+                                             {{"stl", SurfaceKind::stl},
+                                              {"plane", SurfaceKind::plane},
+                                              {"box", SurfaceKind::box},
+                                              {"cylinder", SurfaceKind::cylinder}}};
+
+const EnumChoices<MotionKind> kMotionKinds{"motion type",
+                                           {{"rotation", MotionKind::rotation},
+                                            {"translation", MotionKind::translation},
+                                            {"vibration", MotionKind::vibration}}};
+
+const EnumChoices<RegionKind> kRegionKinds{
+    "region type", {{"box", RegionKind::box}, {"cylinder", RegionKind::cylinder}}};
+
+// A cylinder wall of fewer segments than this is not a cylinder (a triangle prism at best).
+constexpr int kMinimumCylinderResolution = 3;
+
+std::vector<std::string> joined(std::vector<std::string> first,
+                                const std::vector<std::string>& second) {
+  first.insert(first.end(), second.begin(), second.end());
+  return first;
+}
+
+// The keys of every variant, for "does not apply to" messages.
+std::vector<std::string> union_of(const std::vector<std::vector<std::string>>& variants) {
+  std::vector<std::string> all;
+  for (const auto& keys : variants) all = joined(std::move(all), keys);
+  return all;
+}
+
+// start_time ≥ 0 and stop_time > start_time (s).
+void read_time_window(MapReader& map, Located<double>& start_time, Located<double>& stop_time) {
+  map.read("start_time", start_time, non_negative(), "s");
+  if (!map.read("stop_time", stop_time, non_negative(), "s")) return;
+  if (stop_time.value <= start_time.value)
+    map.context().error(stop_time.where,
+                        fmt::format("stop_time must be > start_time = {} s, got {} s",
+                                    start_time.value, stop_time.value));
+}
+
+void read_box_corners(MapReader& map, const std::string& what, Located<Vec3>& lower,
+                      Located<Vec3>& upper) {
+  const bool has_lower = map.read("min", lower, Presence::required);
+  const bool has_upper = map.read("max", upper, Presence::required);
+  if (has_lower && has_upper) check_box_corners(map.context(), what, lower, upper);
+}
+
+// Region of space for factories and monitors: {type: box, min, max} or
+// {type: cylinder, base, axis, radius, length}.
+RegionSpec read_region(MapReader& parent, const std::string& key) {
+  RegionSpec region;
+  MapReader map(parent.context(), *parent.find(key), *parent.find_key(key), "region");
+  if (!map.is_map()) return region;
+  const std::vector<std::string> box_keys = {"type", "min", "max"};
+  const std::vector<std::string> cylinder_keys = {"type", "base", "axis", "radius", "length"};
+  const std::vector<std::string> all_keys = union_of({box_keys, cylinder_keys});
+  if (!map.has("type") || !map.read("type", region.kind, kRegionKinds)) {
+    map.reject_unknown_keys(all_keys);
+    map.require("type", "type: is one of " + join_choices(kRegionKinds));
+    return region;
+  }
+  const std::string variant = fmt::format("region type \"{}\"", map.find("type")->Scalar());
+  if (region.kind.value == RegionKind::box) {
+    map.reject_unknown_keys(box_keys, all_keys, variant);
+    read_box_corners(map, "region", region.min, region.max);
+  } else {
+    map.reject_unknown_keys(cylinder_keys, all_keys, variant);
+    map.read("base", region.base, Presence::required);
+    if (map.read("axis", region.axis, Presence::required))
+      check_nonzero_direction(map.context(), "axis", region.axis);
+    map.read("radius", region.radius, positive(), "m", Presence::required);
+    map.read("length", region.length, positive(), "m", Presence::required);
+  }
+  return region;
+}
+
+void read_motion(MapReader& surface, MotionSpec& motion) {
+  if (!surface.has("motion")) return;
+  MapReader map(surface.context(), *surface.find("motion"), *surface.find_key("motion"), "motion");
+  if (!map.is_map()) return;
+  const std::vector<std::string> common_keys = {"type", "start_time", "stop_time"};
+  const std::vector<std::string> rotation_keys = {"axis_point", "axis_direction",
+                                                  "angular_velocity"};
+  const std::vector<std::string> translation_keys = {"velocity"};
+  const std::vector<std::string> vibration_keys = {"amplitude", "frequency"};
+  const std::vector<std::string> all_keys =
+      union_of({common_keys, rotation_keys, translation_keys, vibration_keys});
+  if (!map.has("type") || !map.read("type", motion.kind, kMotionKinds)) {
+    map.reject_unknown_keys(all_keys);
+    map.require("type", "type: is one of " + join_choices(kMotionKinds));
+    return;
+  }
+  const std::string variant = fmt::format("motion type \"{}\"", map.find("type")->Scalar());
+  switch (motion.kind.value) {
+    case MotionKind::rotation:
+      map.reject_unknown_keys(joined(common_keys, rotation_keys), all_keys, variant);
+      map.read("axis_point", motion.axis_point, Presence::required);
+      if (map.read("axis_direction", motion.axis_direction, Presence::required))
+        check_nonzero_direction(map.context(), "axis_direction", motion.axis_direction);
+      map.read("angular_velocity", motion.angular_velocity, any_number(), "rad/s",
+               Presence::required);
+      break;
+    case MotionKind::translation:
+      map.reject_unknown_keys(joined(common_keys, translation_keys), all_keys, variant);
+      map.read("velocity", motion.velocity, Presence::required);
+      break;
+    case MotionKind::vibration:
+      map.reject_unknown_keys(joined(common_keys, vibration_keys), all_keys, variant);
+      map.read("amplitude", motion.amplitude, Presence::required);
+      map.read("frequency", motion.frequency, positive(), "Hz", Presence::required);
+      break;
+    case MotionKind::none:
+      break;  // not spellable in a deck: no motion key means none
+  }
+  read_time_window(map, motion.start_time, motion.stop_time);
+}
+
+// Resolves an STL path against the deck's folder, stores it absolute, and checks it exists.
+void read_stl_file(MapReader& map, const std::string& base_directory, Located<std::string>& file) {
+  if (!map.read("file", file, Presence::required)) return;
+  namespace fs = std::filesystem;
+  fs::path path(file.value);
+  if (path.is_relative()) path = fs::path(base_directory) / path;
+  std::error_code ignored;
+  const fs::path resolved = fs::absolute(path, ignored).lexically_normal();
+  if (!fs::is_regular_file(resolved, ignored)) {
+    map.context().error(file.where, fmt::format("STL file \"{}\" not found", file.value),
+                        fmt::format("looked for \"{}\"; relative paths start at the deck's folder",
+                                    resolved.string()));
+    return;
+  }
+  file.value = resolved.string();
+}
+
+}  // namespace
+
+void read_surfaces_section(MapReader& root, const std::string& base_directory,
+                           std::vector<SurfaceSpec>& surfaces) {
+  const std::vector<std::string> common_keys = {
+      "name", "type", "material", "motion", "conveyor_velocity", "export"};
+  const std::vector<std::string> stl_keys = {"file", "scale", "offset"};
+  const std::vector<std::string> plane_keys = {"point", "normal", "size"};
+  const std::vector<std::string> box_keys = {"min", "max"};
+  const std::vector<std::string> cylinder_keys = {"base",   "axis",   "radius",
+                                                  "length", "capped", "resolution"};
+  const std::vector<std::string> all_keys =
+      union_of({common_keys, stl_keys, plane_keys, box_keys, cylinder_keys});
+  for (MapReader& map : list_of_maps(root, "surfaces", "surface")) {
+    DeckContext& context = map.context();
+    SurfaceSpec surface;
+    const bool known_kind = map.has("type") && map.read("type", surface.kind, kSurfaceKinds);
+    if (!known_kind) {
+      map.reject_unknown_keys(all_keys);
+      map.require("type", "type: is one of " + join_choices(kSurfaceKinds));
+    }
+    const std::string variant =
+        known_kind ? fmt::format("surface type \"{}\"", map.find("type")->Scalar()) : "";
+    if (known_kind) {
+      switch (surface.kind.value) {
+        case SurfaceKind::stl:
+          map.reject_unknown_keys(joined(common_keys, stl_keys), all_keys, variant);
+          read_stl_file(map, base_directory, surface.file);
+          map.read("scale", surface.scale, positive(), "1");
+          map.read("offset", surface.offset);
+          break;
+        case SurfaceKind::plane:
+          map.reject_unknown_keys(joined(common_keys, plane_keys), all_keys, variant);
+          map.read("point", surface.point, Presence::required);
+          if (map.read("normal", surface.normal, Presence::required))
+            check_nonzero_direction(context, "normal", surface.normal);
+          map.read("size", surface.size, positive(), "m");
+          break;
+        case SurfaceKind::box:
+          map.reject_unknown_keys(joined(common_keys, box_keys), all_keys, variant);
+          read_box_corners(map, "box", surface.min, surface.max);
+          break;
+        case SurfaceKind::cylinder:
+          map.reject_unknown_keys(joined(common_keys, cylinder_keys), all_keys, variant);
+          map.read("base", surface.base, Presence::required);
+          if (map.read("axis", surface.axis, Presence::required))
+            check_nonzero_direction(context, "axis", surface.axis);
+          map.read("radius", surface.radius, positive(), "m", Presence::required);
+          map.read("length", surface.length, positive(), "m", Presence::required);
+          map.read("capped", surface.capped);
+          map.read("resolution", surface.resolution, at_least(kMinimumCylinderResolution));
+          break;
+      }
+    }
+    map.read("name", surface.name, Presence::required);
+    map.read("material", surface.material, Presence::required);
+    read_motion(map, surface.motion);
+    map.read("conveyor_velocity", surface.conveyor_velocity);
+    map.read("export", surface.export_loads);
+    surfaces.push_back(std::move(surface));
+  }
+}
+
+void read_factories_section(MapReader& root, std::vector<FactorySpec>& factories) {
+  for (MapReader& map : list_of_maps(root, "factories", "factory")) {
+    DeckContext& context = map.context();
+    FactorySpec factory;
+    map.reject_unknown_keys({"name", "particle_type", "region", "count", "mass", "mass_rate",
+                             "start_time", "stop_time", "velocity", "max_attempts"});
+    map.read("name", factory.name, Presence::required);
+    map.read("particle_type", factory.particle_type, Presence::required);
+    if (map.require("region")) factory.region = read_region(map, "region");
+    // Exactly one of count / mass says when the factory is done.
+    if (map.has("count") && map.has("mass")) {
+      context.error(context.where(*map.find_key("mass")),
+                    "give either count or mass in a factory, not both",
+                    "count is a number of particles, mass a total in kg");
+    } else if (!map.has("count") && !map.has("mass") && map.is_map()) {
+      context.error(map.location(), "missing required key \"count\" or \"mass\" in factory");
+    }
+    Located<std::int64_t> count;
+    if (map.read("count", count, at_least(1.0))) factory.target_count = count;
+    Located<double> mass;
+    if (map.read("mass", mass, positive(), "kg")) factory.target_mass = mass;
+    Located<double> mass_rate;
+    if (map.read("mass_rate", mass_rate, positive(), "kg/s")) factory.mass_rate = mass_rate;
+    read_time_window(map, factory.start_time, factory.stop_time);
+    map.read("velocity", factory.initial_velocity);
+    map.read("max_attempts", factory.max_attempts, at_least(1.0));
+    factories.push_back(std::move(factory));
+  }
+}
+
+void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors) {
+  for (MapReader& map : list_of_maps(root, "monitors", "monitor")) {
+    MonitorSpec monitor;
+    map.reject_unknown_keys({"name", "region"});
+    map.read("name", monitor.name, Presence::required);
+    if (map.has("region")) monitor.region = read_region(map, "region");
+    monitors.push_back(std::move(monitor));
+  }
+}
+
+}  // namespace quarry::deck_detail

@@ -1,0 +1,32 @@
+// Readers of the deck's top-level sections (io/deck*.cpp only). Each checks its own keys,
+// types and value ranges; names that refer across sections are checked in deck.cpp once
+// every section has been read.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/simulation_spec.h"
+#include "io/deck_reader.h"
+
+namespace quarry::deck_detail {
+
+// deck_settings.cpp
+void read_simulation_section(MapReader& root, SimulationSettings& settings);
+void read_output_section(MapReader& root, OutputSpec& output);
+void read_materials_section(MapReader& root, std::vector<MaterialSpec>& materials);
+void read_interactions_section(MapReader& root, std::vector<InteractionSpec>& interactions);
+void read_particle_types_section(MapReader& root, std::vector<ParticleTypeSpec>& particle_types);
+
+// deck_geometry.cpp; STL files are resolved against `base_directory` ("" = current folder).
+void read_surfaces_section(MapReader& root, const std::string& base_directory,
+                           std::vector<SurfaceSpec>& surfaces);
+void read_factories_section(MapReader& root, std::vector<FactorySpec>& factories);
+void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors);
+
+// The map behind each element of a list-valued key: `what` names an element in messages.
+// Null elements (a bare "-") are reported; their location falls back to the list's key.
+std::vector<MapReader> list_of_maps(MapReader& parent, const std::string& key,
+                                    const std::string& what);
+
+}  // namespace quarry::deck_detail

@@ -1,0 +1,351 @@
+// Deck sections without geometry: simulation settings, output, materials, interactions and
+// particle types with their size distributions. Ranges follow the physics: 0 ≤ ν < 0.5 for an
+// isotropic solid, 0 < e ≤ 1 for restitution (Hertz-Mindlin damping needs ln e finite).
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "io/deck_sections.h"
+
+namespace quarry::deck_detail {
+
+namespace {
+
+const EnumChoices<Integrator> kIntegrators{"integrator",
+                                           {{"velocity_verlet", Integrator::velocity_verlet},
+                                            {"symplectic_euler", Integrator::symplectic_euler}}};
+
+const EnumChoices<NormalModel> kContactModels{
+    "contact model",
+    {{"hertz_mindlin", NormalModel::hertz_mindlin}, {"linear", NormalModel::linear}}};
+
+const EnumChoices<RollingModel> kRollingModels{"rolling model",
+                                               {{"constant_torque", RollingModel::constant_torque},
+                                                {"epsd", RollingModel::epsd},
+                                                {"none", RollingModel::none}}};
+
+const EnumChoices<SizeDistributionKind> kSizeDistributions{
+    "size distribution",
+    {{"fixed", SizeDistributionKind::fixed},
+     {"uniform", SizeDistributionKind::uniform},
+     {"normal", SizeDistributionKind::normal},
+     {"log_normal", SizeDistributionKind::log_normal},
+     {"discrete", SizeDistributionKind::discrete}}};
+
+// Mass fractions of a discrete distribution must sum to one within this tolerance (1).
+constexpr double kMassFractionSumTolerance = 1e-6;
+// Default clip bounds of normal and log-normal sizes: mean ± this many standard deviations.
+constexpr double kDefaultClipStandardDeviations = 3.0;
+
+// Reads `time_step:` either as a fixed step in seconds or as {rayleigh_fraction: f}.
+void read_time_step(MapReader& simulation, SimulationSettings& settings) {
+  const YAML::Node* value = simulation.find("time_step");
+  if (!value) return;
+  DeckContext& context = simulation.context();
+  if (value->IsMap()) {
+    MapReader fraction(context, *value, *simulation.find_key("time_step"), "time_step");
+    fraction.reject_unknown_keys({"rayleigh_fraction"});
+    fraction.read("rayleigh_fraction", settings.rayleigh_fraction, interval(0.0, false, 1.0, true),
+                  "1", Presence::required);
+    return;
+  }
+  Located<double> fixed;
+  if (simulation.read("time_step", fixed, positive(), "s")) settings.fixed_time_step = fixed;
+}
+
+void read_domain(MapReader& simulation, Located<Aabb>& domain) {
+  const YAML::Node* value = simulation.find("domain");
+  if (!value) {
+    simulation.require("domain");
+    return;
+  }
+  MapReader box(simulation.context(), *value, *simulation.find_key("domain"), "domain");
+  box.reject_unknown_keys({"min", "max"});
+  Located<Vec3> lower, upper;
+  const bool has_lower = box.read("min", lower, Presence::required);
+  const bool has_upper = box.read("max", upper, Presence::required);
+  if (!has_lower || !has_upper || !check_box_corners(box.context(), "domain", lower, upper)) return;
+  Aabb bounds;
+  bounds.lo = lower.value;
+  bounds.hi = upper.value;
+  domain = Located<Aabb>(bounds, box.location());
+}
+
+void read_size_distribution(MapReader& particle_type, SizeDistributionSpec& size) {
+  const YAML::Node* value = particle_type.find("size");
+  if (!value) {
+    particle_type.require("size");
+    return;
+  }
+  DeckContext& context = particle_type.context();
+  MapReader map(context, *value, *particle_type.find_key("size"), "size");
+  if (!map.is_map()) return;
+  const std::vector<std::string> all_keys = {
+      "distribution", "radius",        "min_radius", "max_radius", "mean_radius",
+      "std_radius",   "median_radius", "log_std",    "radii",      "mass_fractions"};
+  // Without a valid kind only the union of all kinds' keys can be checked; checking before
+  // `require` lets a misspelled "distribution" be reported once, as a misspelling.
+  if (!map.has("distribution") || !map.read("distribution", size.kind, kSizeDistributions)) {
+    map.reject_unknown_keys(all_keys);
+    map.require("distribution", "distribution: is one of " + join_choices(kSizeDistributions));
+    return;
+  }
+  const std::string variant =
+      fmt::format("size distribution \"{}\"", map.find("distribution")->Scalar());
+  switch (size.kind.value) {
+    case SizeDistributionKind::fixed:
+      map.reject_unknown_keys({"distribution", "radius"}, all_keys, variant);
+      map.read("radius", size.radius, positive(), "m", Presence::required);
+      break;
+    case SizeDistributionKind::uniform: {
+      map.reject_unknown_keys({"distribution", "min_radius", "max_radius"}, all_keys, variant);
+      const bool has_min =
+          map.read("min_radius", size.min_radius, positive(), "m", Presence::required);
+      const bool has_max =
+          map.read("max_radius", size.max_radius, positive(), "m", Presence::required);
+      if (has_min && has_max)
+        check_range(context, size.max_radius.where, "max_radius", size.max_radius,
+                    at_least(size.min_radius), "m");
+      break;
+    }
+    case SizeDistributionKind::normal:
+    case SizeDistributionKind::log_normal: {
+      const bool is_normal = size.kind.value == SizeDistributionKind::normal;
+      const char* centre_key = is_normal ? "mean_radius" : "median_radius";
+      const char* spread_key = is_normal ? "std_radius" : "log_std";
+      map.reject_unknown_keys({"distribution", centre_key, spread_key, "min_radius", "max_radius"},
+                              all_keys, variant);
+      Located<double> centre, spread;
+      const bool has_centre = map.read(centre_key, centre, positive(), "m", Presence::required);
+      const bool has_spread =
+          map.read(spread_key, spread, positive(), is_normal ? "m" : "1", Presence::required);
+      const bool explicit_min = map.has("min_radius");
+      const bool explicit_max = map.has("max_radius");
+      bool bounds_valid = map.read("min_radius", size.min_radius, positive(), "m") || !explicit_min;
+      bounds_valid = (map.read("max_radius", size.max_radius, positive(), "m") || !explicit_max) &&
+                     bounds_valid;
+      if (!has_centre || !has_spread) break;
+      const SourceLocation spread_where = spread.where;
+      if (is_normal) {
+        size.mean_radius = centre;
+        size.std_radius = spread;
+      } else {
+        // log_mean = ln(median / 1 m): the median of a log-normal is exp(μ) (e.g. Crow &
+        // Shimizu, "Lognormal Distributions", 1988, ch. 1).
+        size.log_mean = Located<double>(std::log(centre.value), centre.where);
+        size.log_std = spread;
+      }
+      const double spread_radius = kDefaultClipStandardDeviations * spread.value;
+      if (!explicit_min) {
+        const double default_min =
+            is_normal ? centre.value - spread_radius : centre.value * std::exp(-spread_radius);
+        size.min_radius = Located<double>(default_min, map.location());
+        if (default_min <= 0.0) {
+          context.error(
+              spread_where,
+              fmt::format("the default min_radius = mean_radius − 3 std_radius = {:.6g} m "
+                          "is not > 0 m",
+                          default_min),
+              "give min_radius > 0 explicitly");
+          bounds_valid = false;
+        }
+      }
+      if (!explicit_max) {
+        const double default_max =
+            is_normal ? centre.value + spread_radius : centre.value * std::exp(spread_radius);
+        size.max_radius = Located<double>(default_max, map.location());
+      }
+      if (bounds_valid && size.max_radius.value <= size.min_radius.value)
+        context.error(size.max_radius.where,
+                      fmt::format("max_radius must be > min_radius = {} m, got {} m",
+                                  size.min_radius.value, size.max_radius.value));
+      break;
+    }
+    case SizeDistributionKind::discrete: {
+      map.reject_unknown_keys({"distribution", "radii", "mass_fractions"}, all_keys, variant);
+      const bool has_radii = map.require("radii");
+      const bool has_fractions = map.require("mass_fractions");
+      if (!has_radii || !has_fractions) break;
+      const auto read_positive_list = [&](const std::string& key, const std::string& unit,
+                                          std::vector<Located<double>>& out) {
+        const YAML::Node& list = *map.find(key);
+        if (!list.IsSequence() || list.size() == 0) {
+          context.error(map.where_value(key),
+                        fmt::format("expected a non-empty list of numbers for \"{}\", got {}", key,
+                                    describe_node(list)));
+          return false;
+        }
+        bool valid = true;
+        for (std::size_t index = 0; index < list.size(); ++index) {
+          const std::string element_name = fmt::format("{}[{}]", key, index);
+          const std::optional<double> number =
+              read_number(context, list[index], list, element_name);
+          if (!number) {
+            valid = false;
+            continue;
+          }
+          const SourceLocation at = context.where(list[index], list);
+          valid = check_range(context, at, element_name, *number, positive(), unit) && valid;
+          out.emplace_back(*number, at);
+        }
+        return valid;
+      };
+      const bool radii_valid = read_positive_list("radii", "m", size.discrete_radii);
+      const bool fractions_valid =
+          read_positive_list("mass_fractions", "1", size.discrete_mass_fractions);
+      if (!radii_valid || !fractions_valid) break;
+      if (size.discrete_radii.size() != size.discrete_mass_fractions.size()) {
+        context.error(map.where_value("mass_fractions"),
+                      fmt::format("mass_fractions has {} entries but radii has {}",
+                                  size.discrete_mass_fractions.size(), size.discrete_radii.size()),
+                      "give one mass fraction per radius");
+        break;
+      }
+      double sum = 0.0;
+      for (const auto& fraction : size.discrete_mass_fractions) sum += fraction.value;
+      if (std::abs(sum - 1.0) > kMassFractionSumTolerance)
+        context.error(map.where_value("mass_fractions"),
+                      fmt::format("mass_fractions must sum to 1, got {:.10g}", sum),
+                      "fractions are shares of the total mass, e.g. [0.25, 0.75]");
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<MapReader> list_of_maps(MapReader& parent, const std::string& key,
+                                    const std::string& what) {
+  std::vector<MapReader> maps;
+  for (const YAML::Node& element : read_list(parent, key))
+    maps.emplace_back(parent.context(), element, *parent.find_key(key), what);
+  return maps;
+}
+
+void read_simulation_section(MapReader& root, SimulationSettings& settings) {
+  const YAML::Node* value = root.find("simulation");
+  if (!value) {
+    root.require("simulation");
+    return;
+  }
+  MapReader map(root.context(), *value, *root.find_key("simulation"), "simulation");
+  map.reject_unknown_keys({"end_time", "time_step", "impact_speed", "gravity", "domain",
+                           "integrator", "threads", "skin", "sort_interval", "max_overlap_fraction",
+                           "seed"});
+  map.read("end_time", settings.end_time, positive(), "s", Presence::required);
+  read_time_step(map, settings);
+  Located<double> impact_speed;
+  if (map.read("impact_speed", impact_speed, positive(), "m/s"))
+    settings.impact_speed = impact_speed;
+  map.read("gravity", settings.gravity);
+  read_domain(map, settings.domain);
+  map.read("integrator", settings.integrator, kIntegrators);
+  map.read("threads", settings.threads, non_negative());
+  map.read("skin", settings.skin, non_negative(), "m");
+  map.read("sort_interval", settings.sort_interval, non_negative());
+  map.read("max_overlap_fraction", settings.max_overlap_fraction, interval(0.0, false, 1.0, true),
+           "1");
+  Located<std::int64_t> seed;
+  if (map.read("seed", seed, non_negative()))
+    settings.seed = static_cast<std::uint64_t>(seed.value);
+}
+
+void read_output_section(MapReader& root, OutputSpec& output) {
+  const YAML::Node* value = root.find("output");
+  if (!value) return;
+  MapReader map(root.context(), *value, *root.find_key("output"), "output");
+  map.reject_unknown_keys({"directory", "interval", "monitor_interval", "checkpoint_interval",
+                           "plots", "progress_interval"});
+  map.read("directory", output.directory);
+  map.read("interval", output.interval, non_negative(), "s");
+  map.read("monitor_interval", output.monitor_interval, non_negative(), "s");
+  map.read("checkpoint_interval", output.checkpoint_interval, non_negative(), "s");
+  map.read("plots", output.plots);
+  map.read("progress_interval", output.progress_interval, non_negative(), "s");
+}
+
+void read_materials_section(MapReader& root, std::vector<MaterialSpec>& materials) {
+  if (!root.require("materials")) return;
+  std::vector<MapReader> maps = list_of_maps(root, "materials", "material");
+  const YAML::Node& listed = *root.find("materials");
+  if (maps.empty() && (listed.IsNull() || (listed.IsSequence() && listed.size() == 0)))
+    root.context().error(root.context().where(*root.find_key("materials")),
+                         "materials must list at least one material",
+                         "add e.g. - {name: ore, density: 2500, youngs_modulus: 5.0e7, "
+                         "poisson_ratio: 0.25}");
+  for (MapReader& map : maps) {
+    MaterialSpec material;
+    map.reject_unknown_keys({"name", "density", "youngs_modulus", "poisson_ratio"});
+    map.read("name", material.name, Presence::required);
+    map.read("density", material.density, positive(), "kg/m³", Presence::required);
+    map.read("youngs_modulus", material.youngs_modulus, positive(), "Pa", Presence::required);
+    // Isotropic elasticity requires −1 < ν < 0.5; granular solids have ν ≥ 0.
+    map.read("poisson_ratio", material.poisson_ratio, interval(0.0, true, 0.5, false), "1",
+             Presence::required);
+    materials.push_back(std::move(material));
+  }
+}
+
+void read_interactions_section(MapReader& root, std::vector<InteractionSpec>& interactions) {
+  for (MapReader& map : list_of_maps(root, "interactions", "interaction")) {
+    DeckContext& context = map.context();
+    InteractionSpec interaction;
+    const std::vector<std::string> common_keys = {
+        "materials",     "restitution", "static_friction", "rolling_friction",
+        "rolling_model", "cohesion",    "model",           "clip_attraction"};
+    const std::vector<std::string> linear_keys = {"stiffness", "tangential_stiffness_ratio"};
+    const bool known_model = map.read("model", interaction.normal_model, kContactModels);
+    const bool is_linear = interaction.normal_model.value == NormalModel::linear;
+    if (is_linear || (map.has("model") && !known_model)) {
+      std::vector<std::string> all_keys = common_keys;
+      all_keys.insert(all_keys.end(), linear_keys.begin(), linear_keys.end());
+      map.reject_unknown_keys(all_keys);
+    } else {
+      map.reject_unknown_keys(common_keys, linear_keys, "contact model \"hertz_mindlin\"");
+    }
+
+    if (const YAML::Node* names = map.find("materials")) {
+      if (!names->IsSequence() || names->size() != 2) {
+        context.error(map.where_value("materials"),
+                      fmt::format("expected a list of 2 material names for \"materials\", got {}",
+                                  describe_node(*names)),
+                      "write it as materials: [ore, steel]");
+      } else {
+        if (const auto first = read_string(context, (*names)[0], *names, "materials[0]"))
+          interaction.material_a = Located<std::string>(*first, context.where((*names)[0]));
+        if (const auto second = read_string(context, (*names)[1], *names, "materials[1]"))
+          interaction.material_b = Located<std::string>(*second, context.where((*names)[1]));
+      }
+    } else {
+      map.require("materials");
+    }
+    map.read("restitution", interaction.restitution, interval(0.0, false, 1.0, true), "1");
+    map.read("static_friction", interaction.static_friction, non_negative(), "1");
+    map.read("rolling_friction", interaction.rolling_friction, non_negative(), "1");
+    map.read("rolling_model", interaction.rolling_model, kRollingModels);
+    map.read("cohesion", interaction.cohesion_energy_density, non_negative(), "J/m³");
+    map.read("clip_attraction", interaction.clip_attraction);
+    if (is_linear) {
+      if (!map.has("stiffness") && map.is_map())
+        context.error(
+            map.location(), "missing required key \"stiffness\" in interaction",
+            "model: linear needs the normal spring stiffness in N/m, e.g. stiffness: 1.0e4");
+      map.read("stiffness", interaction.linear_stiffness, positive(), "N/m");
+      map.read("tangential_stiffness_ratio", interaction.linear_tangential_ratio, positive(), "1");
+    }
+    interactions.push_back(std::move(interaction));
+  }
+}
+
+void read_particle_types_section(MapReader& root, std::vector<ParticleTypeSpec>& particle_types) {
+  for (MapReader& map : list_of_maps(root, "particle_types", "particle type")) {
+    ParticleTypeSpec particle_type;
+    map.reject_unknown_keys({"name", "material", "size"});
+    map.read("name", particle_type.name, Presence::required);
+    map.read("material", particle_type.material, Presence::required);
+    read_size_distribution(map, particle_type.size);
+    particle_types.push_back(std::move(particle_type));
+  }
+}
+
+}  // namespace quarry::deck_detail

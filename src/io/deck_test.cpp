@@ -1,0 +1,504 @@
+// Tests for the deck parser: the bad-deck golden cases in tests/bad_decks (first line of the
+// formatted errors), and positive tests that decks parse into the expected values and locations.
+#include "io/deck.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace quarry {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path source_dir() {
+  const char* from_environment = std::getenv("QUARRY_SOURCE_DIR");
+  return fs::path(from_environment ? from_environment : QUARRY_SOURCE_DIR);
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string first_line(const std::string& text) {
+  return text.substr(0, text.find('\n'));
+}
+
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+  for (std::size_t at = text.find(from); at != std::string::npos;
+       at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+// The formatted errors of a deck that must fail; empty (and a test failure) if it parses.
+std::string formatted_errors(const std::string& deck_path) {
+  try {
+    parse_deck(deck_path);
+  } catch (const UserError& error) {
+    return error.diagnostics().format();
+  }
+  ADD_FAILURE() << deck_path << " parsed without error";
+  return {};
+}
+
+// Each tests/bad_decks/NN_name.yaml must fail with the first output line stored in
+// NN_name.expected (the deck path written as {deck}). Setting QUARRY_UPDATE_BAD_DECKS=1
+// rewrites the .expected files from the current output instead (review the diff).
+TEST(BadDecks, FirstErrorLineMatchesGolden) {
+  const fs::path folder = source_dir() / "tests" / "bad_decks";
+  std::vector<fs::path> decks;
+  for (const auto& entry : fs::directory_iterator(folder))
+    if (entry.path().extension() == ".yaml") decks.push_back(entry.path());
+  std::sort(decks.begin(), decks.end());
+  ASSERT_GE(decks.size(), 15u) << "expected at least 15 bad-deck cases in " << folder;
+  const bool update = std::getenv("QUARRY_UPDATE_BAD_DECKS") != nullptr;
+  for (const fs::path& deck : decks) {
+    SCOPED_TRACE(deck.filename().string());
+    const std::string actual = first_line(formatted_errors(deck.string()));
+    fs::path expected_path = deck;
+    expected_path.replace_extension(".expected");
+    if (update) {
+      std::ofstream(expected_path, std::ios::binary)
+          << replace_all(actual, deck.string(), "{deck}") << "\n";
+      continue;
+    }
+    ASSERT_TRUE(fs::exists(expected_path)) << "missing " << expected_path;
+    const std::string expected =
+        replace_all(first_line(read_text(expected_path)), "{deck}", deck.string());
+    EXPECT_EQ(actual, expected);
+  }
+}
+
+// Every error of a deck is reported at once, in file order, each with the offending line
+// echoed; no partial spec escapes.
+TEST(BadDecks, ReportsAllErrorsInFileOrder) {
+  const std::string deck =
+      (source_dir() / "tests" / "bad_decks" / "15_multiple_errors.yaml").string();
+  try {
+    parse_deck(deck);
+    FAIL() << "deck parsed";
+  } catch (const UserError& error) {
+    const auto& items = error.diagnostics().all();
+    ASSERT_EQ(items.size(), 4u) << error.diagnostics().format();
+    for (std::size_t i = 1; i < items.size(); ++i)
+      EXPECT_LT(items[i - 1].where.line, items[i].where.line) << error.diagnostics().format();
+    const std::string text = error.diagnostics().format();
+    EXPECT_NE(text.find("unknown key \"densty\" in material"), std::string::npos) << text;
+    EXPECT_NE(text.find("did you mean \"density\"?"), std::string::npos) << text;
+    EXPECT_NE(text.find("unknown contact model \"hertz_mindln\""), std::string::npos) << text;
+    EXPECT_NE(text.find("restitution must be in (0, 1], got 1.5"), std::string::npos) << text;
+    EXPECT_NE(text.find("unknown material \"stel\""), std::string::npos) << text;
+  }
+}
+
+TEST(Deck, MissingFileIsAUserError) {
+  const std::string path = (fs::path(testing::TempDir()) / "no_such_deck.yaml").string();
+  try {
+    parse_deck(path);
+    FAIL() << "no error";
+  } catch (const UserError& error) {
+    EXPECT_EQ(first_line(error.diagnostics().format()),
+              path + ": error: cannot open the deck file");
+  }
+}
+
+// The minimal deck: only required keys; everything else takes the documented defaults.
+TEST(Deck, MinimalDeckTakesDefaults) {
+  const std::string path = (source_dir() / "tests" / "decks" / "minimal.yaml").string();
+  const SimulationSpec spec = parse_deck(path);
+  EXPECT_EQ(spec.deck_path, path);
+  EXPECT_DOUBLE_EQ(spec.simulation.end_time.value, 0.5);
+  EXPECT_EQ(spec.simulation.end_time.where.file, path);
+  EXPECT_EQ(spec.simulation.end_time.where.line, 4);
+  EXPECT_EQ(spec.simulation.end_time.where.column, 13);
+  EXPECT_FALSE(spec.simulation.fixed_time_step.has_value());
+  EXPECT_DOUBLE_EQ(spec.simulation.rayleigh_fraction.value, 0.2);
+  EXPECT_EQ(spec.simulation.gravity.value, (Vec3{0, 0, -9.81}));
+  EXPECT_EQ(spec.simulation.domain.value.lo, (Vec3{-0.1, -0.1, 0}));
+  EXPECT_EQ(spec.simulation.domain.value.hi, (Vec3{0.1, 0.1, 0.3}));
+  EXPECT_EQ(spec.simulation.integrator.value, Integrator::velocity_verlet);
+  EXPECT_LT(spec.simulation.skin.value, 0.0);  // automatic
+  ASSERT_EQ(spec.materials.size(), 1u);
+  EXPECT_EQ(spec.materials[0].name.value, "glass");
+  ASSERT_EQ(spec.interactions.size(), 1u);
+  EXPECT_EQ(spec.interactions[0].normal_model.value, NormalModel::hertz_mindlin);
+  ASSERT_EQ(spec.particle_types.size(), 1u);
+  EXPECT_DOUBLE_EQ(spec.particle_types[0].size.radius.value, 0.005);
+  ASSERT_EQ(spec.surfaces.size(), 1u);
+  EXPECT_EQ(spec.surfaces[0].kind.value, SurfaceKind::plane);
+  EXPECT_EQ(spec.surfaces[0].motion.kind.value, MotionKind::none);
+  ASSERT_EQ(spec.factories.size(), 1u);
+  ASSERT_TRUE(spec.factories[0].target_count.has_value());
+  EXPECT_EQ(spec.factories[0].target_count->value, 20);
+  EXPECT_FALSE(spec.factories[0].mass_rate.has_value());
+  EXPECT_TRUE(spec.monitors.empty());
+  EXPECT_EQ(spec.output.directory.value, "out");
+  EXPECT_TRUE(spec.output.plots.value);
+}
+
+// A deck using every key: each value lands in its SimulationSpec field with its location.
+const char* const kFullDeck = R"(simulation:
+  end_time: 2.0
+  time_step: 1.0e-5
+  impact_speed: 3.0
+  gravity: [0, -9.81, 0]
+  domain: {min: [-1, -2, -3], max: [1, 2, 3]}
+  integrator: symplectic_euler
+  threads: 2
+  skin: 0.0002
+  sort_interval: 500
+  max_overlap_fraction: 0.05
+  seed: 7
+materials:
+  - {name: ore, density: 2500, youngs_modulus: 5.0e7, poisson_ratio: 0.25}
+  - {name: steel, density: 7800, youngs_modulus: 2.0e11, poisson_ratio: 0.3}
+interactions:
+  - materials: [ore, ore]
+    restitution: 0.4
+    static_friction: 0.6
+    rolling_friction: 0.05
+    rolling_model: epsd
+    cohesion: 5000
+    model: linear
+    stiffness: 1.0e4
+    tangential_stiffness_ratio: 0.3
+    clip_attraction: true
+  - {materials: [steel, ore], restitution: 0.5}
+particle_types:
+  - {name: fixed, material: ore, size: {distribution: fixed, radius: 0.01}}
+  - {name: flat, material: ore, size: {distribution: uniform, min_radius: 0.01, max_radius: 0.02}}
+  - {name: bell, material: ore, size: {distribution: normal, mean_radius: 0.01, std_radius: 0.001}}
+  - {name: skew, material: ore, size: {distribution: log_normal, median_radius: 0.01, log_std: 0.2, max_radius: 0.02}}
+  - {name: sieve, material: ore, size: {distribution: discrete, radii: [0.01, 0.02], mass_fractions: [0.25, 0.75]}}
+surfaces:
+  - name: bed
+    type: stl
+    file: parts/bed.stl
+    scale: 0.001
+    offset: [0, 0, 0.5]
+    material: steel
+    motion: {type: rotation, axis_point: [0, 0, 1], axis_direction: [0, 1, 0], angular_velocity: -1.5, start_time: 0.1, stop_time: 1}
+    export: true
+  - {name: floor, type: plane, point: [0, 0, 0], normal: [0, 0, 2], size: 3, material: steel,
+     motion: {type: vibration, amplitude: [0, 0, 0.001], frequency: 50}}
+  - {name: belt, type: box, min: [0, 0, 0], max: [1, 0.5, 0.1], material: steel, conveyor_velocity: [1, 0, 0],
+     motion: {type: translation, velocity: [0.1, 0, 0]}}
+  - {name: drum, type: cylinder, base: [0, 0, 0], axis: [1, 0, 0], radius: 0.5, length: 1, capped: true, resolution: 48, material: steel}
+factories:
+  - name: left
+    particle_type: bell
+    region: {type: cylinder, base: [0, 0, 1], axis: [0, 0, 1], radius: 0.2, length: 0.3}
+    mass: 12.5
+    mass_rate: 50
+    start_time: 0.1
+    stop_time: 1.0
+    velocity: [0, 0, -1]
+    max_attempts: 20
+  - {name: right, particle_type: fixed, region: {type: box, min: [0, 0, 0], max: [1, 1, 1]}, count: 1000}
+monitors:
+  - {name: in_bed, region: {type: box, min: [0, 0, 0], max: [1, 1, 1]}}
+  - {name: everything}
+output:
+  directory: results
+  interval: 0.05
+  monitor_interval: 0.01
+  checkpoint_interval: 0.5
+  plots: false
+  progress_interval: 5
+)";
+
+class FullDeck : public testing::Test {
+ protected:
+  void SetUp() override {
+    // One folder per test: CTest runs the cases in parallel processes.
+    folder_ = fs::path(testing::TempDir()) /
+              ("quarry_full_deck_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::create_directories(folder_ / "parts");
+    std::ofstream(folder_ / "parts" / "bed.stl") << "solid bed\nendsolid bed\n";
+    deck_path_ = (folder_ / "full.yaml").string();
+    std::ofstream(deck_path_) << kFullDeck;
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  fs::path folder_;
+  std::string deck_path_;
+};
+
+TEST_F(FullDeck, SimulationAndOutput) {
+  const SimulationSpec spec = parse_deck(deck_path_);
+  const SimulationSettings& simulation = spec.simulation;
+  EXPECT_DOUBLE_EQ(simulation.end_time.value, 2.0);
+  ASSERT_TRUE(simulation.fixed_time_step.has_value());
+  EXPECT_DOUBLE_EQ(simulation.fixed_time_step->value, 1.0e-5);
+  EXPECT_EQ(simulation.fixed_time_step->where.line, 3);
+  EXPECT_EQ(simulation.fixed_time_step->where.column, 14);
+  ASSERT_TRUE(simulation.impact_speed.has_value());
+  EXPECT_DOUBLE_EQ(simulation.impact_speed->value, 3.0);
+  EXPECT_EQ(simulation.gravity.value, (Vec3{0, -9.81, 0}));
+  EXPECT_EQ(simulation.gravity.where.line, 5);
+  EXPECT_EQ(simulation.domain.value.lo, (Vec3{-1, -2, -3}));
+  EXPECT_EQ(simulation.domain.value.hi, (Vec3{1, 2, 3}));
+  EXPECT_EQ(simulation.domain.where.line, 6);
+  EXPECT_EQ(simulation.domain.where.column, 11);  // the flow map's "{"
+  EXPECT_EQ(simulation.integrator.value, Integrator::symplectic_euler);
+  EXPECT_EQ(simulation.threads.value, 2);
+  EXPECT_DOUBLE_EQ(simulation.skin.value, 0.0002);
+  EXPECT_EQ(simulation.sort_interval.value, 500);
+  EXPECT_DOUBLE_EQ(simulation.max_overlap_fraction.value, 0.05);
+  EXPECT_EQ(simulation.seed, 7u);
+  EXPECT_EQ(spec.output.directory.value, "results");
+  EXPECT_DOUBLE_EQ(spec.output.interval.value, 0.05);
+  EXPECT_DOUBLE_EQ(spec.output.monitor_interval.value, 0.01);
+  EXPECT_DOUBLE_EQ(spec.output.checkpoint_interval.value, 0.5);
+  EXPECT_FALSE(spec.output.plots.value);
+  EXPECT_DOUBLE_EQ(spec.output.progress_interval.value, 5.0);
+}
+
+TEST_F(FullDeck, MaterialsAndInteractions) {
+  const SimulationSpec spec = parse_deck(deck_path_);
+  ASSERT_EQ(spec.materials.size(), 2u);
+  const MaterialSpec& steel = spec.materials[1];
+  EXPECT_EQ(steel.name.value, "steel");
+  EXPECT_DOUBLE_EQ(steel.density.value, 7800);
+  EXPECT_DOUBLE_EQ(steel.youngs_modulus.value, 2.0e11);
+  EXPECT_DOUBLE_EQ(steel.poisson_ratio.value, 0.3);
+  EXPECT_EQ(steel.youngs_modulus.where.line, 15);
+  EXPECT_EQ(steel.youngs_modulus.where.column, 50);
+
+  ASSERT_EQ(spec.interactions.size(), 2u);
+  const InteractionSpec& ore_ore = spec.interactions[0];
+  EXPECT_EQ(ore_ore.material_a.value, "ore");
+  EXPECT_EQ(ore_ore.material_b.value, "ore");
+  EXPECT_EQ(ore_ore.material_b.where.line, 17);
+  EXPECT_EQ(ore_ore.material_b.where.column, 22);
+  EXPECT_DOUBLE_EQ(ore_ore.restitution.value, 0.4);
+  EXPECT_DOUBLE_EQ(ore_ore.static_friction.value, 0.6);
+  EXPECT_DOUBLE_EQ(ore_ore.rolling_friction.value, 0.05);
+  EXPECT_EQ(ore_ore.rolling_model.value, RollingModel::epsd);
+  EXPECT_DOUBLE_EQ(ore_ore.cohesion_energy_density.value, 5000);
+  EXPECT_EQ(ore_ore.normal_model.value, NormalModel::linear);
+  EXPECT_EQ(ore_ore.normal_model.where.line, 23);
+  EXPECT_DOUBLE_EQ(ore_ore.linear_stiffness.value, 1.0e4);
+  EXPECT_DOUBLE_EQ(ore_ore.linear_tangential_ratio.value, 0.3);
+  EXPECT_TRUE(ore_ore.clip_attraction.value);
+  // Written as [steel, ore]: covers the ore–steel contacts (order-independent); the rest
+  // keeps the defaults of InteractionSpec.
+  const InteractionSpec& steel_ore = spec.interactions[1];
+  EXPECT_EQ(steel_ore.material_a.value, "steel");
+  EXPECT_DOUBLE_EQ(steel_ore.restitution.value, 0.5);
+  EXPECT_DOUBLE_EQ(steel_ore.static_friction.value, 0.5);
+  EXPECT_EQ(steel_ore.normal_model.value, NormalModel::hertz_mindlin);
+  EXPECT_EQ(steel_ore.rolling_model.value, RollingModel::constant_torque);
+}
+
+TEST_F(FullDeck, SizeDistributions) {
+  const SimulationSpec spec = parse_deck(deck_path_);
+  ASSERT_EQ(spec.particle_types.size(), 5u);
+  const SizeDistributionSpec& fixed = spec.particle_types[0].size;
+  EXPECT_EQ(fixed.kind.value, SizeDistributionKind::fixed);
+  EXPECT_DOUBLE_EQ(fixed.radius.value, 0.01);
+  const SizeDistributionSpec& flat = spec.particle_types[1].size;
+  EXPECT_EQ(flat.kind.value, SizeDistributionKind::uniform);
+  EXPECT_DOUBLE_EQ(flat.min_radius.value, 0.01);
+  EXPECT_DOUBLE_EQ(flat.max_radius.value, 0.02);
+  // Normal without bounds: clipped at mean ± 3 std (the deck reference, docs/deck.md).
+  const SizeDistributionSpec& bell = spec.particle_types[2].size;
+  EXPECT_EQ(bell.kind.value, SizeDistributionKind::normal);
+  EXPECT_DOUBLE_EQ(bell.mean_radius.value, 0.01);
+  EXPECT_DOUBLE_EQ(bell.std_radius.value, 0.001);
+  EXPECT_NEAR(bell.min_radius.value, 0.007, 1e-15);
+  EXPECT_NEAR(bell.max_radius.value, 0.013, 1e-15);
+  // Log-normal: the median of exp(N(μ, σ²)) is exp(μ), so μ = ln(median / 1 m)
+  // (Crow & Shimizu, "Lognormal Distributions", 1988); default min = median·exp(−3σ).
+  const SizeDistributionSpec& skew = spec.particle_types[3].size;
+  EXPECT_EQ(skew.kind.value, SizeDistributionKind::log_normal);
+  EXPECT_NEAR(skew.log_mean.value, std::log(0.01), 1e-12);
+  EXPECT_DOUBLE_EQ(skew.log_std.value, 0.2);
+  EXPECT_NEAR(skew.min_radius.value, 0.01 * std::exp(-0.6), 1e-15);
+  EXPECT_DOUBLE_EQ(skew.max_radius.value, 0.02);
+  const SizeDistributionSpec& sieve = spec.particle_types[4].size;
+  EXPECT_EQ(sieve.kind.value, SizeDistributionKind::discrete);
+  ASSERT_EQ(sieve.discrete_radii.size(), 2u);
+  ASSERT_EQ(sieve.discrete_mass_fractions.size(), 2u);
+  EXPECT_DOUBLE_EQ(sieve.discrete_radii[1].value, 0.02);
+  EXPECT_DOUBLE_EQ(sieve.discrete_mass_fractions[0].value, 0.25);
+  EXPECT_EQ(sieve.discrete_mass_fractions[0].where.line, 33);
+  EXPECT_EQ(sieve.discrete_mass_fractions[0].where.column, 103);
+}
+
+TEST_F(FullDeck, Surfaces) {
+  const SimulationSpec spec = parse_deck(deck_path_);
+  ASSERT_EQ(spec.surfaces.size(), 4u);
+  const SurfaceSpec& bed = spec.surfaces[0];
+  EXPECT_EQ(bed.kind.value, SurfaceKind::stl);
+  // Resolved against the deck's folder, not the current directory, and stored absolute.
+  EXPECT_TRUE(fs::path(bed.file.value).is_absolute());
+  EXPECT_TRUE(fs::equivalent(bed.file.value, folder_ / "parts" / "bed.stl"));
+  EXPECT_EQ(bed.file.where.line, 37);
+  EXPECT_EQ(bed.file.where.column, 11);
+  EXPECT_DOUBLE_EQ(bed.scale.value, 0.001);
+  EXPECT_EQ(bed.offset.value, (Vec3{0, 0, 0.5}));
+  EXPECT_EQ(bed.material.value, "steel");
+  EXPECT_TRUE(bed.export_loads.value);
+  EXPECT_EQ(bed.motion.kind.value, MotionKind::rotation);
+  EXPECT_EQ(bed.motion.axis_point.value, (Vec3{0, 0, 1}));
+  EXPECT_EQ(bed.motion.axis_direction.value, (Vec3{0, 1, 0}));
+  EXPECT_DOUBLE_EQ(bed.motion.angular_velocity.value, -1.5);
+  EXPECT_DOUBLE_EQ(bed.motion.start_time.value, 0.1);
+  EXPECT_DOUBLE_EQ(bed.motion.stop_time.value, 1.0);
+
+  const SurfaceSpec& floor = spec.surfaces[1];
+  EXPECT_EQ(floor.kind.value, SurfaceKind::plane);
+  EXPECT_EQ(floor.normal.value, (Vec3{0, 0, 2}));
+  EXPECT_DOUBLE_EQ(floor.size.value, 3.0);
+  EXPECT_EQ(floor.motion.kind.value, MotionKind::vibration);
+  EXPECT_EQ(floor.motion.amplitude.value, (Vec3{0, 0, 0.001}));
+  EXPECT_DOUBLE_EQ(floor.motion.frequency.value, 50.0);
+  EXPECT_GT(floor.motion.stop_time.value, 1e299);  // default: never stops
+
+  const SurfaceSpec& belt = spec.surfaces[2];
+  EXPECT_EQ(belt.kind.value, SurfaceKind::box);
+  EXPECT_EQ(belt.max.value, (Vec3{1, 0.5, 0.1}));
+  EXPECT_EQ(belt.conveyor_velocity.value, (Vec3{1, 0, 0}));
+  EXPECT_EQ(belt.motion.velocity.value, (Vec3{0.1, 0, 0}));
+  EXPECT_FALSE(belt.export_loads.value);
+
+  const SurfaceSpec& drum = spec.surfaces[3];
+  EXPECT_EQ(drum.kind.value, SurfaceKind::cylinder);
+  EXPECT_EQ(drum.axis.value, (Vec3{1, 0, 0}));
+  EXPECT_DOUBLE_EQ(drum.radius.value, 0.5);
+  EXPECT_DOUBLE_EQ(drum.length.value, 1.0);
+  EXPECT_TRUE(drum.capped.value);
+  EXPECT_EQ(drum.resolution.value, 48);
+}
+
+TEST_F(FullDeck, FactoriesAndMonitors) {
+  const SimulationSpec spec = parse_deck(deck_path_);
+  ASSERT_EQ(spec.factories.size(), 2u);
+  const FactorySpec& left = spec.factories[0];
+  EXPECT_EQ(left.particle_type.value, "bell");
+  EXPECT_EQ(left.region.kind.value, RegionKind::cylinder);
+  EXPECT_EQ(left.region.base.value, (Vec3{0, 0, 1}));
+  EXPECT_DOUBLE_EQ(left.region.radius.value, 0.2);
+  EXPECT_DOUBLE_EQ(left.region.length.value, 0.3);
+  EXPECT_FALSE(left.target_count.has_value());
+  ASSERT_TRUE(left.target_mass.has_value());
+  EXPECT_DOUBLE_EQ(left.target_mass->value, 12.5);
+  EXPECT_EQ(left.target_mass->where.line, 52);
+  EXPECT_EQ(left.target_mass->where.column, 11);
+  ASSERT_TRUE(left.mass_rate.has_value());
+  EXPECT_DOUBLE_EQ(left.mass_rate->value, 50.0);
+  EXPECT_DOUBLE_EQ(left.start_time.value, 0.1);
+  EXPECT_DOUBLE_EQ(left.stop_time.value, 1.0);
+  EXPECT_EQ(left.initial_velocity.value, (Vec3{0, 0, -1}));
+  EXPECT_EQ(left.max_attempts.value, 20);
+  const FactorySpec& right = spec.factories[1];
+  EXPECT_EQ(right.region.kind.value, RegionKind::box);
+  ASSERT_TRUE(right.target_count.has_value());
+  EXPECT_EQ(right.target_count->value, 1000);
+  EXPECT_FALSE(right.mass_rate.has_value());
+
+  ASSERT_EQ(spec.monitors.size(), 2u);
+  ASSERT_TRUE(spec.monitors[0].region.has_value());
+  EXPECT_EQ(spec.monitors[0].region->max.value, (Vec3{1, 1, 1}));
+  EXPECT_FALSE(spec.monitors[1].region.has_value());
+}
+
+// parse_deck_string: locations name the given display name; STL paths start at the current
+// directory.
+TEST(Deck, StringDeckUsesDisplayNameAndCurrentDirectory) {
+  const std::string deck =
+      "simulation: {end_time: 1, domain: {min: [0, 0, 0], max: [1, 1, 1]}}\n"
+      "materials: [{name: m, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0.3}]\n"
+      "surfaces: [{name: s, type: stl, file: surely_missing.stl, material: m}]\n";
+  try {
+    parse_deck_string(deck, "inline.yaml");
+    FAIL() << "missing STL accepted";
+  } catch (const UserError& error) {
+    ASSERT_EQ(error.diagnostics().all().size(), 1u) << error.diagnostics().format();
+    const Diagnostic& item = error.diagnostics().all()[0];
+    EXPECT_EQ(item.where.file, "inline.yaml");
+    EXPECT_EQ(item.where.line, 3);
+    EXPECT_EQ(item.message, "STL file \"surely_missing.stl\" not found");
+    EXPECT_NE(item.hint.find((fs::current_path() / "surely_missing.stl").string()),
+              std::string::npos)
+        << item.hint;
+  }
+}
+
+// The error the style guide quotes, with its location on the offending value.
+TEST(Deck, UnknownEnumPointsAtValueWithSuggestion) {
+  const std::string deck =
+      "simulation: {end_time: 1, domain: {min: [0, 0, 0], max: [1, 1, 1]}}\n"
+      "materials: [{name: m, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0.3}]\n"
+      "interactions:\n"
+      "  - materials: [m, m]\n"
+      "    model: hertz_mindln\n";
+  try {
+    parse_deck_string(deck, "deck.yaml");
+    FAIL() << "typo accepted";
+  } catch (const UserError& error) {
+    ASSERT_EQ(error.diagnostics().all().size(), 1u) << error.diagnostics().format();
+    const Diagnostic& item = error.diagnostics().all()[0];
+    EXPECT_EQ(first_line(error.diagnostics().format()),
+              "deck.yaml:5:12: error: unknown contact model \"hertz_mindln\"");
+    EXPECT_EQ(item.hint, "did you mean \"hertz_mindlin\"?");
+  }
+}
+
+// Decks with the wrong shape anywhere must give a UserError pointing into the deck — never
+// another exception type or a crash (the sanitizer build runs this too).
+TEST(Deck, MalformedShapesAreUserErrors) {
+  const std::string valid_head =
+      "simulation: {end_time: 1, domain: {min: [0, 0, 0], max: [1, 1, 1]}}\n"
+      "materials: [{name: m, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0.3}]\n";
+  const std::vector<std::string> tails = {
+      "interactions: [{materials: m}]\n",
+      "interactions: [{materials: [m, [m]]}]\n",
+      "interactions: [[m, m]]\n",
+      "interactions:\n  -\n",
+      "particle_types: [{name: p, material: m, size: 3}]\n",
+      "particle_types: [{name: p, material: m, size: {radius: 0.1}}]\n",
+      "particle_types: [{name: p, material: m, size: {distribution: discrete, radii: 1, "
+      "mass_fractions: {a: 1}}}]\n",
+      "particle_types: [{name: p, material: m, size: {distribution: [fixed]}}]\n",
+      "surfaces: [{name: s, type: [stl], material: m}]\n",
+      "surfaces: [{name: s, type: plane, point: [a, b, c], normal: [0, 0, 1], material: m, "
+      "motion: 4}]\n",
+      "surfaces: [{name: s, material: m, motion: {type: rotation}}]\n",
+      "factories: [{name: f, particle_type: p, region: 5, count: 1.5}]\n",
+      "factories: [{name: f, particle_type: p, region: {min: [0, 0, 0]}}]\n",
+      "monitors: [{name: m, region: {type: cylinder}}]\n",
+      "output: [1, 2]\n",
+      "output: {interval: .inf, plots: maybe}\n",
+      "simulation2: &anchor {a: 1}\nother: *anchor\n",
+      "? [complex, key]\n: 1\n",
+  };
+  for (const std::string& tail : tails) {
+    SCOPED_TRACE(tail);
+    try {
+      parse_deck_string(valid_head + tail, "shape.yaml");
+      ADD_FAILURE() << "accepted";
+    } catch (const UserError& error) {
+      ASSERT_FALSE(error.diagnostics().all().empty());
+      for (const Diagnostic& item : error.diagnostics().all()) {
+        EXPECT_EQ(item.where.file, "shape.yaml");
+        EXPECT_GE(item.where.line, 1) << item.message;
+      }
+    }
+  }
+  for (const std::string& whole : {std::string("just a scalar\n"), std::string("- [1, 2]\n")}) {
+    EXPECT_THROW(parse_deck_string(whole, "shape.yaml"), UserError) << whole;
+  }
+}
+
+}  // namespace
+}  // namespace quarry

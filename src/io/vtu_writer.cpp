@@ -1,0 +1,286 @@
+// VTU writers (ParaView XML UnstructuredGrid, appended raw binary, UInt64 headers, little
+// endian). Each array is one appended block: an 8-byte byte count, then the values.
+#include "io/vtu_writer.h"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <stdexcept>
+#include <string_view>
+#include <type_traits>
+
+namespace quarry {
+
+namespace {
+
+constexpr std::uint8_t vtk_vertex = 1;    // VTK cell type id of a single point
+constexpr std::uint8_t vtk_triangle = 5;  // VTK cell type id of a linear triangle
+
+// Appends `value` as little-endian bytes whatever the host byte order, so the file always
+// matches its byte_order="LittleEndian" declaration.
+template <class T>
+void append_little_endian(std::string& out, T value) {
+  static_assert(std::is_arithmetic_v<T>);
+  using Bits = std::conditional_t<
+      sizeof(T) == 8, std::uint64_t,
+      std::conditional_t<sizeof(T) == 4, std::uint32_t,
+                         std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>>;
+  auto bits = std::bit_cast<Bits>(value);
+  for (std::size_t byte = 0; byte < sizeof(T); ++byte) {
+    out.push_back(static_cast<char>(bits & 0xFFu));
+    bits = static_cast<Bits>(bits >> 8);
+  }
+}
+
+std::string xml_escaped(std::string_view text) {
+  std::string escaped;
+  escaped.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        escaped += "&amp;";
+        break;
+      case '<':
+        escaped += "&lt;";
+        break;
+      case '>':
+        escaped += "&gt;";
+        break;
+      case '"':
+        escaped += "&quot;";
+        break;
+      case '\'':
+        escaped += "&apos;";
+        break;
+      default:
+        escaped += c;
+    }
+  }
+  return escaped;
+}
+
+template <class T>
+std::string scalar_payload(std::span<const T> values) {
+  std::string payload;
+  payload.reserve(values.size() * sizeof(T));
+  for (const T& value : values) append_little_endian(payload, value);
+  return payload;
+}
+
+std::string vec3_payload(std::span<const Vec3> values) {
+  std::string payload;
+  payload.reserve(values.size() * 3 * sizeof(double));
+  for (const Vec3& value : values) {
+    append_little_endian(payload, value.x);
+    append_little_endian(payload, value.y);
+    append_little_endian(payload, value.z);
+  }
+  return payload;
+}
+
+// Zeros when `values` is empty (an optional per-vertex array never sized), else the values.
+std::string vec3_payload_or_zeros(const std::vector<Vec3>& values, std::size_t count) {
+  if (values.empty()) return vec3_payload(std::vector<Vec3>(count));
+  return vec3_payload(values);
+}
+
+// Collects the XML of one Piece section and the appended binary blocks its arrays point to.
+class AppendedArrays {
+ public:
+  // Returns one <DataArray .../> element whose data is `payload`, appended as a block.
+  std::string element(std::string_view vtk_type, std::string_view name, int components,
+                      const std::string& payload, std::string_view extra_attributes = {}) {
+    const std::size_t offset = blocks_.size();
+    append_little_endian(blocks_, static_cast<std::uint64_t>(payload.size()));
+    blocks_ += payload;
+    return fmt::format(
+        "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"{} format=\"appended\" "
+        "offset=\"{}\"/>\n",
+        vtk_type, xml_escaped(name), components, extra_attributes, offset);
+  }
+  const std::string& blocks() const { return blocks_; }
+
+ private:
+  std::string blocks_;
+};
+
+struct CellBlocks {
+  std::string connectivity, offsets, types;  // Int64, Int64, UInt8 payloads
+};
+
+std::string assemble_vtu(const std::string& field_data, std::size_t point_count,
+                         std::size_t cell_count, const std::string& point_data,
+                         const std::string& cell_data, const std::string& points,
+                         const std::string& cells, const AppendedArrays& arrays) {
+  std::string xml;
+  xml.reserve(arrays.blocks().size() + 4096);
+  xml += "<?xml version=\"1.0\"?>\n";
+  xml +=
+      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+      "header_type=\"UInt64\">\n";
+  xml += "<UnstructuredGrid>\n";
+  xml += field_data;
+  xml +=
+      fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", point_count, cell_count);
+  xml += "<PointData>\n" + point_data + "</PointData>\n";
+  xml += "<CellData>\n" + cell_data + "</CellData>\n";
+  xml += "<Points>\n" + points + "</Points>\n";
+  xml += "<Cells>\n" + cells + "</Cells>\n";
+  xml += "</Piece>\n</UnstructuredGrid>\n";
+  // Raw appended data starts right after the underscore; offsets count from there.
+  xml += "<AppendedData encoding=\"raw\">\n_";
+  xml += arrays.blocks();
+  xml += "\n</AppendedData>\n</VTKFile>\n";
+  return xml;
+}
+
+template <class Array>
+void require_size(const Array& array, std::size_t expected, std::string_view what) {
+  if (array.size() != expected) {
+    throw std::invalid_argument(
+        fmt::format("VTU writer: {} has {} entries, expected {}", what, array.size(), expected));
+  }
+}
+
+}  // namespace
+
+std::string particles_vtu(const ParticleStore& particles,
+                          const std::vector<std::string>& type_names) {
+  const std::size_t count = particles.size();
+  require_size(particles.velocity, count, "particle velocity");
+  require_size(particles.angular_velocity, count, "particle angular_velocity");
+  require_size(particles.force, count, "particle force");
+  require_size(particles.radius, count, "particle radius");
+  require_size(particles.inv_mass, count, "particle inv_mass");
+  require_size(particles.id, count, "particle id");
+  require_size(particles.type, count, "particle type");
+  require_size(particles.custom_values, particles.custom_names.size(), "custom_values");
+  static constexpr std::array<std::string_view, 7> built_in_names = {
+      "id", "type", "radius", "mass", "velocity", "angular_velocity", "force"};
+  for (std::size_t k = 0; k < particles.custom_names.size(); ++k) {
+    require_size(particles.custom_values[k], count, "custom property " + particles.custom_names[k]);
+    for (const std::string_view built_in : built_in_names) {
+      if (particles.custom_names[k] == built_in) {
+        throw std::invalid_argument(fmt::format(
+            "VTU writer: custom property '{}' clashes with a built-in array name", built_in));
+      }
+    }
+  }
+
+  AppendedArrays arrays;
+  std::string field_data;
+  if (!type_names.empty()) {
+    // VTK string arrays in binary form: the strings back to back, each ending in a NUL.
+    std::string names_payload;
+    for (const std::string& name : type_names) {
+      names_payload += name;
+      names_payload.push_back('\0');
+    }
+    field_data = "<FieldData>\n" +
+                 arrays.element("String", "type_names", 1, names_payload,
+                                fmt::format(" NumberOfTuples=\"{}\"", type_names.size())) +
+                 "</FieldData>\n";
+  }
+
+  std::vector<std::int32_t> type_index(count);
+  std::vector<double> mass(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    type_index[i] = particles.type[i];
+    mass[i] = 1.0 / particles.inv_mass[i];  // kg; inv_mass 0 (fixed particle) gives +inf
+  }
+
+  std::string point_data;
+  point_data += arrays.element("UInt64", "id", 1, scalar_payload<ParticleId>(particles.id));
+  point_data += arrays.element("Int32", "type", 1, scalar_payload<std::int32_t>(type_index));
+  point_data += arrays.element("Float64", "radius", 1, scalar_payload<double>(particles.radius));
+  point_data += arrays.element("Float64", "mass", 1, scalar_payload<double>(mass));
+  point_data += arrays.element("Float64", "velocity", 3, vec3_payload(particles.velocity));
+  point_data +=
+      arrays.element("Float64", "angular_velocity", 3, vec3_payload(particles.angular_velocity));
+  point_data += arrays.element("Float64", "force", 3, vec3_payload(particles.force));
+  for (std::size_t k = 0; k < particles.custom_names.size(); ++k) {
+    point_data += arrays.element("Float64", particles.custom_names[k], 1,
+                                 scalar_payload<double>(particles.custom_values[k]));
+  }
+
+  const std::string points =
+      arrays.element("Float64", "Points", 3, vec3_payload(particles.position));
+
+  CellBlocks cell_blocks;
+  for (std::size_t i = 0; i < count; ++i) {
+    append_little_endian(cell_blocks.connectivity, static_cast<std::int64_t>(i));
+    append_little_endian(cell_blocks.offsets, static_cast<std::int64_t>(i + 1));
+    append_little_endian(cell_blocks.types, vtk_vertex);
+  }
+  std::string cells;
+  cells += arrays.element("Int64", "connectivity", 1, cell_blocks.connectivity);
+  cells += arrays.element("Int64", "offsets", 1, cell_blocks.offsets);
+  cells += arrays.element("UInt8", "types", 1, cell_blocks.types);
+
+  return assemble_vtu(field_data, count, count, point_data, {}, points, cells, arrays);
+}
+
+std::string surface_vtu(const Surface& surface, std::span<const double> pressure,
+                        std::span<const Vec3> shear, std::span<const Vec3> force) {
+  const std::size_t triangle_count = surface.triangle_count();
+  const std::size_t vertex_count = surface.vertex_count();
+  require_size(pressure, triangle_count, "surface pressure");
+  require_size(shear, triangle_count, "surface shear");
+  require_size(force, triangle_count, "surface force");
+  require_size(surface.triangle_normals, triangle_count,
+               "surface triangle_normals (call update_normals_and_areas)");
+  if (!surface.vertex_force.empty()) {
+    require_size(surface.vertex_force, vertex_count, "surface vertex_force");
+  }
+  if (!surface.vertex_velocities.empty()) {
+    require_size(surface.vertex_velocities, vertex_count, "surface vertex_velocities");
+  }
+
+  AppendedArrays arrays;
+  std::vector<std::int64_t> element_id(triangle_count);
+  std::vector<double> shear_magnitude(triangle_count);
+  CellBlocks cell_blocks;
+  for (std::size_t t = 0; t < triangle_count; ++t) {
+    element_id[t] = static_cast<std::int64_t>(t);
+    shear_magnitude[t] = norm(shear[t]);  // Pa
+    for (const std::uint32_t vertex : surface.triangles[t]) {
+      if (vertex >= vertex_count) {
+        throw std::invalid_argument(fmt::format(
+            "VTU writer: triangle {} of surface '{}' uses vertex {} but there are only {}", t,
+            surface.name, vertex, vertex_count));
+      }
+      append_little_endian(cell_blocks.connectivity, static_cast<std::int64_t>(vertex));
+    }
+    append_little_endian(cell_blocks.offsets, static_cast<std::int64_t>(3 * (t + 1)));
+    append_little_endian(cell_blocks.types, vtk_triangle);
+  }
+
+  std::string cell_data;
+  cell_data += arrays.element("Int64", "element_id", 1, scalar_payload<std::int64_t>(element_id));
+  cell_data += arrays.element("Float64", "pressure", 1, scalar_payload<double>(pressure));
+  cell_data += arrays.element("Float64", "shear_stress", 3, vec3_payload(shear));
+  cell_data +=
+      arrays.element("Float64", "shear_magnitude", 1, scalar_payload<double>(shear_magnitude));
+  cell_data += arrays.element("Float64", "force", 3, vec3_payload(force));
+  cell_data += arrays.element("Float64", "normal", 3, vec3_payload(surface.triangle_normals));
+
+  std::string point_data;
+  point_data += arrays.element("Float64", "vertex_force", 3,
+                               vec3_payload_or_zeros(surface.vertex_force, vertex_count));
+  point_data += arrays.element("Float64", "velocity", 3,
+                               vec3_payload_or_zeros(surface.vertex_velocities, vertex_count));
+
+  const std::string points = arrays.element("Float64", "Points", 3, vec3_payload(surface.vertices));
+
+  std::string cells;
+  cells += arrays.element("Int64", "connectivity", 1, cell_blocks.connectivity);
+  cells += arrays.element("Int64", "offsets", 1, cell_blocks.offsets);
+  cells += arrays.element("UInt8", "types", 1, cell_blocks.types);
+
+  return assemble_vtu({}, vertex_count, triangle_count, point_data, cell_data, points, cells,
+                      arrays);
+}
+
+}  // namespace quarry
