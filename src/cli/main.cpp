@@ -1,0 +1,134 @@
+// quarry: the command-line front end. A thin layer over io (deck) and sim (world, run loop):
+//   quarry run deck.yaml | check deck.yaml | estimate deck.yaml | restart checkpoint.qck
+// Exit codes: 0 success, 2 user error (deck, mesh, command line), 3 physics failure at run
+// time, 4 internal error, 130 stopped by a signal (after writing a checkpoint).
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <iostream>
+
+#include "io/deck.h"
+#include "sim/estimate.h"
+#include "sim/run.h"
+#include "sim/time_step_choice.h"
+#include "sim/world.h"
+
+namespace {
+
+using namespace quarry;
+
+struct Common {
+  int threads = 0;
+  std::string output_dir;
+  double end_time = -1.0;
+  bool quiet = false;
+};
+
+void apply_threads(int threads) {
+  if (threads > 0) omp_set_num_threads(threads);
+}
+
+sim::RunOptions run_options(const Common& c) {
+  sim::RunOptions o;
+  o.output_directory = c.output_dir;
+  if (c.end_time > 0) o.end_time = c.end_time;
+  o.quiet = c.quiet;
+  return o;
+}
+
+int exit_code(const sim::RunSummary& s) { return s.interrupted ? 130 : 0; }
+
+int command_run(const std::string& deck, const Common& c) {
+  SimulationSpec spec = parse_deck(deck);
+  if (c.threads <= 0 && spec.simulation.threads.value > 0) apply_threads(spec.simulation.threads.value);
+  World world = build_world(spec);
+  return exit_code(sim::run(world, run_options(c)));
+}
+
+int command_check(const std::string& deck) {
+  SimulationSpec spec = parse_deck(deck);
+  const TimeStepChoice choice = choose_time_step(spec);
+  Diagnostics d;
+  for (const auto& p : choice.problems) {
+    if (p.severity == Severity::error) d.error(p.where, p.message, p.hint);
+    else d.warning(p.where, p.message, p.hint);
+  }
+  if (d.has_errors()) throw UserError(d);
+  std::cerr << d.format();
+  World world = build_world(spec);
+  std::size_t triangles = 0;
+  for (const auto& s : world.surfaces) triangles += s.triangle_count();
+  std::cout << fmt::format(
+      "{}: ok — {} materials, {} particle types, {} surfaces ({} triangles), {} factories; "
+      "dt = {:.4g} s ({} steps to {:.4g} s)\n",
+      deck, spec.materials.size(), spec.particle_types.size(), world.surfaces.size(), triangles,
+      spec.factories.size(), world.dt,
+      static_cast<long long>(spec.simulation.end_time.value / world.dt + 0.5),
+      spec.simulation.end_time.value);
+  return 0;
+}
+
+int command_estimate(const std::string& deck) {
+  const SimulationSpec spec = parse_deck(deck);
+  std::cout << sim::format_estimate(sim::estimate_run(spec));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Quarry — discrete element method engine for bulk materials"};
+  app.require_subcommand(1);
+  Common common;
+  std::string deck, checkpoint;
+
+  auto add_common = [&](CLI::App* sub, bool with_run_options) {
+    sub->add_option("--threads", common.threads, "OpenMP threads (default: all cores or the deck's)");
+    if (with_run_options) {
+      sub->add_option("--output-dir", common.output_dir, "output folder (overrides output.directory)");
+      sub->add_option("--end-time", common.end_time, "end time in s (overrides simulation.end_time)");
+      sub->add_flag("--quiet", common.quiet, "no progress lines or stage table");
+    }
+  };
+  CLI::App* run = app.add_subcommand("run", "run a simulation from a YAML deck");
+  run->add_option("deck", deck, "the YAML deck")->required();
+  add_common(run, true);
+  CLI::App* check = app.add_subcommand("check", "check a deck: report every error, print a summary");
+  check->add_option("deck", deck, "the YAML deck")->required();
+  add_common(check, false);
+  CLI::App* estimate = app.add_subcommand("estimate", "time step, steps and wall-time estimate for a deck");
+  estimate->add_option("deck", deck, "the YAML deck")->required();
+  add_common(estimate, false);
+  CLI::App* restart = app.add_subcommand("restart", "continue a run from its checkpoint");
+  restart->add_option("checkpoint", checkpoint, "checkpoint.qck written by 'quarry run'")->required();
+  add_common(restart, true);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  apply_threads(common.threads);
+  try {
+    if (run->parsed()) return command_run(deck, common);
+    if (check->parsed()) return command_check(deck);
+    if (estimate->parsed()) return command_estimate(deck);
+    if (restart->parsed()) return exit_code(sim::restart(checkpoint, run_options(common)));
+  } catch (const UserError& e) {
+    std::cerr << e.diagnostics().format();
+    return 2;
+  } catch (const PhysicsError& e) {
+    std::cerr << "quarry: error: " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "quarry: internal error: " << e.what() << "\n";
+    return 4;
+  }
+  return 0;
+}

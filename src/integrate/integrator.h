@@ -1,0 +1,30 @@
+// Explicit integrators for the particles' translation and rotation (spheres: no gyroscopic
+// term). Velocity Verlet (Swope et al. 1982, "kick-drift-kick") is the default; symplectic
+// Euler (semi-implicit Euler: kick with F(x_n), then drift) the alternative. Both are
+// second/first order symplectic schemes; tests/integrator_order_test checks their orders.
+#pragma once
+
+#include <cstddef>
+
+#include "core/particle_store.h"
+
+namespace quarry::integrate {
+
+// v += h F/m, ω += h τ/I for every particle (h = dt/2 for a half kick).
+inline void kick(ParticleStore& p, double h) {
+  const std::size_t n = p.size();
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
+  for (std::size_t i = 0; i < n; ++i) {
+    p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
+    p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia[i]);
+  }
+}
+
+// x += dt v.
+inline void drift(ParticleStore& p, double dt) {
+  const std::size_t n = p.size();
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
+  for (std::size_t i = 0; i < n; ++i) p.position[i] += p.velocity[i] * dt;
+}
+
+}  // namespace quarry::integrate

@@ -1,0 +1,66 @@
+// Run-time physics guards (DESIGN, STYLE "errors"): stop with the step, the particle, the
+// values and what to change when the state stops being physical — NaN/inf, or an overlap
+// beyond a fraction of the radius (the time step is too large or the material too soft).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/step.h"
+
+namespace quarry::sim {
+
+namespace {
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+std::string show(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z); }
+}  // namespace
+
+void check_state(const World& world) {
+  const ParticleStore& p = world.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (finite(p.position[i]) && finite(p.velocity[i]) && finite(p.angular_velocity[i])) continue;
+    throw PhysicsError(fmt::format(
+        "step {} (t = {:.6g} s): particle id {} has a non-finite state: position {} m, "
+        "velocity {} m/s, angular velocity {} rad/s, force {} N\n"
+        "  hint: the run went unstable; reduce simulation.time_step (now {:.4g} s) or check the "
+        "material stiffness, restitution and external forces",
+        world.step_count, world.time, p.id[i], show(p.position[i]), show(p.velocity[i]),
+        show(p.angular_velocity[i]), show(p.force[i]), world.dt));
+  }
+  const double limit = world.spec.simulation.max_overlap_fraction.value;
+  const PairList& list = world.pairs;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+      const double overlap = world.pair_overlap[k];
+      if (overlap <= 0.0) continue;
+      const std::uint32_t j = list.partner[k];
+      const double smaller = std::min(p.radius[i], p.radius[j]);
+      if (overlap <= limit * smaller) continue;
+      throw PhysicsError(fmt::format(
+          "step {} (t = {:.6g} s): particles id {} and id {} overlap by {:.4g} m = {:.1f} % of the "
+          "smaller radius {:.4g} m (limit {:.0f} %); relative speed {:.4g} m/s\n"
+          "  hint: reduce simulation.time_step (now {:.4g} s), raise the Young's modulus, or lower "
+          "the impact speed; simulation.max_overlap_fraction sets the limit",
+          world.step_count, world.time, p.id[i], p.id[j], overlap, 100.0 * overlap / smaller,
+          smaller, 100.0 * limit, norm(p.velocity[i] - p.velocity[j]), world.dt));
+    }
+  }
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (int q = 0; q < kWallSlots; ++q) {
+      const WallSlot& slot = world.wall_slots[i * kWallSlots + q];
+      if (slot.surface < 0) break;
+      const double overlap = p.radius[i] - norm(p.position[i] - slot.point);
+      if (overlap <= limit * p.radius[i]) continue;
+      throw PhysicsError(fmt::format(
+          "step {} (t = {:.6g} s): particle id {} penetrates surface '{}' (element {}) by {:.4g} m "
+          "= {:.1f} % of its radius {:.4g} m (limit {:.0f} %); speed {:.4g} m/s\n"
+          "  hint: reduce simulation.time_step (now {:.4g} s) or raise the Young's modulus; a "
+          "surface moving faster than particles can follow also causes this",
+          world.step_count, world.time, p.id[i], world.surfaces[slot.surface].name, slot.triangle,
+          overlap, 100.0 * overlap / p.radius[i], p.radius[i], 100.0 * limit,
+          norm(p.velocity[i]), world.dt));
+    }
+  }
+}
+
+}  // namespace quarry::sim

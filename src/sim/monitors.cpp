@@ -1,0 +1,106 @@
+// Monitor quantities and plots.
+#include "sim/monitors.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "insert/region.h"
+#include "io/png_plot.h"
+
+namespace quarry::sim {
+
+std::vector<std::string> monitor_columns(const World& world) {
+  std::vector<std::string> c = {"time_s", "particles", "kinetic_energy_J", "mean_speed_m_s",
+                                "mean_vx_m_s", "mean_vy_m_s", "mean_vz_m_s", "contacts",
+                                "removed_outside"};
+  for (const auto& s : world.surfaces)
+    for (const char* q : {"Fx_N", "Fy_N", "Fz_N", "F_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"})
+      c.push_back(s.name + "_" + q);
+  for (const auto& m : world.spec.monitors)
+    if (m.region) c.push_back(m.name.value + "_mass_kg");
+  return c;
+}
+
+std::vector<double> monitor_row(const World& world) {
+  const ParticleStore& p = world.particles;
+  double kinetic = 0.0, speed = 0.0;  // J, m/s
+  Vec3 velocity;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double m = 1.0 / p.inv_mass[i];
+    kinetic += 0.5 * m * norm2(p.velocity[i]) + 0.5 / p.inv_inertia[i] * norm2(p.angular_velocity[i]);
+    speed += norm(p.velocity[i]);
+    velocity += p.velocity[i];
+  }
+  const double n = static_cast<double>(p.size());
+  if (n > 0) speed /= n, velocity /= n;
+  std::vector<double> row = {world.time, n, kinetic, speed, velocity.x, velocity.y, velocity.z,
+                             static_cast<double>(world.pair_contact_count() + world.wall_contact_count()),
+                             static_cast<double>(world.removed_outside)};
+  for (const auto& s : world.surfaces) {
+    const Vec3 f = s.total_force, t = s.total_torque;
+    for (double v : {f.x, f.y, f.z, norm(f), t.x, t.y, t.z}) row.push_back(v);
+  }
+  for (const auto& m : world.spec.monitors) {
+    if (!m.region) continue;
+    const Region region(*m.region);
+    double mass = 0.0;  // kg
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (region.contains(p.position[i])) mass += 1.0 / p.inv_mass[i];
+    row.push_back(mass);
+  }
+  return row;
+}
+
+namespace {
+PlotSeries column_series(const std::vector<std::string>& columns,
+                         const std::vector<std::vector<double>>& rows, std::size_t k,
+                         const std::string& label) {
+  PlotSeries s;
+  s.label = label;
+  for (const auto& r : rows) {
+    s.x.push_back(r[0]);
+    s.y.push_back(r[k]);
+  }
+  (void)columns;
+  return s;
+}
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+}  // namespace
+
+void write_monitor_plots(const std::string& directory, const std::vector<std::string>& columns,
+                         const std::vector<std::vector<double>>& rows) {
+  namespace fs = std::filesystem;
+  const auto index_of = [&](const std::string& name) {
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      if (columns[k] == name) return k;
+    return columns.size();
+  };
+  PlotSpec forces{"Force on each surface", "time (s)", "|F| (N)", {}};
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    if (ends_with(columns[k], "_F_N"))
+      forces.series.push_back(column_series(columns, rows, k, columns[k].substr(0, columns[k].size() - 4)));
+  if (!forces.series.empty()) write_line_plot_png(fs::path(directory) / "surface_forces.png", forces);
+
+  PlotSpec speed{"Mean particle speed", "time (s)", "speed (m/s)",
+                 {column_series(columns, rows, index_of("mean_speed_m_s"), "mean speed")}};
+  write_line_plot_png(fs::path(directory) / "mean_speed.png", speed);
+
+  PlotSpec count{"Particles in the simulation", "time (s)", "count",
+                 {column_series(columns, rows, index_of("particles"), "particles")}};
+  write_line_plot_png(fs::path(directory) / "particle_count.png", count);
+
+  PlotSpec energy{"Kinetic energy", "time (s)", "energy (J)",
+                  {column_series(columns, rows, index_of("kinetic_energy_J"), "kinetic energy")}};
+  write_line_plot_png(fs::path(directory) / "kinetic_energy.png", energy);
+
+  PlotSpec masses{"Mass in monitor regions", "time (s)", "mass (kg)", {}};
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    if (ends_with(columns[k], "_mass_kg"))
+      masses.series.push_back(column_series(columns, rows, k, columns[k].substr(0, columns[k].size() - 8)));
+  if (!masses.series.empty()) write_line_plot_png(fs::path(directory) / "region_mass.png", masses);
+}
+
+}  // namespace quarry::sim

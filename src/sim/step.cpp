@@ -1,0 +1,44 @@
+// The time step, read top to bottom (DESIGN §2). Velocity Verlet: half kick, drift, move the
+// geometry, forces at the new configuration, half kick. Symplectic Euler: full kick with the
+// forces of the previous configuration, drift, geometry, forces. The order matters: forces
+// are always computed at one consistent configuration of particles and surfaces.
+#include "sim/step.h"
+
+#include "integrate/integrator.h"
+
+namespace quarry::sim {
+
+void step(World& world) {
+  const double dt = world.dt;
+  const bool verlet = world.spec.simulation.integrator.value == Integrator::velocity_verlet;
+  {
+    ScopedStage timer(world.timers, world.timers.stage("integrate"));
+    integrate::kick(world.particles, verlet ? 0.5 * dt : dt);
+    integrate::drift(world.particles, dt);
+  }
+  world.time += dt;
+  world.step_count += 1;
+  {
+    ScopedStage timer(world.timers, world.timers.stage("geometry"));
+    move_surfaces(world, world.time);
+  }
+  {
+    ScopedStage timer(world.timers, world.timers.stage("insert/remove"));
+    insert_and_remove(world);
+  }
+  {
+    ScopedStage timer(world.timers, world.timers.stage("neighbor"));
+    update_neighbors(world, false);
+  }
+  compute_forces(world);  // times its own stages
+  if (verlet) {
+    ScopedStage timer(world.timers, world.timers.stage("integrate"));
+    integrate::kick(world.particles, 0.5 * dt);
+  }
+  {
+    ScopedStage timer(world.timers, world.timers.stage("guards"));
+    check_state(world);
+  }
+}
+
+}  // namespace quarry::sim

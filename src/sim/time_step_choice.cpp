@@ -1,0 +1,121 @@
+// Time-step choice: Rayleigh limit per particle type, Hertz contact-time check per material pair.
+#include "sim/time_step_choice.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "contact/contact_law.h"
+#include "insert/size_distribution.h"
+#include "integrate/timestep.h"
+
+namespace quarry {
+
+namespace {
+
+const MaterialSpec* find_material(const SimulationSpec& spec, const std::string& name) {
+  for (const auto& m : spec.materials)
+    if (m.name.value == name) return &m;
+  return nullptr;
+}
+
+MaterialProperties properties_of(const MaterialSpec& m) {
+  return {m.density.value, m.youngs_modulus.value, m.poisson_ratio.value};
+}
+
+// Expected impact speed (m/s): the deck's value, else the fastest factory velocity plus free
+// fall over the domain height, v = |v0| + sqrt(2 g H).
+double expected_impact_speed(const SimulationSpec& spec) {
+  if (spec.simulation.impact_speed) return spec.simulation.impact_speed->value;
+  double launch = 0.0;
+  for (const auto& f : spec.factories) launch = std::max(launch, norm(f.initial_velocity.value));
+  const Aabb& box = spec.simulation.domain.value;
+  const double height = box.empty() ? 0.0 : norm(box.hi - box.lo);
+  return launch + std::sqrt(2.0 * norm(spec.simulation.gravity.value) * height);
+}
+
+}  // namespace
+
+TimeStepChoice choose_time_step(const SimulationSpec& spec) {
+  TimeStepChoice choice;
+  choice.rayleigh_time = std::numeric_limits<double>::infinity();
+  choice.hertz_time = std::numeric_limits<double>::infinity();
+  choice.impact_speed = expected_impact_speed(spec);
+
+  // Surface materials that particles can hit.
+  std::vector<const MaterialSpec*> wall_materials;
+  for (const auto& s : spec.surfaces)
+    if (const MaterialSpec* m = find_material(spec, s.material.value)) wall_materials.push_back(m);
+
+  for (const auto& type : spec.particle_types) {
+    const MaterialSpec* material = find_material(spec, type.material.value);
+    if (!material) continue;
+    const double radius = SizeSampler(type.size).min_radius();  // m, the smallest one limits
+    const double shear = shear_modulus(material->youngs_modulus, material->poisson_ratio);
+    const double rayleigh = rayleigh_time_step(radius, material->density, shear, material->poisson_ratio);
+    if (rayleigh < choice.rayleigh_time) {
+      choice.rayleigh_time = rayleigh;
+      choice.rayleigh_limiter = fmt::format("particle type '{}' (material '{}', R = {:.4g} mm)",
+                                            type.name.value, material->name.value, radius * 1e3);
+    }
+    // Hertz contact time: smallest particle against its own kind and against each wall.
+    const MaterialProperties own = properties_of(*material);
+    const double mass = material->density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+    auto consider = [&](const MaterialProperties& other, double effective_mass,
+                        double effective_radius, const std::string& what) {
+      InteractionSpec neutral;
+      const InteractionParameters p = make_interaction(own, other, neutral);
+      const double t = hertz_contact_time(effective_mass, effective_radius,
+                                          p.effective_youngs_modulus, choice.impact_speed);
+      if (t < choice.hertz_time) {
+        choice.hertz_time = t;
+        choice.hertz_limiter = what;
+      }
+    };
+    if (choice.impact_speed > 0.0) {
+      consider(own, 0.5 * mass, 0.5 * radius,
+               fmt::format("two '{}' particles, R = {:.4g} mm", type.name.value, radius * 1e3));
+      for (const MaterialSpec* wall : wall_materials)
+        consider(properties_of(*wall), mass, radius,
+                 fmt::format("'{}' particle on a '{}' surface, R = {:.4g} mm", type.name.value,
+                             wall->name.value, radius * 1e3));
+    }
+  }
+
+  if (spec.simulation.fixed_time_step) {
+    choice.dt = spec.simulation.fixed_time_step->value;
+    choice.fixed = true;
+  } else if (std::isfinite(choice.rayleigh_time)) {
+    choice.dt = spec.simulation.rayleigh_fraction.value * choice.rayleigh_time;
+  }
+
+  const SourceLocation where = spec.simulation.fixed_time_step
+                                   ? spec.simulation.fixed_time_step->where
+                                   : spec.simulation.rayleigh_fraction.where;
+  if (choice.dt <= 0.0 || !std::isfinite(choice.dt)) {
+    choice.problems.push_back({Severity::error, where, "no time step could be chosen",
+                               "give simulation.time_step or define a particle type"});
+    return choice;
+  }
+  if (std::isfinite(choice.hertz_time)) {
+    choice.steps_per_contact = choice.hertz_time / choice.dt;
+    const std::string what = fmt::format(
+        "time step {:.4g} s resolves the Hertz contact time {:.4g} s ({}, impact speed {:.3g} m/s) "
+        "with only {:.1f} steps",
+        choice.dt, choice.hertz_time, choice.hertz_limiter, choice.impact_speed,
+        choice.steps_per_contact);
+    const std::string hint = fmt::format(
+        "use a time step ≤ {:.3g} s (10 steps per contact), or lower the Young's modulus",
+        choice.hertz_time / 10.0);
+    if (choice.steps_per_contact < 6.0)
+      choice.problems.push_back({Severity::error, where, what + " (at least 6 are needed)", hint});
+    else if (choice.steps_per_contact < 10.0)
+      choice.problems.push_back({Severity::warning, where, what + " (10 are recommended)", hint});
+  }
+  return choice;
+}
+
+}  // namespace quarry

@@ -1,0 +1,29 @@
+// Choice of the time step (DESIGN §4, seed 003): Rayleigh time step of the smallest particle of
+// each type, dt = fraction × min T_R (or the deck's fixed dt), and the check that the Hertz
+// contact time at the expected impact speed spans ≥ 10 steps (error below 6).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "core/simulation_spec.h"
+
+namespace quarry {
+
+struct TimeStepChoice {
+  double rayleigh_time = 0.0;         // s, smallest over particle types (T_R)
+  std::string rayleigh_limiter;       // "type 'fine' (material 'ore', R = 2 mm)"
+  double hertz_time = 0.0;            // s, shortest contact time at the impact speed (T_h)
+  std::string hertz_limiter;          // "ore–steel wall, R = 2 mm"
+  double impact_speed = 0.0;          // m/s used for T_h
+  double dt = 0.0;                    // s
+  bool fixed = false;                 // dt given in the deck
+  double steps_per_contact = 0.0;     // T_h / dt
+  std::vector<Diagnostic> problems;   // warnings (< 10 steps) and errors (< 6 steps)
+};
+
+// Computes the choice; problems are returned, not thrown (check prints them, run throws).
+TimeStepChoice choose_time_step(const SimulationSpec& spec);
+
+}  // namespace quarry

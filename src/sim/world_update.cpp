@@ -1,0 +1,159 @@
+// Stages that change what exists or where it is: prescribed surface motion, factories,
+// removal of particles that left the domain, spatial re-sorting and list rebuilds.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/motion.h"
+#include "neighbor/spatial_sort.h"
+#include "sim/step.h"
+
+namespace quarry::sim {
+
+namespace {
+
+// Largest displacement (m) of any vertex of moving surfaces since the lists were built.
+double max_surface_displacement(const World& world) {
+  double worst = 0.0;
+  for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
+    if (world.motions[s].kind.value == MotionKind::none) continue;
+    const auto& at_build = world.candidates.vertices_at_build[s];
+    const auto& now = world.surfaces[s].vertices;
+    if (at_build.size() != now.size()) return 1e300;
+    for (std::size_t v = 0; v < now.size(); ++v) worst = std::max(worst, norm2(now[v] - at_build[v]));
+  }
+  return std::sqrt(worst);
+}
+
+// Candidate triangles: those whose bounding box comes within (R + skin) of the particle.
+void build_surface_candidates(World& world) {
+  const ParticleStore& p = world.particles;
+  const std::size_t n = p.size();
+  SurfaceCandidates& c = world.candidates;
+  const double cell = 2.0 * world.max_radius + world.skin;
+  for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
+    const bool moving = world.motions[s].kind.value != MotionKind::none;
+    if (moving) world.grids[s].build(world.surfaces[s], cell);
+    c.vertices_at_build[s] = world.surfaces[s].vertices;
+  }
+  // Per particle, per thread: query, then concatenate in particle order (deterministic).
+  std::vector<std::vector<std::uint16_t>> surf(n);
+  std::vector<std::vector<std::uint32_t>> tri(n);
+#pragma omp parallel if (n > parallel_threshold)
+  {
+    std::vector<std::uint32_t> found;
+#pragma omp for schedule(dynamic, 256)
+    for (std::size_t i = 0; i < n; ++i) {
+      const double reach = p.radius[i] + world.skin;
+      Aabb box;
+      box.lo = p.position[i] - Vec3{reach, reach, reach};
+      box.hi = p.position[i] + Vec3{reach, reach, reach};
+      for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
+        world.grids[s].query(box, found);
+        const Surface& surface = world.surfaces[s];
+        for (std::uint32_t t : found) {
+          // Exact test against the triangle's own box, so the set does not depend on the grid.
+          Aabb tb;
+          for (int k = 0; k < 3; ++k) tb.expand(surface.vertices[surface.triangles[t][k]]);
+          if (tb.lo.x > box.hi.x || tb.hi.x < box.lo.x || tb.lo.y > box.hi.y ||
+              tb.hi.y < box.lo.y || tb.lo.z > box.hi.z || tb.hi.z < box.lo.z)
+            continue;
+          surf[i].push_back(static_cast<std::uint16_t>(s));
+          tri[i].push_back(t);
+        }
+      }
+    }
+  }
+  c.offsets.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) c.offsets[i + 1] = c.offsets[i] + static_cast<std::uint32_t>(tri[i].size());
+  c.surface.resize(c.offsets[n]);
+  c.triangle.resize(c.offsets[n]);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::copy(surf[i].begin(), surf[i].end(), c.surface.begin() + c.offsets[i]);
+    std::copy(tri[i].begin(), tri[i].end(), c.triangle.begin() + c.offsets[i]);
+  }
+}
+
+}  // namespace
+
+void move_surfaces(World& world, double time) {
+  for (std::size_t s = 0; s < world.surfaces.size(); ++s)
+    if (world.motions[s].kind.value != MotionKind::none) apply_motion(world.motions[s], time, world.surfaces[s]);
+}
+
+void insert_and_remove(World& world) {
+  ParticleStore& p = world.particles;
+  // Particles outside the domain are removed and counted (guard 11).
+  const Aabb& domain = world.spec.simulation.domain.value;
+  if (!domain.empty()) {
+    std::vector<char> outside(p.size(), 0);
+    bool any = false;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (!domain.contains(p.position[i])) outside[i] = 1, any = true;
+    if (any) {
+      std::vector<WallSlot> kept;
+      kept.reserve(world.wall_slots.size());
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        if (outside[i]) { ++world.removed_outside; continue; }
+        kept.insert(kept.end(), world.wall_slots.begin() + i * kWallSlots,
+                    world.wall_slots.begin() + (i + 1) * kWallSlots);
+      }
+      p.remove_flagged(outside);
+      world.wall_slots = std::move(kept);
+      world.lists_stale = true;
+    }
+  }
+  if (world.factories.empty() || world.step_count % world.insertion_interval_steps != 0) return;
+  const auto touches_surface = [&world](const Vec3& centre, double radius) {
+    std::vector<std::uint32_t> all;
+    std::vector<SurfaceContact> contacts;
+    for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
+      const Surface& surface = world.surfaces[s];
+      Aabb box;
+      // The grid of a moving surface is from the last rebuild: widen the query by the skin.
+      const double reach = radius + world.skin;
+      box.lo = centre - Vec3{reach, reach, reach};
+      box.hi = centre + Vec3{reach, reach, reach};
+      world.grids[s].query(box, all);
+      find_surface_contacts(surface, world.topologies[s], centre, radius, all, contacts);
+      if (!contacts.empty()) return true;
+    }
+    return false;
+  };
+  for (auto& factory : world.factories) {
+    const InsertionReport report = factory.insert_due(world.time, p, world.next_id, touches_surface);
+    if (report.inserted > 0) world.lists_stale = true;
+  }
+  world.wall_slots.resize(p.size() * kWallSlots);
+}
+
+void rebuild_lists(World& world) {
+  ParticleStore& p = world.particles;
+  const int interval = world.spec.simulation.sort_interval.value;
+  if (interval > 0 && world.steps_since_sort >= static_cast<std::uint64_t>(interval)) {
+    // Re-sort along a space-filling curve for cache locality; wall slots follow their particle.
+    const std::vector<std::size_t> order = spatial_order(p, 2.0 * world.max_radius + world.skin);
+    p.permute(order);
+    std::vector<WallSlot> slots(world.wall_slots.size());
+    for (std::size_t k = 0; k < order.size(); ++k)
+      std::copy_n(world.wall_slots.begin() + order[k] * kWallSlots, kWallSlots, slots.begin() + k * kWallSlots);
+    world.wall_slots = std::move(slots);
+    world.steps_since_sort = 0;
+  }
+  build_pair_list(p, world.skin, world.pairs);
+  build_surface_candidates(world);
+  world.wall_slots.resize(p.size() * kWallSlots);
+  world.rebuilds += 1;
+  world.lists_stale = false;
+}
+
+void update_neighbors(World& world, bool force_rebuild) {
+  world.steps_since_sort += 1;
+  const double surface_motion = world.has_moving_surfaces() ? max_surface_displacement(world) : 0.0;
+  if (force_rebuild || world.lists_stale ||
+      pair_list_needs_rebuild(world.particles, world.pairs, surface_motion))
+    rebuild_lists(world);
+}
+
+}  // namespace quarry::sim
