@@ -195,6 +195,11 @@ std::uint64_t state_hash(const World& world) {
   mix(p.position.data(), p.position.size() * sizeof(Vec3));
   mix(p.velocity.data(), p.velocity.size() * sizeof(Vec3));
   mix(p.angular_velocity.data(), p.angular_velocity.size() * sizeof(Vec3));
+  // Surface loads per element and node: their numbering and sums must not depend on threads.
+  for (const Surface& s : world.surfaces) {
+    mix(s.triangle_force.data(), s.triangle_force.size() * sizeof(Vec3));
+    mix(s.vertex_force.data(), s.vertex_force.size() * sizeof(Vec3));
+  }
   return h;
 }
 

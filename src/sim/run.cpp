@@ -122,7 +122,7 @@ static RunSummary run_session(Session& session, bool fresh) {
 
   const auto start = std::chrono::steady_clock::now();
   auto last_progress = start;
-  const double start_time = world.time;
+  double last_progress_time = world.time;  // s, simulated time at the last progress line
   const double progress_every = world.spec.output.progress_interval.value;
   bool frame_pending = false;
   std::vector<char> reported_shortfall(world.factories.size(), 0);
@@ -173,10 +173,13 @@ static RunSummary run_session(Session& session, bool fresh) {
     }
     const auto now = std::chrono::steady_clock::now();
     if (!session.options.quiet && std::chrono::duration<double>(now - last_progress).count() >= progress_every) {
-      last_progress = now;
+      // ETA from the pace since the last line: the cost per step grows as particles are added.
+      const double recent_wall = std::chrono::duration<double>(now - last_progress).count();
+      const double recent_simulated = world.time - last_progress_time;
+      const double eta = recent_simulated > 0 ? recent_wall * (session.end_time - world.time) / recent_simulated : NAN;
       const double wall = std::chrono::duration<double>(now - start).count();
-      const double done = world.time - start_time;
-      const double eta = done > 0 ? wall * (session.end_time - world.time) / done : NAN;
+      last_progress = now;
+      last_progress_time = world.time;
       log << fmt::format("t = {:.4f} / {:.4g} s ({:5.1f} %)  step {}  {} particles  {:.0f} steps/s  "
                          "ETA {}\n", world.time, session.end_time,
                          100.0 * world.time / session.end_time, n, world.particles.size(),

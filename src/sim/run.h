@@ -41,8 +41,9 @@ std::uint64_t read_checkpoint(World& world, const std::string& path);
 // Reads only the deck path stored in a checkpoint.
 std::string checkpoint_deck_path(const std::string& path);
 
-// A hash of the whole particle state (positions, velocities, angular velocities, ids) for the
-// determinism tests: equal hashes mean bit-identical states.
+// A hash of the particle state (ids, positions, velocities, angular velocities) and of the
+// surfaces' per-element and per-node loads, for the determinism tests: equal hashes mean
+// bit-identical states.
 std::uint64_t state_hash(const World& world);
 
 }  // namespace quarry::sim

@@ -118,3 +118,81 @@ TEST(Verification, RestartContinuesBitIdentically) {
 
 }  // namespace
 }  // namespace quarry
+
+namespace quarry {
+namespace {
+
+// 01b — Per-triangle pressure: the floor's mean normal stress over an output window, integrated
+// over the floor, Σ p_t A_t, equals the normal force the bed puts on it (the definition of the
+// mean stress, DESIGN §5), and at rest that is the weight minus what the side walls carry by
+// friction; so it must lie between 0 and the weight, and together with the side walls' vertical
+// friction forces add up to the weight within 0.5 %.
+TEST(Verification, SettledBedFloorPressureIntegratesToTheLoad) {
+  SimulationSpec spec = parse_deck(deck_path("tests/verification/01-settled-bed/deck.yaml"));
+  World world = start_world(spec);
+  const double end = spec.simulation.end_time.value;
+  while (world.time < end - 0.05) sim::step(world);
+  Surface& box = world.surfaces[0];
+  box.clear_window();
+  while (world.time < end) {
+    sim::step(world);
+    box.accumulate_window(world.dt);
+  }
+  std::vector<double> pressure;
+  std::vector<Vec3> shear, force;
+  box.window_means(pressure, shear, force);
+  double normal_on_floor = 0.0, vertical_total = 0.0;  // N
+  for (std::size_t t = 0; t < box.triangle_count(); ++t) {
+    vertical_total += force[t].z;
+    if (box.triangle_normals[t].z > 0.99) normal_on_floor += pressure[t] * box.triangle_areas[t];
+  }
+  const double weight = total_mass(world) * 9.81;  // N
+  EXPECT_NEAR(-vertical_total / weight, 1.0, 0.005);
+  EXPECT_GT(normal_on_floor, 0.5 * weight);
+  EXPECT_LE(normal_on_floor, weight * 1.005);
+  // The floor's pressure integral is its own vertical force (the floor is horizontal).
+  double floor_vertical = 0.0;
+  for (std::size_t t = 0; t < box.triangle_count(); ++t)
+    if (box.triangle_normals[t].z > 0.99) floor_vertical += -force[t].z;
+  EXPECT_NEAR(normal_on_floor / floor_vertical, 1.0, 1e-9);
+}
+
+// 06 — Conveyor surface: a sphere set down at rest on a belt moving at U is dragged by sliding
+// friction until it rolls without slip. Linear and angular impulse of the same friction J give
+// v = J/m and ω R = J R²/I; no slip, v + ω R = U with I = 2/5 m R², gives v = 2/7 U (classic
+// rigid-body result, e.g. Brilliantov & Pöschel 2004, the sliding-to-rolling transition).
+TEST(Verification, SphereOnConveyorEndsAtTwoSeventhsOfBeltSpeed) {
+  SimulationSpec spec = parse_deck(deck_path("tests/verification/02-bouncing-sphere/deck.yaml"));
+  spec.factories.clear();
+  spec.surfaces[0].conveyor_velocity = Vec3{0.5, 0, 0};
+  World world = start_world(spec);
+  const double radius = 0.005;
+  world.particles.add(1, 0, 0, {0, 0, radius * 0.9999}, {}, radius, 7800.0, 0.0);
+  world.wall_slots.resize(world.particles.size() * kWallSlots);
+  world.lists_stale = true;
+  sim::update_neighbors(world, true);
+  sim::compute_forces(world);
+  while (world.time < 0.1) sim::step(world);
+  EXPECT_NEAR(world.particles.velocity[0].x / (2.0 / 7.0 * 0.5), 1.0, 0.01);
+  EXPECT_NEAR(world.particles.angular_velocity[0].y * radius / (5.0 / 7.0 * 0.5), -1.0, 0.01);
+}
+
+// 11 — Guard: a particle that leaves the domain is removed and counted, the others stay.
+TEST(Verification, ParticlesLeavingTheDomainAreRemovedAndCounted) {
+  SimulationSpec spec = parse_deck(deck_path("tests/verification/02-bouncing-sphere/deck.yaml"));
+  spec.factories.clear();
+  World world = start_world(spec);
+  world.particles.add(7, 0, 0, {0.0, 0.0, 0.05}, {0, 0, 0}, 0.005, 7800.0, 0.0);
+  world.particles.add(8, 0, 0, {0.09, 0.0, 0.15}, {5, 0, 0}, 0.005, 7800.0, 0.0);
+  world.wall_slots.resize(world.particles.size() * kWallSlots);
+  world.lists_stale = true;
+  sim::update_neighbors(world, true);
+  sim::compute_forces(world);
+  for (int n = 0; n < 2000; ++n) sim::step(world);
+  ASSERT_EQ(world.particles.size(), 1u);
+  EXPECT_EQ(world.particles.id[0], 7u);
+  EXPECT_EQ(world.removed_outside, 1u);
+}
+
+}  // namespace
+}  // namespace quarry
