@@ -1,5 +1,6 @@
 // PVD series: format, atomic rewrite, and a small reader of the DataSet entries for restart.
 #include "io/pvd_series.h"
+#include "io/xml_text.h"
 
 #include <fmt/format.h>
 
@@ -18,53 +19,6 @@
 namespace quarry {
 
 namespace {
-
-std::string xml_escaped(std::string_view text) {
-  std::string escaped;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      case '\'':
-        escaped += "&apos;";
-        break;
-      default:
-        escaped += c;
-    }
-  }
-  return escaped;
-}
-
-std::string xml_unescaped(std::string_view text) {
-  static constexpr std::pair<std::string_view, char> entities[] = {
-      {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}};
-  std::string plain;
-  for (std::size_t i = 0; i < text.size();) {
-    bool replaced = false;
-    if (text[i] == '&') {
-      for (const auto& [entity, character] : entities) {
-        if (text.substr(i, entity.size()) == entity) {
-          plain += character;
-          i += entity.size();
-          replaced = true;
-          break;
-        }
-      }
-    }
-    if (!replaced) plain += text[i++];
-  }
-  return plain;
-}
 
 // Value of attribute `name` inside one tag's text, or nothing if absent. Attributes are
 // matched on a leading space so that e.g. "file" never matches inside "myfile".

@@ -1,6 +1,7 @@
 // VTU writers (ParaView XML UnstructuredGrid, appended raw binary, UInt64 headers, little
 // endian). Each array is one appended block: an 8-byte byte count, then the values.
 #include "io/vtu_writer.h"
+#include "io/xml_text.h"
 
 #include <fmt/format.h>
 
@@ -34,32 +35,6 @@ void append_little_endian(std::string& out, T value) {
   }
 }
 
-std::string xml_escaped(std::string_view text) {
-  std::string escaped;
-  escaped.reserve(text.size());
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      case '\'':
-        escaped += "&apos;";
-        break;
-      default:
-        escaped += c;
-    }
-  }
-  return escaped;
-}
 
 template <class T>
 std::string scalar_payload(std::span<const T> values) {
