@@ -15,7 +15,7 @@ bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && 
 std::string show(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z); }
 }  // namespace
 
-void check_state(const World& world) {
+void check_finite(const World& world) {
   const ParticleStore& p = world.particles;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (finite(p.position[i]) && finite(p.velocity[i]) && finite(p.angular_velocity[i])) continue;
@@ -27,6 +27,10 @@ void check_state(const World& world) {
         world.step_count, world.time, p.id[i], show(p.position[i]), show(p.velocity[i]),
         show(p.angular_velocity[i]), show(p.force[i]), world.dt));
   }
+}
+
+void check_overlaps(const World& world) {
+  const ParticleStore& p = world.particles;
   const double limit = world.spec.simulation.max_overlap_fraction.value;
   const PairList& list = world.pairs;
   for (std::size_t i = 0; i < p.size(); ++i) {

@@ -19,6 +19,12 @@ void step(World& world) {
   world.time += dt;
   world.step_count += 1;
   {
+    // Before anything else looks at positions: a NaN particle must stop the run, not be
+    // mistaken for one that left the domain.
+    ScopedStage timer(world.timers, world.timers.stage("guards"));
+    check_finite(world);
+  }
+  {
     ScopedStage timer(world.timers, world.timers.stage("geometry"));
     move_surfaces(world, world.time);
   }
@@ -37,7 +43,7 @@ void step(World& world) {
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("guards"));
-    check_state(world);
+    check_overlaps(world);
   }
 }
 

@@ -13,7 +13,8 @@ void move_surfaces(World& world, double time);           // prescribed motion at
 void insert_and_remove(World& world);                    // factories; particles leaving the domain
 void update_neighbors(World& world, bool force_rebuild); // Verlet/candidate lists when needed
 void compute_forces(World& world);                        // contacts, gravity, external forces
-void check_state(const World& world);                     // NaN and overlap guards
+void check_finite(const World& world);                    // NaN/inf guard (after the drift)
+void check_overlaps(const World& world);                  // overlap guard (after the forces)
 
 // Rebuilds every list now (after particles were added/removed/moved from outside).
 void rebuild_lists(World& world);

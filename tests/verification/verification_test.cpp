@@ -196,3 +196,27 @@ TEST(Verification, ParticlesLeavingTheDomainAreRemovedAndCounted) {
 
 }  // namespace
 }  // namespace quarry
+
+namespace quarry {
+namespace {
+
+// 11 — Guard: a non-finite state stops the run with the step, the particle id, the values and
+// a hint (instead of silently spreading NaN through the bed).
+TEST(Verification, NonFiniteStateStopsWithStepParticleAndHint) {
+  SimulationSpec spec = parse_deck(deck_path("tests/verification/02-bouncing-sphere/deck.yaml"));
+  World world = start_world(spec);
+  world.particles.velocity[0].z = std::nan("");
+  try {
+    sim::step(world);
+    FAIL() << "expected a PhysicsError";
+  } catch (const PhysicsError& e) {
+    const std::string text = e.what();
+    EXPECT_NE(text.find("step 1 "), std::string::npos) << text;
+    EXPECT_NE(text.find("particle id 1 "), std::string::npos) << text;
+    EXPECT_NE(text.find("nan"), std::string::npos) << text;
+    EXPECT_NE(text.find("hint:"), std::string::npos) << text;
+  }
+}
+
+}  // namespace
+}  // namespace quarry
