@@ -27,8 +27,7 @@ double period_error(bool verlet, int steps) {
   auto spring = [&] { p.force[0] = p.position[0] * (-omega * omega / p.inv_mass[0]); };
   spring();
   for (int n = 0; n < steps; ++n) {
-    integrate::kick(p, verlet ? 0.5 * dt : dt);
-    integrate::drift(p, dt);
+    integrate::kick_drift(p, verlet ? 0.5 * dt : dt, dt);
     spring();
     if (verlet) integrate::kick(p, 0.5 * dt);
   }

@@ -13,8 +13,7 @@ void step(World& world) {
   const bool verlet = world.spec.simulation.integrator.value == Integrator::velocity_verlet;
   {
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
-    integrate::kick(world.particles, verlet ? 0.5 * dt : dt);
-    integrate::drift(world.particles, dt);
+    integrate::kick_drift(world.particles, verlet ? 0.5 * dt : dt, dt);
   }
   world.time += dt;
   world.step_count += 1;
