@@ -74,7 +74,7 @@ struct ContactResult {
 // EPSD limits |Mr| to μr R* |Fn|. Cohesion (SJKR) pulls i towards j: −k A n.
 // Precondition: dt > 0. If overlap <= 0 the pair is not touching: the result is zero and the
 // history is cleared (the spring is released when contact is lost).
-inline ContactResult evaluate_contact(const InteractionParameters& parameters,
+[[gnu::always_inline]] inline ContactResult evaluate_contact(const InteractionParameters& parameters,
                                       const ContactKinematics& kinematics, ContactHistory& history,
                                       double dt) {
   if (!(kinematics.overlap > 0.0)) {

@@ -2,6 +2,7 @@
 // then gathered per particle in a fixed order (no atomics: bit-identical for any thread count);
 // particle–surface contacts per particle, their reactions gathered onto triangles and vertices
 // in particle order; then gravity and the external (coupling) forces.
+#include <algorithm>
 #include <cmath>
 
 #include "sim/step.h"
@@ -20,7 +21,9 @@ void pair_forces(World& world) {
   world.pair_torque_j.resize(pairs);
   world.pair_overlap.resize(pairs);
   const double dt = world.dt;
-#pragma omp parallel for schedule(dynamic, 512) if (n > parallel_threshold)
+  const double overlap_limit = world.spec.simulation.max_overlap_fraction.value;  // of min radius
+  int excessive = 0;  // set if some overlap passed the guard's limit (check_overlaps reports it)
+#pragma omp parallel for schedule(dynamic, 512) if (n > parallel_threshold) reduction(| : excessive)
   for (std::size_t i = 0; i < n; ++i) {
     for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
       const std::uint32_t j = list.partner[k];
@@ -58,8 +61,10 @@ void pair_forces(World& world) {
       world.pair_torque_i[k] = r.torque_i;
       world.pair_torque_j[k] = r.torque_j;
       world.pair_overlap[k] = kin.overlap;
+      excessive |= kin.overlap > overlap_limit * std::min(kin.radius_i, kin.radius_j);
     }
   }
+  world.excessive_overlap = excessive != 0;
 }
 
 // Sums the stored pair forces onto the particles: first the pairs where the particle is i,
@@ -101,7 +106,9 @@ void wall_forces(World& world) {
   const std::size_t n = p.size();
   const SurfaceCandidates& cand = world.candidates;
   const double dt = world.dt;
-#pragma omp parallel if (n > parallel_threshold)
+  const double overlap_limit = world.spec.simulation.max_overlap_fraction.value;  // of radius
+  int excessive = 0;
+#pragma omp parallel if (n > parallel_threshold) reduction(| : excessive)
   {
     std::vector<SurfaceContact> found;
     std::vector<std::pair<std::uint16_t, SurfaceContact>> contacts;
@@ -110,7 +117,10 @@ void wall_forces(World& world) {
       WallSlot* slots = &world.wall_slots[i * kWallSlots];
       const std::uint32_t begin = cand.offsets[i], end = cand.offsets[i + 1];
       if (begin == end) {
-        for (int s = 0; s < kWallSlots; ++s) slots[s].surface = -1;
+        // No surface within reach (most particles): slots are filled front to back, so one
+        // look at the first tells whether anything must be cleared.
+        if (slots[0].surface >= 0)
+          for (int s = 0; s < kWallSlots; ++s) slots[s].surface = -1;
         continue;
       }
       // Candidates are grouped by surface: detect contacts one surface at a time.
@@ -126,7 +136,11 @@ void wall_forces(World& world) {
       }
       // Keep tangential history for contacts that continue: same surface, similar normal.
       WallSlot previous[kWallSlots];
-      std::copy_n(slots, kWallSlots, previous);
+      int previous_count = 0;  // slots are filled front to back: copy only the used ones
+      while (previous_count < kWallSlots && slots[previous_count].surface >= 0) {
+        previous[previous_count] = slots[previous_count];
+        ++previous_count;
+      }
       bool used[kWallSlots] = {};
       Vec3 force, torque;
       int filled = 0;
@@ -135,7 +149,7 @@ void wall_forces(World& world) {
         WallSlot slot;
         int best = -1;
         double best_alignment = 0.5;  // cos 60°
-        for (int q = 0; q < kWallSlots; ++q) {
+        for (int q = 0; q < previous_count; ++q) {
           if (used[q] || previous[q].surface != s) continue;
           const double alignment = dot(previous[q].normal, c.normal);
           if (alignment > best_alignment) best_alignment = alignment, best = q;
@@ -163,15 +177,17 @@ void wall_forces(World& world) {
         slot.weights = c.weights;
         slot.point = c.point;
         slot.force_on_particle = r.force_i;
+        excessive |= c.overlap > overlap_limit * p.radius[i];
         force += r.force_i;
         torque += r.torque_i;
         slots[filled++] = slot;
       }
-      for (int q = filled; q < kWallSlots; ++q) slots[q] = WallSlot{};
+      for (int q = filled; q < std::max(filled, previous_count); ++q) slots[q].surface = -1;
       p.force[i] += force;
       p.torque[i] += torque;
     }
   }
+  world.excessive_overlap = world.excessive_overlap || excessive != 0;
   // Reactions on the surfaces, gathered in particle order (deterministic).
   for (auto& surface : world.surfaces) surface.clear_step_loads();
   for (std::size_t i = 0; i < n; ++i) {

@@ -30,6 +30,9 @@ void check_finite(const World& world) {
 }
 
 void check_overlaps(const World& world) {
+  // The force stage flags excessive overlaps as it computes them; only then is it worth
+  // searching for the first offender (in a fixed order, so the message is deterministic).
+  if (!world.excessive_overlap) return;
   const ParticleStore& p = world.particles;
   const double limit = world.spec.simulation.max_overlap_fraction.value;
   const PairList& list = world.pairs;

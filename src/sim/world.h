@@ -85,6 +85,7 @@ struct World {
   std::uint64_t steps_since_sort = 0;
   int insertion_interval_steps = 1;
   std::uint64_t rebuilds = 0;
+  bool excessive_overlap = false;     // set by the force stage for the overlap guard
   bool lists_stale = true;            // particles were added/removed: rebuild before forces
   std::vector<std::string> warnings;  // reported once (e.g. factory shortfall)
 
