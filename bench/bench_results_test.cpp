@@ -1,0 +1,65 @@
+// Tests of the results summary: CSV parsing, medians, Quarry/peer ratios and the bed check.
+#include "bench/bench_results.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace quarry::bench {
+namespace {
+
+std::string row(const std::string& code, int threads, int rep, double pss, double zmax, double floor) {
+  // date,machine,size,n,code,threads,rep,steps,loop_s,pss,coordination,neigh_pp,rebuilds,rss_kib,
+  // zmax,zmean,floor_force,weight,other_load
+  return "2026-11-24,box,10k,10000," + code + "," + std::to_string(threads) + "," + std::to_string(rep) +
+         ",2000,1," + std::to_string(pss) + ",4.6,3.44,7,40960," + std::to_string(zmax) + ",0.02," +
+         std::to_string(floor) + ",1.0272,0.05\n";
+}
+
+TEST(BenchResults, MedianOfOddEvenAndNaN) {
+  EXPECT_EQ(median_of({3, 1, 2}), 2);
+  EXPECT_EQ(median_of({4, 1, 2, 3}), 2.5);
+  EXPECT_EQ(median_of({NAN, 5, 1}), 3);
+  EXPECT_TRUE(std::isnan(median_of({})));
+}
+
+TEST(BenchResults, ParsesRowsAndRejectsMalformedOnes) {
+  const std::string csv = bench_csv_header() + "\n" + row("quarry", 1, 1, 2e7, 0.05, 0.9);
+  const auto runs = read_bench_csv(csv);
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].code, "quarry");
+  EXPECT_EQ(runs[0].particles, 10000);
+  EXPECT_EQ(runs[0].particle_steps_per_second, 2e7);
+  EXPECT_EQ(runs[0].peak_rss_kib, 40960);
+  EXPECT_THROW(read_bench_csv(bench_csv_header() + "\n1,2,3\n"), std::runtime_error);
+  EXPECT_THROW(read_bench_csv("date,machine\n"), std::runtime_error);
+  std::string bad = row("quarry", 1, 1, 2e7, 0.05, 0.9);
+  bad.replace(bad.find("4.6"), 3, "4.x");
+  EXPECT_THROW(read_bench_csv(bench_csv_header() + "\n" + bad), std::runtime_error);
+}
+
+TEST(BenchResults, RatiosAreOfMediansAndTheBedCheckUsesTheTolerance) {
+  std::string csv = bench_csv_header() + "\n";
+  for (int rep = 1; rep <= 3; ++rep) {
+    csv += row("quarry", 1, rep, 1e7 * rep, 0.0500, 0.900);   // median 2e7
+    csv += row("liggghts", 1, rep, 4e6 + rep, 0.0502, 0.950); // median 4e6 + 2
+  }
+  const auto groups = summarize_runs(read_bench_csv(csv));
+  ASSERT_EQ(groups.size(), 2u);
+  EXPECT_EQ(groups[0].code, "quarry");
+  EXPECT_EQ(groups[0].median_rate, 2e7);
+  EXPECT_EQ(groups[0].min_rate, 1e7);
+  EXPECT_EQ(groups[0].max_rate, 3e7);
+  const std::string md = bench_markdown(read_bench_csv(csv), "# test");
+  EXPECT_NE(md.find("**5.00**"), std::string::npos) << md;  // 2e7 / (4e6 + 2) = 5.00
+  // z max differs by 0.4 % (inside 1 %), the floor force by 5.3 %: the check fails.
+  EXPECT_NE(md.find("-0.40 %"), std::string::npos) << md;
+  EXPECT_NE(md.find("**no**"), std::string::npos) << md;
+  const PlotSpec plot = throughput_plot(groups, "t");
+  ASSERT_EQ(plot.series.size(), 2u);
+  EXPECT_EQ(plot.series[0].x[0], 4.0);  // log10 10000
+  EXPECT_EQ(plot.series[0].y[0], 20.0);
+}
+
+}  // namespace
+}  // namespace quarry::bench

@@ -1,0 +1,143 @@
+// quarry_settled_bed: the peer-comparison reference problem in Quarry (issue 3). Settles the
+// jittered lattice (or loads a settled bed), times warm-up + timed steps of sim::step, and prints
+// one machine-readable line "QUARRY_BENCH key=value ..." plus the per-stage time table.
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fmt/format.h>
+#include <iostream>
+
+#include "bench/settled_bed_scene.h"
+#include "core/diagnostics.h"
+#include "sim/run.h"
+#include "sim/step.h"
+
+namespace {
+
+using quarry::World;
+namespace bench = quarry::bench;
+
+struct Options {
+  bench::SettledBedParameters bed;
+  long settle_steps = 25000;        // the peers' lattice settling for 10k (run.sh geom)
+  double settle_energy = 0.0;       // J per particle; > 0: stop settling once below it
+  std::string bed_file;             // load if it exists, else settle and save here
+  int threads = 1;
+  long warmup_steps = 200;          // the peers' NWARM
+  long timed_steps = 2000;          // the peers' timed phase
+};
+
+// Peak resident set size of this process so far (bytes); Linux reports ru_maxrss in KiB.
+double peak_rss_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) * 1024.0;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Steps until `steps` are done or the kinetic energy per particle falls below the target
+// (checked every 500 steps, as often as the peers print it); logs progress to stderr.
+void settle(World& world, const Options& options) {
+  const auto start = std::chrono::steady_clock::now();
+  for (long s = 1; s <= options.settle_steps; ++s) {
+    quarry::sim::step(world);
+    if (s % 500 == 0 || s == options.settle_steps) {
+      const double energy = bench::kinetic_energy_per_particle(world);  // J
+      if (s % 2500 == 0 || s == options.settle_steps)
+        std::cerr << fmt::format("settle: step {} ke/particle {:.3e} J zmax {:.5f} m ({:.0f} s)\n", s,
+                                 energy, bench::measure_bed(world).max_height, seconds_since(start));
+      if (options.settle_energy > 0.0 && energy < options.settle_energy) {
+        std::cerr << fmt::format("settle: below {:.1e} J per particle after {} steps\n",
+                                 options.settle_energy, s);
+        break;
+      }
+    }
+  }
+}
+
+int run_bench(const Options& options) {
+  omp_set_num_threads(options.threads);
+  World world = bench::make_lattice_world(options.bed);
+  const std::size_t n = world.particles.size();
+  const bool have_bed = !options.bed_file.empty() && std::filesystem::exists(options.bed_file);
+  if (have_bed) {
+    quarry::sim::read_checkpoint(world, options.bed_file);
+    if (world.particles.size() != n)
+      throw std::runtime_error(fmt::format("{} holds {} particles, the lattice {}: other --nx/--ny/--nz?",
+                                           options.bed_file, world.particles.size(), n));
+    if (world.lists_stale) bench::prepare_first_step(world);
+    std::cerr << fmt::format("bed: loaded {} ({} particles, t = {:.4f} s)\n", options.bed_file, n, world.time);
+  } else {
+    bench::prepare_first_step(world);
+    settle(world, options);
+    if (!options.bed_file.empty()) {
+      quarry::sim::write_checkpoint(world, options.bed_file, 0);
+      std::cerr << fmt::format("bed: saved {}\n", options.bed_file);
+    }
+  }
+  std::cerr << fmt::format("bed: ke/particle {:.3e} J\n", bench::kinetic_energy_per_particle(world));
+  if (options.timed_steps <= 0) return 0;
+
+  for (long s = 0; s < options.warmup_steps; ++s) quarry::sim::step(world);
+  world.timers.reset();
+  const std::uint64_t rebuilds_before = world.rebuilds;
+  const auto start = std::chrono::steady_clock::now();
+  for (long s = 0; s < options.timed_steps; ++s) quarry::sim::step(world);
+  const double loop_seconds = seconds_since(start);  // s
+  const std::uint64_t rebuilds = world.rebuilds - rebuilds_before;
+
+  const bench::BedState bed = bench::measure_bed(world);
+  const double count = static_cast<double>(n);
+  const double rss = peak_rss_bytes();  // bytes
+  std::cerr << "per-stage time of the timed steps:\n" << world.timers.table();
+  // contacts_pp: contacting pairs / N; coordination: 2 × contacting pairs / N (what the peers'
+  // "compute contact/atom" sums to, their CONTACTS_PER_PARTICLE).
+  std::cout << fmt::format(
+      "QUARRY_BENCH n={} threads={} steps={} loop_s={:.6g} pss={:.6g} contacts_pp={:.4f} "
+      "coordination={:.4f} neigh_pp={:.4f} rss_peak_bytes={:.0f} rss_bytes_pp={:.1f} zmax={:.7g} "
+      "zmean={:.7g} floor_force={:.7g} walls_force_z={:.7g} weight={:.7g} rebuilds={} ke_pp={:.4g}\n",
+      n, options.threads, options.timed_steps, loop_seconds,
+      count * static_cast<double>(options.timed_steps) / loop_seconds, bed.contact_pairs / count,
+      2.0 * bed.contact_pairs / count, bed.neighbor_pairs / count, rss, rss / count, bed.max_height,
+      bed.mean_height, bed.floor_force, bed.all_walls_force_z, bed.weight, rebuilds,
+      bench::kinetic_energy_per_particle(world));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options options;
+  CLI::App app{"Quarry settled-bed benchmark (the LIGGGHTS/LAMMPS reference problem of issue 3)"};
+  app.add_option("--nx", options.bed.cells_x, "lattice sites along x")->check(CLI::PositiveNumber);
+  app.add_option("--ny", options.bed.cells_y, "lattice sites along y")->check(CLI::PositiveNumber);
+  app.add_option("--nz", options.bed.cells_z, "lattice sites along z")->check(CLI::PositiveNumber);
+  app.add_option("--seed", options.bed.seed, "jitter random seed");
+  app.add_option("--settle-steps", options.settle_steps, "most settling steps from the lattice");
+  app.add_option("--settle-energy", options.settle_energy,
+                 "stop settling when kinetic energy per particle (J) is below this (0: never)");
+  app.add_option("--bed", options.bed_file, "settled bed file: loaded if it exists, else written");
+  app.add_option("--threads", options.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+  app.add_option("--warmup", options.warmup_steps, "untimed steps before the timed ones");
+  app.add_option("--steps", options.timed_steps, "timed steps (0: only settle/save)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    return run_bench(options);
+  } catch (const quarry::UserError& e) {
+    std::cerr << "quarry_settled_bed: " << e.what() << "\n";
+    return 2;
+  } catch (const quarry::PhysicsError& e) {
+    std::cerr << "quarry_settled_bed: " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "quarry_settled_bed: " << e.what() << "\n";
+    return 4;
+  }
+}

@@ -1,0 +1,69 @@
+// The peer-comparison reference problem (issue 3): a jittered cubic lattice of 2 mm spheres in a
+// closed box of six plane walls, settled under gravity, then timed. Identical physics to the
+// LIGGGHTS/LAMMPS inputs in bench/peers/ (common.in, model_*.lig|lmp).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/simulation_spec.h"
+#include "sim/world.h"
+
+namespace quarry::bench {
+
+// Geometry and numerics of the reference problem; the defaults are the peers' values.
+struct SettledBedParameters {
+  int cells_x = 20, cells_y = 20, cells_z = 25;  // lattice sites per direction (N = product)
+  double lattice_spacing = 2.1e-3;               // m (peers: a)
+  double jitter = 4.0e-5;                        // m, uniform ± per coordinate (peers: jit)
+  double particle_radius = 1.0e-3;               // m (d = 2 mm)
+  double density = 2500.0;                       // kg/m³
+  double youngs_modulus = 5.0e6;                 // Pa
+  double poisson_ratio = 0.3;                    // 1
+  double restitution = 0.5;                      // 1
+  double friction = 0.5;                         // 1
+  double time_step = 1.0e-5;                     // s
+  double skin = 2.0e-4;                          // m (0.1 d)
+  std::uint64_t seed = 4711;                     // jitter stream
+
+  std::size_t particle_count() const {
+    return static_cast<std::size_t>(cells_x) * cells_y * cells_z;
+  }
+  // Box: [0, nx·a] × [0, ny·a] × [0, (nz+2)·a] (m); the top wall 2 spacings above the lattice.
+  Vec3 box_max() const {
+    return {cells_x * lattice_spacing, cells_y * lattice_spacing, (cells_z + 2) * lattice_spacing};
+  }
+};
+
+// Surface indices in the world (six planes, walls facing inward), floor first.
+enum WallIndex : int { floor_wall = 0, top_wall, x_low_wall, x_high_wall, y_low_wall, y_high_wall };
+
+// The simulation spec of the problem, made in code: one material, Hertz-Mindlin with history,
+// no rolling friction, fixed dt, the given skin, six planes of the particle material.
+SimulationSpec settled_bed_spec(const SettledBedParameters& parameters);
+
+// Builds the world and places the jittered lattice (particles at rest at (i + ½)·a + jitter,
+// ids 1..N) directly into world.particles; marks the lists stale. Deterministic for a seed.
+World make_lattice_world(const SettledBedParameters& parameters);
+
+// First force evaluation on a freshly placed or loaded state (what sim::run does before its
+// loop): sizes the wall slots, rebuilds every list, computes forces. Call before stepping.
+void prepare_first_step(World& world);
+
+// Kinetic energy (translational + rotational) per particle (J).
+double kinetic_energy_per_particle(const World& world);
+
+// Measurements of the settled state that the peers' logs also report.
+struct BedState {
+  double max_height = 0.0;         // m, max z of particle centres
+  double mean_height = 0.0;        // m, mean z of particle centres
+  double floor_force = 0.0;        // N, vertical force the particles exert on the floor (down > 0)
+  double all_walls_force_z = 0.0;  // N, vertical force on all six walls together (down > 0)
+  double weight = 0.0;             // N, Σ m g
+  double contact_pairs = 0.0;      // particle pairs with overlap > 0
+  double neighbor_pairs = 0.0;     // pairs in the Verlet list
+};
+// Reads the state after a force evaluation (the wall totals are those of the last step).
+BedState measure_bed(const World& world);
+
+}  // namespace quarry::bench
