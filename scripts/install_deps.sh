@@ -9,6 +9,9 @@ packages=(
   libpng-dev zlib1g-dev                  # PNG plots
   libgtest-dev libgmock-dev              # unit tests
   libbenchmark-dev                       # micro-benchmarks
+  libmedc-dev libhdf5-openmpi-dev        # MED load export (med.h needs the OpenMPI HDF5)
+  libmed-tools                           # mdump: the tests check exported MED files with it
+  calculix-ccx                           # ccx: the tests run the exported CalculiX decks
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -147,6 +147,41 @@ struct OutputSpec {
   Located<double> progress_interval{2.0};  // wall-clock s between progress lines
 };
 
+// ---- FEM load export (issue 4): the `export:` section applies to every surface flagged
+// `export: true`; written by src/export while the run goes. ----
+enum class ExportFormat { med, calculix, vtu, csv };
+enum class CalculixAnalysis { static_step, dynamic };
+enum class SupportFixity { clamped, pinned };  // clamped: DOFs 1–6 fixed; pinned: DOFs 1–3
+
+// A CalculiX node set with a boundary condition: the nodes inside the box [min, max] (m).
+struct SupportSpec {
+  Located<std::string> name;
+  Located<Vec3> min, max;
+  Located<SupportFixity> fix{SupportFixity::clamped};
+};
+
+// The structural model of the exported surface for the CalculiX deck: shells of one
+// thickness and one linear elastic material, and the supports.
+struct CalculixSpec {
+  Located<double> thickness{0.0};         // m
+  Located<double> youngs_modulus{0.0};    // Pa
+  Located<double> poisson_ratio{0.3};     // 1
+  Located<double> density{0.0};           // kg/m³ (needed by the dynamic analysis)
+  Located<CalculixAnalysis> analysis{CalculixAnalysis::static_step};
+  // Static step: loads of the export interval containing this time (s); absent = last one.
+  std::optional<Located<double>> static_time;
+  std::vector<SupportSpec> supports;
+};
+
+struct ExportSpec {
+  bool enabled = false;                   // the deck has an export: section
+  Located<double> interval{0.0};          // s, averaging window of each exported time
+  Located<std::string> directory{std::string("fem_export")};  // relative to output.directory
+  std::vector<Located<ExportFormat>> formats;  // empty = all formats
+  std::optional<CalculixSpec> calculix;   // required when calculix is among the formats
+  SourceLocation where;                   // the export: section, for messages
+};
+
 struct SimulationSpec {
   std::string deck_path;                // for messages; empty when built in code
   SimulationSettings simulation;
@@ -157,6 +192,7 @@ struct SimulationSpec {
   std::vector<FactorySpec> factories;
   std::vector<MonitorSpec> monitors;
   OutputSpec output;
+  ExportSpec fem_export;                // `export:` section (export is a C++ keyword)
 };
 
 }  // namespace quarry

@@ -24,7 +24,8 @@ using deck_detail::MapReader;
 
 const std::vector<std::string> kTopLevelKeys = {"simulation",     "materials", "interactions",
                                                 "particle_types", "surfaces",  "factories",
-                                                "monitors",       "output"};
+                                                "monitors",       "output",
+                                                "export"};
 
 // Reports a second entry of the same name in one section; empty names were reported already.
 void check_unique_names(DeckContext& context, const std::string& noun,
@@ -150,6 +151,12 @@ void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
   for (const FactorySpec& factory : spec.factories)
     check_reference(context, "particle type", factory.particle_type, particle_type_names);
   check_interactions(context, spec, material_names);
+  // An export: section with no surface to export is a mistake, not a silent no-op.
+  if (spec.fem_export.enabled &&
+      std::none_of(spec.surfaces.begin(), spec.surfaces.end(),
+                   [](const SurfaceSpec& surface) { return surface.export_loads.value; }))
+    context.error(spec.fem_export.where, "the export: section applies to no surface",
+                  "flag the surfaces to export with export: true");
 }
 
 // Errors in the order of the file (the first line of the output is the first mistake in the
@@ -205,6 +212,7 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
     deck_detail::read_factories_section(top, spec.factories);
     deck_detail::read_monitors_section(top, spec.monitors);
     deck_detail::read_output_section(top, spec.output);
+    deck_detail::read_export_section(top, spec.fem_export);
     check_cross_references(context, spec);
   }
   if (context.diagnostics.has_errors()) throw UserError(in_file_order(context.diagnostics));

@@ -17,6 +17,8 @@ void read_output_section(MapReader& root, OutputSpec& output);
 void read_materials_section(MapReader& root, std::vector<MaterialSpec>& materials);
 void read_interactions_section(MapReader& root, std::vector<InteractionSpec>& interactions);
 void read_particle_types_section(MapReader& root, std::vector<ParticleTypeSpec>& particle_types);
+// The optional `export:` section (FEM load export, issue 4).
+void read_export_section(MapReader& root, ExportSpec& fem_export);
 
 // deck_geometry.cpp; STL files are resolved against `base_directory` ("" = current folder).
 void read_surfaces_section(MapReader& root, const std::string& base_directory,

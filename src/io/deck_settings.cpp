@@ -3,6 +3,7 @@
 // isotropic solid, 0 < e ≤ 1 for restitution (Hertz-Mindlin damping needs ln e finite).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "io/deck_sections.h"
@@ -31,6 +32,19 @@ const EnumChoices<SizeDistributionKind> kSizeDistributions{
      {"normal", SizeDistributionKind::normal},
      {"log_normal", SizeDistributionKind::log_normal},
      {"discrete", SizeDistributionKind::discrete}}};
+
+const EnumChoices<ExportFormat> kExportFormats{"export format",
+                                               {{"med", ExportFormat::med},
+                                                {"calculix", ExportFormat::calculix},
+                                                {"vtu", ExportFormat::vtu},
+                                                {"csv", ExportFormat::csv}}};
+
+const EnumChoices<CalculixAnalysis> kCalculixAnalyses{
+    "CalculiX analysis",
+    {{"static", CalculixAnalysis::static_step}, {"dynamic", CalculixAnalysis::dynamic}}};
+
+const EnumChoices<SupportFixity> kSupportFixities{
+    "support fixity", {{"clamped", SupportFixity::clamped}, {"pinned", SupportFixity::pinned}}};
 
 // Mass fractions of a discrete distribution must sum to one within this tolerance (1).
 constexpr double kMassFractionSumTolerance = 1e-6;
@@ -212,7 +226,98 @@ void read_size_distribution(MapReader& particle_type, SizeDistributionSpec& size
   }
 }
 
+// One support of the CalculiX model: {name, box: {min, max}, fix: clamped|pinned}.
+SupportSpec read_support(MapReader& map) {
+  SupportSpec support;
+  map.reject_unknown_keys({"name", "box", "fix"});
+  map.read("name", support.name, Presence::required);
+  map.read("fix", support.fix, kSupportFixities);
+  if (!map.require("box", "box: {min: [x, y, z], max: [x, y, z]} selects the nodes inside"))
+    return support;
+  MapReader box(map.context(), *map.find("box"), *map.find_key("box"), "box");
+  if (!box.is_map()) return support;
+  box.reject_unknown_keys({"min", "max"});
+  const bool has_lower = box.read("min", support.min, Presence::required);
+  const bool has_upper = box.read("max", support.max, Presence::required);
+  // A flat box is allowed (nodes on a plane edge): only min > max in some component is wrong.
+  if (has_lower && has_upper)
+    for (int axis = 0; axis < 3; ++axis)
+      if (support.max.value[axis] < support.min.value[axis]) {
+        map.context().error(support.max.where,
+                            fmt::format("support box max must be ≥ min in every component, got "
+                                        "max[{}] = {} m < min[{}] = {} m",
+                                        axis, support.max.value[axis], axis,
+                                        support.min.value[axis]),
+                            "swap the corners");
+        break;
+      }
+  return support;
+}
+
+CalculixSpec read_calculix(MapReader& map) {
+  CalculixSpec calculix;
+  map.reject_unknown_keys({"thickness", "youngs_modulus", "poisson_ratio", "density", "analysis",
+                           "time", "supports"});
+  map.read("thickness", calculix.thickness, positive(), "m", Presence::required);
+  map.read("youngs_modulus", calculix.youngs_modulus, positive(), "Pa", Presence::required);
+  map.read("poisson_ratio", calculix.poisson_ratio, interval(0.0, true, 0.5, false), "1");
+  map.read("analysis", calculix.analysis, kCalculixAnalyses);
+  const bool dynamic = calculix.analysis.value == CalculixAnalysis::dynamic;
+  // The dynamic analysis needs the mass of the structure; a static one ignores it.
+  map.read("density", calculix.density, positive(), "kg/m³",
+           dynamic ? Presence::required : Presence::optional);
+  Located<double> time;
+  if (map.read("time", time, non_negative(), "s")) {
+    if (dynamic)
+      map.context().error(time.where, "time applies only to analysis: static",
+                          "the dynamic analysis uses the whole load history");
+    else
+      calculix.static_time = time;
+  }
+  for (MapReader& support_map : list_of_maps(map, "supports", "support"))
+    calculix.supports.push_back(read_support(support_map));
+  return calculix;
+}
+
 }  // namespace
+
+void read_export_section(MapReader& root, ExportSpec& fem_export) {
+  const YAML::Node* value = root.find("export");
+  if (!value) return;
+  MapReader map(root.context(), *value, *root.find_key("export"), "export");
+  fem_export.enabled = true;
+  fem_export.where = map.location();
+  map.reject_unknown_keys({"interval", "directory", "formats", "calculix"});
+  map.read("interval", fem_export.interval, positive(), "s", Presence::required);
+  map.read("directory", fem_export.directory);
+  DeckContext& context = map.context();
+  if (const YAML::Node* formats = map.find("formats")) {
+    if (!formats->IsSequence() || formats->size() == 0) {
+      context.error(map.where_value("formats"),
+                    fmt::format("expected a non-empty list of formats for \"formats\", got {}",
+                                describe_node(*formats)),
+                    "write it as formats: [" + join_choices(kExportFormats) + "]");
+    } else {
+      for (std::size_t index = 0; index < formats->size(); ++index) {
+        const std::string key = fmt::format("formats[{}]", index);
+        if (const auto format = read_enum(context, (*formats)[index], *formats, key, kExportFormats))
+          fem_export.formats.emplace_back(*format, context.where((*formats)[index], *formats));
+      }
+    }
+  }
+  const bool wants_calculix =
+      fem_export.formats.empty() ||
+      std::any_of(fem_export.formats.begin(), fem_export.formats.end(),
+                  [](const Located<ExportFormat>& f) { return f.value == ExportFormat::calculix; });
+  if (map.has("calculix")) {
+    MapReader calculix(context, *map.find("calculix"), *map.find_key("calculix"), "calculix");
+    if (calculix.is_map()) fem_export.calculix = read_calculix(calculix);
+  } else if (wants_calculix && map.is_map()) {
+    map.require("calculix",
+                "the CalculiX deck needs calculix: {thickness, youngs_modulus, poisson_ratio, "
+                "supports}; or leave calculix out of formats:");
+  }
+}
 
 std::vector<MapReader> list_of_maps(MapReader& parent, const std::string& key,
                                     const std::string& what) {

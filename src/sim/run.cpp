@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "export/load_exporter.h"
 #include "io/atomic_file.h"
 #include "io/csv_table.h"
 #include "io/deck.h"
@@ -116,6 +117,10 @@ static RunSummary run_session(Session& session, bool fresh) {
     session.record_monitors();
     session.write_frame();
   }
+  // FEM load export (issue 4); a restart keeps the records up to the checkpoint and appends.
+  fem_export::LoadExporter exporter(world.spec.fem_export, world.surfaces, session.directory,
+                                    world.dt, fresh ? std::nullopt : std::optional(world.time));
+  for (const auto& note : exporter.notes()) log << "quarry: " << note << "\n";
   log << fmt::format("quarry: dt = {:.4g} s, {} steps to t = {:.4g} s, output in {}\n", world.dt,
                      static_cast<std::uint64_t>(std::max(0.0, (session.end_time - world.time) / world.dt) + 0.5),
                      session.end_time, session.directory.string());
@@ -134,12 +139,14 @@ static RunSummary run_session(Session& session, bool fresh) {
       // Keep what was computed: the monitors so far and a last frame to look at in ParaView.
       session.monitors.flush();
       session.write_frame();
+      exporter.finish(world.surfaces, world.time, true);
       std::signal(SIGINT, previous_int);
       std::signal(SIGTERM, previous_term);
       throw;
     }
     summary.steps += 1;
     for (auto& surface : world.surfaces) surface.accumulate_window(world.dt);
+    exporter.after_step(world.surfaces, world.time, world.step_count, world.dt);
     const std::uint64_t n = world.step_count;
     frame_pending = true;
     if (session.monitor_every && n % session.monitor_every == 0) session.record_monitors();
@@ -187,6 +194,10 @@ static RunSummary run_session(Session& session, bool fresh) {
     }
   }
   if (frame_pending && !summary.interrupted) session.write_frame();
+  const std::size_t notes_before_finish = exporter.notes().size();
+  exporter.finish(world.surfaces, world.time, summary.interrupted);
+  for (std::size_t k = notes_before_finish; k < exporter.notes().size(); ++k)
+    log << "quarry: " << exporter.notes()[k] << "\n";
   session.monitors.flush();
   if (world.spec.output.plots.value && !session.monitors.rows().empty())
     write_monitor_plots(session.directory.string(), session.monitors.columns(), session.monitors.rows());

@@ -1,0 +1,190 @@
+// FEM load export driver (load_exporter.h): the schedule of export intervals in steps, the
+// per-surface writers, restart handling, and the CalculiX deck at the end of the run.
+#include "export/load_exporter.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+#include "export/calculix_deck.h"
+#include "export/load_window.h"
+#include "export/med_file.h"
+#include "export/nodal_history.h"
+#include "io/atomic_file.h"
+#include "io/pvd_series.h"
+#include "io/vtu_writer.h"
+
+namespace quarry::fem_export {
+
+namespace fs = std::filesystem;
+
+struct LoadExporter::SurfaceOutput {
+  std::size_t surface_index = 0;
+  std::string name;
+  LoadWindow window;
+  LoadFrame frame;                       // reused for every record
+  std::vector<Vec3> mesh_vertices;       // m, as at the start of the export
+  std::unique_ptr<NodalHistoryWriter> history;
+  std::unique_ptr<MedLoadWriter> med;
+  std::unique_ptr<PvdSeries> vtu_series;
+  std::ofstream csv;
+  Surface scratch;                       // copy for the VTU writer, vertex_force = record means
+
+  SurfaceOutput(std::size_t index, const Surface& surface)
+      : surface_index(index), name(surface.name), window(surface) {}
+};
+
+namespace {
+
+bool wants(const ExportSpec& spec, ExportFormat format) {
+  return spec.formats.empty() ||
+         std::any_of(spec.formats.begin(), spec.formats.end(),
+                     [&](const Located<ExportFormat>& f) { return f.value == format; });
+}
+
+// Cuts a CSV written by an interrupted run after its last row with time ≤ resume_time (s).
+void truncate_csv(const fs::path& path, double resume_time) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;
+  std::string line;
+  std::uintmax_t keep = 0;
+  bool header = true;
+  while (std::getline(in, line)) {
+    if (!header) {
+      const double time = std::strtod(line.c_str(), nullptr);
+      if (in.eof() || time > resume_time) break;  // a last line without '\n' is incomplete
+    }
+    header = false;
+    keep = static_cast<std::uintmax_t>(in.tellg());
+  }
+  in.close();
+  fs::resize_file(path, keep);
+}
+
+}  // namespace
+
+LoadExporter::LoadExporter(const ExportSpec& spec, const std::vector<Surface>& surfaces,
+                           const fs::path& output_directory, double dt,
+                           std::optional<double> resume_time)
+    : spec_(spec), directory_(output_directory / spec.directory.value) {
+  if (!spec.enabled) {
+    for (const Surface& surface : surfaces)
+      if (surface.export_loads)
+        notes_.push_back(fmt::format("warning: surface '{}' has export: true but the deck has no "
+                                     "export: section; nothing is exported (docs/deck.md)",
+                                     surface.name));
+    return;
+  }
+  every_steps_ = std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>(std::llround(spec.interval.value / dt)));
+  fs::create_directories(directory_);
+  for (std::size_t s = 0; s < surfaces.size(); ++s) {
+    const Surface& surface = surfaces[s];
+    if (!surface.export_loads) continue;
+    auto output = std::make_unique<SurfaceOutput>(s, surface);
+    output->mesh_vertices =
+        surface.reference_vertices.size() == surface.vertex_count() ? surface.reference_vertices
+                                                                    : surface.vertices;
+    const fs::path base = directory_ / surface.name;
+    output->history = std::make_unique<NodalHistoryWriter>(
+        fs::path(base.string() + "_nodal_forces.bin"), surface.vertex_count(), resume_time);
+    if (wants(spec, ExportFormat::med))
+      output->med = std::make_unique<MedLoadWriter>(base.string() + ".med", surface.name,
+                                                    output->mesh_vertices, surface.triangles,
+                                                    resume_time.has_value());
+    if (wants(spec, ExportFormat::vtu)) {
+      const fs::path pvd = base.string() + "_loads.pvd";
+      output->vtu_series = std::make_unique<PvdSeries>(
+          resume_time ? PvdSeries::resume(pvd, *resume_time) : PvdSeries(pvd));
+    }
+    if (wants(spec, ExportFormat::csv)) {
+      const fs::path csv = base.string() + "_loads.csv";
+      std::error_code ignored;
+      const bool append = resume_time && fs::exists(csv, ignored);
+      if (append) truncate_csv(csv, *resume_time);
+      output->csv.open(csv, std::ios::binary | (append ? std::ios::app : std::ios::trunc));
+      if (!output->csv) throw std::runtime_error("cannot write " + csv.string());
+      if (!append) output->csv << kLoadsCsvHeader << '\n';
+    }
+    outputs_.push_back(std::move(output));
+  }
+  notes_.push_back(fmt::format("exporting loads of {} surface(s) every {} steps ({:.4g} s) to {}",
+                               outputs_.size(), every_steps_, every_steps_ * dt,
+                               directory_.string()));
+}
+
+LoadExporter::~LoadExporter() = default;
+
+void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, double time) {
+  output.window.take_means(surface, time, output.frame);
+  const LoadFrame& frame = output.frame;
+  output.history->append(time, frame.nodal_force);
+  output.history->flush();
+  const std::size_t record = output.history->frame_count();  // 1-based number of this record
+  if (output.med) output.med->write(static_cast<int>(record), frame);
+  if (output.csv.is_open()) {
+    std::string rows;
+    for (std::size_t e = 0; e < frame.pressure.size(); ++e) {
+      const Vec3& s = frame.shear_stress[e];
+      const Vec3& f = frame.force[e];
+      rows += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", time, e,
+                          frame.pressure[e], s.x, s.y, s.z, f.x, f.y, f.z);
+    }
+    output.csv << rows;
+    output.csv.flush();
+    if (!output.csv) throw std::runtime_error("write failed for the loads CSV of " + output.name);
+  }
+  if (output.vtu_series) {
+    output.scratch = surface;
+    output.scratch.vertex_force = frame.nodal_force;
+    const std::string file = fmt::format("{}_loads_{:06}.vtu", output.name, record - 1);
+    write_file_atomically(directory_ / file,
+                          surface_vtu(output.scratch, frame.pressure, frame.shear_stress, frame.force));
+    output.vtu_series->add(time, file);
+  }
+}
+
+void LoadExporter::after_step(const std::vector<Surface>& surfaces, double time,
+                              std::uint64_t step_count, double dt) {
+  if (finished_) return;
+  for (auto& output : outputs_) {
+    const Surface& surface = surfaces[output->surface_index];
+    output->window.accumulate(surface, dt);
+    if (step_count % every_steps_ == 0) write_record(surface, *output, time);
+  }
+}
+
+void LoadExporter::finish(const std::vector<Surface>& surfaces, double time, bool interrupted) {
+  if (finished_) return;
+  finished_ = true;
+  for (auto& output : outputs_) {
+    const Surface& surface = surfaces[output->surface_index];
+    if (!interrupted && !output->window.empty()) write_record(surface, *output, time);
+    output->history->flush();
+    if (output->csv.is_open()) output->csv.close();
+    if (!wants(spec_, ExportFormat::calculix) || !spec_.calculix) continue;
+    if (output->history->frame_count() == 0) {
+      notes_.push_back(fmt::format("warning: no export interval of surface '{}' has ended; no "
+                                   "CalculiX deck written", output->name));
+      continue;
+    }
+    NodalHistoryReader history(output->history->path());
+    const ShellMesh mesh = quadratic_shell_mesh(output->mesh_vertices, surface.triangles);
+    const fs::path inp = directory_ / (output->name + ".inp");
+    const CalculixDeckSummary summary =
+        write_calculix_deck(inp, output->name, mesh, *spec_.calculix, history);
+    for (std::size_t s = 0; s < summary.support_node_counts.size(); ++s)
+      if (summary.support_node_counts[s] == 0)
+        notes_.push_back(fmt::format(
+            "warning: support '{}' holds no node of surface '{}'; check its box",
+            spec_.calculix->supports[s].name.value, output->name));
+    notes_.push_back(fmt::format("CalculiX deck {} ({} intervals); run: cd {} && ccx {}",
+                                 inp.string(), summary.frames, directory_.string(),
+                                 output->name));
+  }
+}
+
+}  // namespace quarry::fem_export

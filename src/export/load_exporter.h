@@ -1,0 +1,71 @@
+// LoadExporter: the FEM load export of a run (issue 4). Called by the run loop after the force
+// stage of every step; every export interval it writes, per surface flagged `export: true`, the
+// interval means to MED, a VTU series, a CSV and a nodal-force history on disk; at the end it
+// writes the CalculiX deck. Memory does not grow with the number of intervals.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/simulation_spec.h"
+#include "geometry/surface.h"
+
+namespace quarry::fem_export {
+
+class LoadExporter {
+ public:
+  // Starts the export into <output_directory>/<spec.directory>/ for every surface with
+  // export_loads set, meshes taken from `surfaces` now (reference positions). Does nothing when
+  // !spec.enabled (then notes() says so if some surface is flagged).
+  // Fresh run (resume_time empty): files are created anew. Restart (resume_time = the
+  // checkpoint time, s): the existing files are kept up to that time and later records dropped;
+  // the interval running at the checkpoint restarts at it, so its mean covers only the part
+  // after the restart. `dt` (s) fixes the interval in steps: max(1, round(interval / dt)).
+  // Throws std::runtime_error when a file cannot be created or does not match the mesh.
+  LoadExporter(const ExportSpec& spec, const std::vector<Surface>& surfaces,
+               const std::filesystem::path& output_directory, double dt,
+               std::optional<double> resume_time);
+  ~LoadExporter();
+  LoadExporter(const LoadExporter&) = delete;
+  LoadExporter& operator=(const LoadExporter&) = delete;
+
+  bool active() const { return !outputs_.empty(); }
+
+  // After the force stage of the step that ended at `time` (s), number `step_count`, length
+  // `dt` (s): accumulates the surfaces' loads and, when the step ends an export interval, writes
+  // one record to every format. Pre: `surfaces` is the same list as at construction.
+  // Cost: O(triangles + vertices) per exported surface; a record costs a few file writes.
+  void after_step(const std::vector<Surface>& surfaces, double time, std::uint64_t step_count,
+                  double dt);
+
+  // End of the run at `time` (s): writes the unfinished interval as a last record (unless
+  // `interrupted`: then the restart continues it), then the CalculiX deck of each surface
+  // from its whole history. Safe to call once; later calls do nothing.
+  void finish(const std::vector<Surface>& surfaces, double time, bool interrupted);
+
+  // Lines for the run's log (files written, warnings such as supports that hold no node).
+  const std::vector<std::string>& notes() const { return notes_; }
+  std::filesystem::path directory() const { return directory_; }
+
+ private:
+  struct SurfaceOutput;
+  void write_record(const Surface& surface, SurfaceOutput& output, double time);
+
+  ExportSpec spec_;
+  std::filesystem::path directory_;
+  std::uint64_t every_steps_ = 1;
+  std::vector<std::unique_ptr<SurfaceOutput>> outputs_;
+  std::vector<std::string> notes_;
+  bool finished_ = false;
+};
+
+// The CSV of one surface: header and row format (one row per element and record).
+inline constexpr const char* kLoadsCsvHeader =
+    "time_s,element_id,pressure_Pa,shear_x_Pa,shear_y_Pa,shear_z_Pa,force_x_N,force_y_N,"
+    "force_z_N";
+
+}  // namespace quarry::fem_export

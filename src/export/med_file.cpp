@@ -1,0 +1,266 @@
+// MED writer and reader for exported surface loads (med_file.h), after the MED-fichier 4 API
+// reference (Salome, "MED fichier" user guide): mesh = MEDmeshCr + node coordinates + nodal
+// connectivity; each field = MEDfieldCr once + MEDfieldValueWr per computing step.
+#include "export/med_file.h"
+
+#include <hdf5.h>
+#include <med.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+namespace quarry::fem_export {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw std::runtime_error("MED file " + path + ": " + what);
+}
+
+void check(med_err status, const std::string& path, const std::string& what) {
+  if (status < 0) fail(path, what + " failed");
+}
+
+// MED short names (components, units) are blank-padded fields of MED_SNAME_SIZE characters.
+std::string short_names(std::initializer_list<const char*> names) {
+  std::string packed;
+  for (const char* name : names) {
+    std::string field(name);
+    field.resize(MED_SNAME_SIZE, ' ');
+    packed += field;
+  }
+  return packed;
+}
+
+std::string trimmed(const char* text, std::size_t length) {
+  std::string s(text, strnlen(text, length));
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+struct FieldLayout {
+  const char* name;
+  med_entity_type entity;
+  med_geometry_type geometry;
+  int components;
+  const char* unit;
+};
+
+constexpr FieldLayout kFields[] = {
+    {kMedPressureField, MED_CELL, MED_TRIA3, 1, "Pa"},
+    {kMedShearField, MED_CELL, MED_TRIA3, 3, "Pa"},
+    {kMedForceField, MED_CELL, MED_TRIA3, 3, "N"},
+    {kMedNodalForceField, MED_NODE, MED_NONE, 3, "N"},
+};
+
+std::vector<double> flatten(std::span<const Vec3> values) {
+  std::vector<double> flat(3 * values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    flat[3 * i] = values[i].x;
+    flat[3 * i + 1] = values[i].y;
+    flat[3 * i + 2] = values[i].z;
+  }
+  return flat;
+}
+
+std::vector<Vec3> unflatten(const std::vector<double>& flat) {
+  std::vector<Vec3> values(flat.size() / 3);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    values[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
+  return values;
+}
+
+}  // namespace
+
+MedLoadWriter::MedLoadWriter(const std::string& path, const std::string& mesh_name,
+                             std::span<const Vec3> nodes,
+                             std::span<const std::array<std::uint32_t, 3>> triangles, bool resume)
+    : path_(path), mesh_name_(mesh_name.substr(0, MED_NAME_SIZE)),
+      node_count_(nodes.size()), element_count_(triangles.size()) {
+  std::error_code ignored;
+  if (resume && std::filesystem::exists(path, ignored)) return;
+  const med_idt file = MEDfileOpen(path.c_str(), MED_ACC_CREAT);
+  if (file < 0) fail(path, "cannot create");
+  struct Closer {
+    med_idt id;
+    ~Closer() { MEDfileClose(id); }
+  } closer{file};
+  check(MEDfileCommentWr(file, "Quarry DEM surface loads (time means per export interval)"),
+        path, "MEDfileCommentWr");
+  const std::string axes = short_names({"X", "Y", "Z"});
+  const std::string axis_units = short_names({"m", "m", "m"});
+  // Space dimension 3, mesh dimension 2: a surface in space, as code_aster's shell models expect.
+  check(MEDmeshCr(file, mesh_name_.c_str(), 3, 2, MED_UNSTRUCTURED_MESH,
+                  "DEM surface, element id = input order", "s", MED_SORT_DTIT, MED_CARTESIAN,
+                  axes.c_str(), axis_units.c_str()),
+        path, "MEDmeshCr");
+  const std::vector<double> coordinates = flatten(nodes);
+  check(MEDmeshNodeCoordinateWr(file, mesh_name_.c_str(), MED_NO_DT, MED_NO_IT, 0.0,
+                                MED_FULL_INTERLACE, static_cast<med_int>(nodes.size()),
+                                coordinates.data()),
+        path, "MEDmeshNodeCoordinateWr");
+  std::vector<med_int> connectivity(3 * triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) connectivity[3 * t + k] = static_cast<med_int>(triangles[t][k] + 1);
+  check(MEDmeshElementConnectivityWr(file, mesh_name_.c_str(), MED_NO_DT, MED_NO_IT, 0.0,
+                                     MED_CELL, MED_TRIA3, MED_NODAL, MED_FULL_INTERLACE,
+                                     static_cast<med_int>(triangles.size()), connectivity.data()),
+        path, "MEDmeshElementConnectivityWr");
+  for (const FieldLayout& field : kFields) {
+    const std::string names = field.components == 1 ? short_names({"P"})
+                                                    : short_names({"X", "Y", "Z"});
+    const std::string units = field.components == 1
+                                  ? short_names({field.unit})
+                                  : short_names({field.unit, field.unit, field.unit});
+    check(MEDfieldCr(file, field.name, MED_FLOAT64, field.components, names.c_str(),
+                     units.c_str(), "s", mesh_name_.c_str()),
+          path, std::string("MEDfieldCr ") + field.name);
+  }
+}
+
+MedLoadWriter::~MedLoadWriter() { close(); }
+
+void MedLoadWriter::close() {
+  if (file_ < 0) return;
+  MEDfileClose(file_);
+  file_ = -1;
+  // HDF5 keeps freed blocks on free lists that grow with the number of objects a file holds;
+  // returning them keeps the run's memory flat however many records the file collects.
+  H5garbage_collect();
+}
+
+void MedLoadWriter::write(int step_number, const LoadFrame& frame) {
+  if (frame.pressure.size() != element_count_ || frame.nodal_force.size() != node_count_)
+    fail(path_, "frame sizes do not match the mesh");
+  // Open, write, close: the file on disk is complete after every record (MED has no flush), so
+  // a crash loses at most the record being written.
+  if (file_ < 0) {
+    file_ = MEDfileOpen(path_.c_str(), MED_ACC_RDWR);
+    if (file_ < 0) fail(path_, "cannot open for writing");
+  }
+  const med_idt file = file_;
+  struct CloseAfterWrite {
+    MedLoadWriter& writer;
+    ~CloseAfterWrite() { writer.close(); }
+  } close_after_write{*this};
+  const auto write_field = [&](const FieldLayout& field, const std::vector<double>& values) {
+    const med_int count = static_cast<med_int>(field.entity == MED_NODE ? node_count_ : element_count_);
+    check(MEDfieldValueWr(file, field.name, step_number, MED_NO_IT, frame.time, field.entity,
+                          field.geometry, MED_FULL_INTERLACE, MED_ALL_CONSTITUENT, count,
+                          reinterpret_cast<const unsigned char*>(values.data())),
+          path_, std::string("MEDfieldValueWr ") + field.name);
+  };
+  write_field(kFields[0], frame.pressure);
+  write_field(kFields[1], flatten(frame.shear_stress));
+  write_field(kFields[2], flatten(frame.force));
+  write_field(kFields[3], flatten(frame.nodal_force));
+}
+
+MedLoadFile read_med_loads(const std::string& path) {
+  const med_idt file = MEDfileOpen(path.c_str(), MED_ACC_RDONLY);
+  if (file < 0) fail(path, "cannot open for reading");
+  struct Closer {
+    med_idt id;
+    ~Closer() { MEDfileClose(id); }
+  } closer{file};
+  MedLoadFile result;
+  char mesh_name[MED_NAME_SIZE + 1] = {};
+  char description[MED_COMMENT_SIZE + 1] = {};
+  char dt_unit[MED_SNAME_SIZE + 1] = {};
+  char axis_names[3 * MED_SNAME_SIZE + 1] = {};
+  char axis_units[3 * MED_SNAME_SIZE + 1] = {};
+  med_int space_dimension = 0, mesh_dimension = 0, steps = 0;
+  med_mesh_type mesh_type;
+  med_sorting_type sorting;
+  med_axis_type axis_type;
+  check(MEDmeshInfo(file, 1, mesh_name, &space_dimension, &mesh_dimension, &mesh_type, description,
+                    dt_unit, &sorting, &steps, &axis_type, axis_names, axis_units),
+        path, "MEDmeshInfo");
+  result.mesh_name = trimmed(mesh_name, MED_NAME_SIZE);
+  result.space_dimension = space_dimension;
+  result.mesh_dimension = mesh_dimension;
+  med_bool changed, transformed;
+  const med_int node_count = MEDmeshnEntity(file, mesh_name, MED_NO_DT, MED_NO_IT, MED_NODE,
+                                            MED_NONE, MED_COORDINATE, MED_NO_CMODE, &changed,
+                                            &transformed);
+  const med_int cell_count = MEDmeshnEntity(file, mesh_name, MED_NO_DT, MED_NO_IT, MED_CELL,
+                                            MED_TRIA3, MED_CONNECTIVITY, MED_NODAL, &changed,
+                                            &transformed);
+  if (node_count < 0 || cell_count < 0) fail(path, "cannot count nodes or triangles");
+  std::vector<double> coordinates(3 * static_cast<std::size_t>(node_count));
+  check(MEDmeshNodeCoordinateRd(file, mesh_name, MED_NO_DT, MED_NO_IT, MED_FULL_INTERLACE,
+                                coordinates.data()),
+        path, "MEDmeshNodeCoordinateRd");
+  result.nodes = unflatten(coordinates);
+  std::vector<med_int> connectivity(3 * static_cast<std::size_t>(cell_count));
+  check(MEDmeshElementConnectivityRd(file, mesh_name, MED_NO_DT, MED_NO_IT, MED_CELL, MED_TRIA3,
+                                     MED_NODAL, MED_FULL_INTERLACE, connectivity.data()),
+        path, "MEDmeshElementConnectivityRd");
+  result.triangles.resize(static_cast<std::size_t>(cell_count));
+  for (std::size_t t = 0; t < result.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      result.triangles[t][k] = static_cast<std::uint32_t>(connectivity[3 * t + k] - 1);
+
+  const med_int field_count = MEDnField(file);
+  for (int f = 1; f <= field_count; ++f) {
+    const med_int components = MEDfieldnComponent(file, f);
+    if (components < 0) fail(path, "MEDfieldnComponent failed");
+    char field_name[MED_NAME_SIZE + 1] = {};
+    char field_mesh[MED_NAME_SIZE + 1] = {};
+    std::vector<char> names(static_cast<std::size_t>(components) * MED_SNAME_SIZE + 1);
+    std::vector<char> units(static_cast<std::size_t>(components) * MED_SNAME_SIZE + 1);
+    char field_dt_unit[MED_SNAME_SIZE + 1] = {};
+    med_bool local;
+    med_field_type type;
+    med_int step_count = 0;
+    check(MEDfieldInfo(file, f, field_name, field_mesh, &local, &type, names.data(), units.data(),
+                       field_dt_unit, &step_count),
+          path, "MEDfieldInfo");
+    result.field_names.push_back(trimmed(field_name, MED_NAME_SIZE));
+    result.field_units.push_back(trimmed(units.data(), MED_SNAME_SIZE));
+    result.time_units.push_back(trimmed(field_dt_unit, MED_SNAME_SIZE));
+  }
+  for (const FieldLayout& field : kFields)
+    if (std::find(result.field_names.begin(), result.field_names.end(), field.name) ==
+        result.field_names.end())
+      fail(path, std::string("no field \"") + field.name + "\"");
+
+  // Computing steps, from the pressure field; the other fields must have the same steps.
+  char names[MED_SNAME_SIZE + 1], units[MED_SNAME_SIZE + 1], field_dt_unit[MED_SNAME_SIZE + 1];
+  char field_mesh[MED_NAME_SIZE + 1];
+  med_bool local;
+  med_field_type type;
+  med_int step_count = 0;
+  check(MEDfieldInfoByName(file, kMedPressureField, field_mesh, &local, &type, names, units,
+                           field_dt_unit, &step_count),
+        path, "MEDfieldInfoByName");
+  for (int s = 1; s <= step_count; ++s) {
+    med_int numdt = 0, numit = 0;
+    med_float time = 0.0;
+    check(MEDfieldComputingStepInfo(file, kMedPressureField, s, &numdt, &numit, &time), path,
+          "MEDfieldComputingStepInfo");
+    LoadFrame frame;
+    frame.time = time;
+    for (const FieldLayout& field : kFields) {
+      const med_int count = MEDfieldnValue(file, field.name, numdt, numit, field.entity,
+                                           field.geometry);
+      if (count < 0) fail(path, std::string("field ") + field.name + " lacks a step");
+      std::vector<double> values(static_cast<std::size_t>(count) * field.components);
+      check(MEDfieldValueRd(file, field.name, numdt, numit, field.entity, field.geometry,
+                            MED_FULL_INTERLACE, MED_ALL_CONSTITUENT,
+                            reinterpret_cast<unsigned char*>(values.data())),
+            path, std::string("MEDfieldValueRd ") + field.name);
+      if (std::strcmp(field.name, kMedPressureField) == 0) frame.pressure = values;
+      else if (std::strcmp(field.name, kMedShearField) == 0) frame.shear_stress = unflatten(values);
+      else if (std::strcmp(field.name, kMedForceField) == 0) frame.force = unflatten(values);
+      else frame.nodal_force = unflatten(values);
+    }
+    result.step_numbers.push_back(numdt);
+    result.frames.push_back(std::move(frame));
+  }
+  return result;
+}
+
+}  // namespace quarry::fem_export

@@ -1,0 +1,70 @@
+// MED (Salome / code_aster) output of an exported surface: the triangle mesh (TRIA3 cells in
+// input order, nodes in input order) and, at every export time, the cell fields pressure,
+// shear_stress, force and the node field nodal_force, unit-tagged (Pa, N; time unit s).
+// Written through libmedC (MED-fichier 4), read back by read_med_loads for tests and tools.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/vec3.h"
+#include "export/load_window.h"
+
+namespace quarry::fem_export {
+
+// Field names in the file, as code_aster's LIRE_CHAMP / LIRE_RESU name them (NOM_MED).
+inline constexpr const char* kMedPressureField = "pressure";          // Pa, 1 component, cells
+inline constexpr const char* kMedShearField = "shear_stress";         // Pa, 3 components, cells
+inline constexpr const char* kMedForceField = "force";                // N, 3 components, cells
+inline constexpr const char* kMedNodalForceField = "nodal_force";     // N, 3 components, nodes
+
+class MedLoadWriter {
+ public:
+  // Fresh: creates `path` (replacing it) with mesh `mesh_name` (≤ 64 characters) of `nodes`
+  // (m) and `triangles` (0-based vertex indices; written 1-based) and the four empty fields.
+  // Resume (`resume` true and the file exists): keeps it; steps written again overwrite the
+  // old ones. Throws std::runtime_error naming the file on any MED error.
+  MedLoadWriter(const std::string& path, const std::string& mesh_name,
+                std::span<const Vec3> nodes,
+                std::span<const std::array<std::uint32_t, 3>> triangles, bool resume);
+
+  // Writes the four fields of `frame` as computing step `step_number` (≥ 1, the MED numdt;
+  // numit = MED_NO_IT) at time frame.time (s). Pre: sizes match the mesh.
+  // The file is opened and closed around each write, so it is complete on disk afterwards.
+  // Cost: O(elements + nodes), four HDF5 dataset writes, one file open (~1 ms).
+  void write(int step_number, const LoadFrame& frame);
+  // Closes the file (HDF5 completes it on disk); the next write reopens it.
+  void close();
+
+  ~MedLoadWriter();
+  MedLoadWriter(const MedLoadWriter&) = delete;
+  MedLoadWriter& operator=(const MedLoadWriter&) = delete;
+
+ private:
+  long long file_ = -1;  // med_idt of the open file, −1 when closed
+  std::string path_;
+  std::string mesh_name_;
+  std::size_t node_count_ = 0, element_count_ = 0;
+};
+
+// Everything read_med_loads finds in a file written by MedLoadWriter.
+struct MedLoadFile {
+  std::string mesh_name;
+  int space_dimension = 0, mesh_dimension = 0;
+  std::vector<Vec3> nodes;                                  // m
+  std::vector<std::array<std::uint32_t, 3>> triangles;      // 0-based
+  std::vector<int> step_numbers;                            // numdt of each frame
+  std::vector<LoadFrame> frames;                            // duration is not stored (0)
+  std::vector<std::string> field_names;                     // in file order
+  std::vector<std::string> field_units;                     // first component's unit, per field
+  std::vector<std::string> time_units;                      // per field
+};
+
+// Reads the mesh and every computing step of the four fields. Throws std::runtime_error on a
+// missing file, a missing field or a MED error. Memory: the whole file (tests, small files).
+MedLoadFile read_med_loads(const std::string& path);
+
+}  // namespace quarry::fem_export
