@@ -23,44 +23,66 @@ void pair_forces(World& world) {
   const double dt = world.dt;
   const double overlap_limit = world.spec.simulation.max_overlap_fraction.value;  // of min radius
   int excessive = 0;  // set if some overlap passed the guard's limit (check_overlaps reports it)
+  // Raw arrays: the stores below are Vec3 like the particle arrays, so through the vectors the
+  // compiler would have to reload particle i's data after every store (possible aliasing).
+  const Vec3* position = p.position.data();
+  const Vec3* velocity = p.velocity.data();
+  const Vec3* angular_velocity = p.angular_velocity.data();
+  const double* radius = p.radius.data();
+  const double* inv_mass = p.inv_mass.data();
+  const std::uint16_t* material = p.material.data();
+  const std::uint32_t* offsets = list.offsets.data();
+  const std::uint32_t* partner = list.partner.data();
+  Vec3* tangential = list.tangential_displacement.data();
+  Vec3* rolling = list.rolling_torque.data();
+  Vec3* pair_force = world.pair_force.data();
+  Vec3* pair_torque_i = world.pair_torque_i.data();
+  Vec3* pair_torque_j = world.pair_torque_j.data();
+  double* pair_overlap = world.pair_overlap.data();
+  const MaterialTable& materials = world.materials;
 #pragma omp parallel for schedule(dynamic, 512) if (n > parallel_threshold) reduction(| : excessive)
   for (std::size_t i = 0; i < n; ++i) {
-    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-      const std::uint32_t j = list.partner[k];
-      const Vec3 d = p.position[i] - p.position[j];
-      const double touch = p.radius[i] + p.radius[j];
+    const Vec3 position_i = position[i];
+    const double radius_i = radius[i];
+    const double mass_i = 1.0 / inv_mass[i];  // kg
+    const Vec3 velocity_i = velocity[i];
+    const Vec3 angular_velocity_i = angular_velocity[i];
+    const InteractionParameters* row = &materials.between(material[i], 0);
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint32_t j = partner[k];
+      const Vec3 d = position_i - position[j];
+      const double touch = radius_i + radius[j];
       const double distance2 = norm2(d);
       if (distance2 >= touch * touch) {
         // Not touching: no force, and the tangential history of a broken contact is reset.
-        world.pair_force[k] = {};
-        world.pair_torque_i[k] = {};
-        world.pair_torque_j[k] = {};
-        world.pair_overlap[k] = 0.0;
-        list.tangential_displacement[k] = {};
-        list.rolling_torque[k] = {};
+        pair_force[k] = {};
+        pair_torque_i[k] = {};
+        pair_torque_j[k] = {};
+        pair_overlap[k] = 0.0;
+        tangential[k] = {};
+        rolling[k] = {};
         continue;
       }
       const double distance = std::sqrt(distance2);
       ContactKinematics kin;
       kin.normal = d / distance;
       kin.overlap = touch - distance;
-      kin.radius_i = p.radius[i];
-      kin.radius_j = p.radius[j];
-      kin.mass_i = 1.0 / p.inv_mass[i];
-      kin.mass_j = 1.0 / p.inv_mass[j];
-      kin.velocity_i = p.velocity[i];
-      kin.velocity_j = p.velocity[j];
-      kin.angular_velocity_i = p.angular_velocity[i];
-      kin.angular_velocity_j = p.angular_velocity[j];
-      ContactHistory history{list.tangential_displacement[k], list.rolling_torque[k]};
-      const ContactResult r =
-          evaluate_contact(world.materials.between(p.material[i], p.material[j]), kin, history, dt);
-      list.tangential_displacement[k] = history.tangential_displacement;
-      list.rolling_torque[k] = history.rolling_torque;
-      world.pair_force[k] = r.force_i;
-      world.pair_torque_i[k] = r.torque_i;
-      world.pair_torque_j[k] = r.torque_j;
-      world.pair_overlap[k] = kin.overlap;
+      kin.radius_i = radius_i;
+      kin.radius_j = radius[j];
+      kin.mass_i = mass_i;
+      kin.mass_j = 1.0 / inv_mass[j];
+      kin.velocity_i = velocity_i;
+      kin.velocity_j = velocity[j];
+      kin.angular_velocity_i = angular_velocity_i;
+      kin.angular_velocity_j = angular_velocity[j];
+      ContactHistory history{tangential[k], rolling[k]};
+      const ContactResult r = evaluate_contact(row[material[j]], kin, history, dt);
+      tangential[k] = history.tangential_displacement;
+      rolling[k] = history.rolling_torque;
+      pair_force[k] = r.force_i;
+      pair_torque_i[k] = r.torque_i;
+      pair_torque_j[k] = r.torque_j;
+      pair_overlap[k] = kin.overlap;
       excessive |= kin.overlap > overlap_limit * std::min(kin.radius_i, kin.radius_j);
     }
   }
