@@ -69,7 +69,9 @@ InteractionParameters make_interaction(const MaterialProperties& a, const Materi
   parameters.damping_ratio_beta = contact::damping_ratio_from_restitution(spec.restitution.value);
   parameters.static_friction = spec.static_friction.value;
   parameters.rolling_friction = spec.rolling_friction.value;
-  parameters.rolling_model = spec.rolling_model.value;
+  // Without rolling friction every rolling model gives zero torque: skip its work per contact.
+  parameters.rolling_model =
+      spec.rolling_friction.value > 0.0 ? spec.rolling_model.value : RollingModel::none;
   parameters.cohesion_energy_density = spec.cohesion_energy_density.value;
   parameters.linear_normal_stiffness = spec.linear_stiffness.value;
   parameters.linear_tangential_ratio = spec.linear_tangential_ratio.value;
