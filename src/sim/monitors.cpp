@@ -52,8 +52,7 @@ std::vector<double> monitor_row(const World& world) {
 }
 
 namespace {
-PlotSeries column_series(const std::vector<std::string>& columns,
-                         const std::vector<std::vector<double>>& rows, std::size_t k,
+PlotSeries column_series(const std::vector<std::vector<double>>& rows, std::size_t k,
                          const std::string& label) {
   PlotSeries s;
   s.label = label;
@@ -61,7 +60,6 @@ PlotSeries column_series(const std::vector<std::string>& columns,
     s.x.push_back(r[0]);
     s.y.push_back(r[k]);
   }
-  (void)columns;
   return s;
 }
 
@@ -81,25 +79,25 @@ void write_monitor_plots(const std::string& directory, const std::vector<std::st
   PlotSpec forces{"Force on each surface", "time (s)", "|F| (N)", {}};
   for (std::size_t k = 0; k < columns.size(); ++k)
     if (ends_with(columns[k], "_F_N"))
-      forces.series.push_back(column_series(columns, rows, k, columns[k].substr(0, columns[k].size() - 4)));
+      forces.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 4)));
   if (!forces.series.empty()) write_line_plot_png(fs::path(directory) / "surface_forces.png", forces);
 
   PlotSpec speed{"Mean particle speed", "time (s)", "speed (m/s)",
-                 {column_series(columns, rows, index_of("mean_speed_m_s"), "mean speed")}};
+                 {column_series(rows, index_of("mean_speed_m_s"), "mean speed")}};
   write_line_plot_png(fs::path(directory) / "mean_speed.png", speed);
 
   PlotSpec count{"Particles in the simulation", "time (s)", "count",
-                 {column_series(columns, rows, index_of("particles"), "particles")}};
+                 {column_series(rows, index_of("particles"), "particles")}};
   write_line_plot_png(fs::path(directory) / "particle_count.png", count);
 
   PlotSpec energy{"Kinetic energy", "time (s)", "energy (J)",
-                  {column_series(columns, rows, index_of("kinetic_energy_J"), "kinetic energy")}};
+                  {column_series(rows, index_of("kinetic_energy_J"), "kinetic energy")}};
   write_line_plot_png(fs::path(directory) / "kinetic_energy.png", energy);
 
   PlotSpec masses{"Mass in monitor regions", "time (s)", "mass (kg)", {}};
   for (std::size_t k = 0; k < columns.size(); ++k)
     if (ends_with(columns[k], "_mass_kg"))
-      masses.series.push_back(column_series(columns, rows, k, columns[k].substr(0, columns[k].size() - 8)));
+      masses.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 8)));
   if (!masses.series.empty()) write_line_plot_png(fs::path(directory) / "region_mass.png", masses);
 }
 
