@@ -52,14 +52,14 @@ ShellMesh quadratic_shell_mesh(std::span<const Vec3> vertices,
   return mesh;
 }
 
-std::vector<std::uint32_t> nodes_in_box(const ShellMesh& mesh, const Vec3& lower,
+std::vector<std::uint32_t> nodes_in_box(std::span<const Vec3> nodes, const Vec3& lower,
                                         const Vec3& upper) {
   Aabb box;
   box.lo = lower;
   box.hi = upper;
   std::vector<std::uint32_t> inside;
-  for (std::size_t n = 0; n < mesh.nodes.size(); ++n)
-    if (box.contains(mesh.nodes[n])) inside.push_back(static_cast<std::uint32_t>(n));
+  for (std::size_t n = 0; n < nodes.size(); ++n)
+    if (box.contains(nodes[n])) inside.push_back(static_cast<std::uint32_t>(n));
   return inside;
 }
 
@@ -101,7 +101,7 @@ CalculixDeckSummary write_calculix_deck(const std::filesystem::path& inp_path,
   // Supports: node sets (16 numbers a line at most, as CalculiX reads them) and their DOFs.
   std::vector<char> supported(mesh.nodes.size(), 0);
   for (const SupportSpec& support : spec.supports) {
-    const std::vector<std::uint32_t> nodes = nodes_in_box(mesh, support.min.value, support.max.value);
+    const std::vector<std::uint32_t> nodes = nodes_in_box(mesh.nodes, support.min.value, support.max.value);
     summary.support_node_counts.push_back(nodes.size());
     if (nodes.empty()) continue;
     out << fmt::format("*NSET, NSET={}\n", set_name(support.name.value));

@@ -33,8 +33,8 @@ struct ShellMesh {
 ShellMesh quadratic_shell_mesh(std::span<const Vec3> vertices,
                                std::span<const std::array<std::uint32_t, 3>> triangles);
 
-// 0-based nodes of `mesh` inside the closed box [lower, upper] (m), ascending.
-std::vector<std::uint32_t> nodes_in_box(const ShellMesh& mesh, const Vec3& lower,
+// 0-based indices of the `nodes` inside the closed box [lower, upper] (m), ascending.
+std::vector<std::uint32_t> nodes_in_box(std::span<const Vec3> nodes, const Vec3& lower,
                                         const Vec3& upper);
 
 // What write_calculix_deck wrote, for the run's log and for tests.

@@ -91,10 +91,17 @@ LoadExporter::LoadExporter(const ExportSpec& spec, const std::vector<Surface>& s
     const fs::path base = directory_ / surface.name;
     output->history = std::make_unique<NodalHistoryWriter>(
         fs::path(base.string() + "_nodal_forces.bin"), surface.vertex_count(), resume_time);
-    if (wants(spec, ExportFormat::med))
+    if (wants(spec, ExportFormat::med)) {
+      // The CalculiX supports also become MED node groups, so code_aster can fix them by name.
+      std::vector<MedNodeGroup> groups;
+      if (spec.calculix)
+        for (const SupportSpec& support : spec.calculix->supports)
+          groups.push_back({support.name.value, nodes_in_box(output->mesh_vertices,
+                                                             support.min.value, support.max.value)});
       output->med = std::make_unique<MedLoadWriter>(base.string() + ".med", surface.name,
                                                     output->mesh_vertices, surface.triangles,
-                                                    resume_time.has_value());
+                                                    resume_time.has_value(), groups);
+    }
     if (wants(spec, ExportFormat::vtu)) {
       const fs::path pvd = base.string() + "_loads.pvd";
       output->vtu_series = std::make_unique<PvdSeries>(

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 
 namespace quarry::fem_export {
@@ -72,11 +73,50 @@ std::vector<Vec3> unflatten(const std::vector<double>& flat) {
   return values;
 }
 
+// Node groups as MED families: family 0 ("FAMILLE_ZERO", required) holds nodes in no group;
+// each distinct set of groups a node belongs to gets its own positive family number (MED
+// numbers node families > 0 and element families < 0), named after its groups.
+void write_node_groups(med_idt file, const std::string& path, const std::string& mesh_name,
+                       std::size_t node_count, std::span<const MedNodeGroup> groups) {
+  check(MEDfamilyCr(file, mesh_name.c_str(), "FAMILLE_ZERO", 0, 0, ""), path, "MEDfamilyCr 0");
+  if (groups.empty()) return;
+  std::vector<std::vector<std::size_t>> membership(node_count);  // group indices per node
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    for (std::uint32_t v : groups[g].nodes)
+      if (v < node_count) membership[v].push_back(g);
+  std::map<std::vector<std::size_t>, med_int> family_of;  // deterministic: ordered by group set
+  for (const auto& m : membership)
+    if (!m.empty()) family_of.emplace(m, 0);
+  med_int next = 1;
+  for (auto& [members, number] : family_of) {
+    number = next++;
+    std::string names(members.size() * MED_LNAME_SIZE, '\0');
+    std::string family_name = "F";
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const std::string& group = groups[members[k]].name;
+      std::copy_n(group.begin(), std::min<std::size_t>(group.size(), MED_LNAME_SIZE),
+                  names.begin() + k * MED_LNAME_SIZE);
+      family_name += "_" + group;
+    }
+    family_name.resize(std::min<std::size_t>(family_name.size(), MED_NAME_SIZE));
+    check(MEDfamilyCr(file, mesh_name.c_str(), family_name.c_str(), number,
+                      static_cast<med_int>(members.size()), names.c_str()),
+          path, "MEDfamilyCr " + family_name);
+  }
+  std::vector<med_int> numbers(node_count, 0);
+  for (std::size_t v = 0; v < node_count; ++v)
+    if (!membership[v].empty()) numbers[v] = family_of.at(membership[v]);
+  check(MEDmeshEntityFamilyNumberWr(file, mesh_name.c_str(), MED_NO_DT, MED_NO_IT, MED_NODE,
+                                    MED_NONE, static_cast<med_int>(node_count), numbers.data()),
+        path, "MEDmeshEntityFamilyNumberWr");
+}
+
 }  // namespace
 
 MedLoadWriter::MedLoadWriter(const std::string& path, const std::string& mesh_name,
                              std::span<const Vec3> nodes,
-                             std::span<const std::array<std::uint32_t, 3>> triangles, bool resume)
+                             std::span<const std::array<std::uint32_t, 3>> triangles, bool resume,
+                             std::span<const MedNodeGroup> groups)
     : path_(path), mesh_name_(mesh_name.substr(0, MED_NAME_SIZE)),
       node_count_(nodes.size()), element_count_(triangles.size()) {
   std::error_code ignored;
@@ -108,6 +148,7 @@ MedLoadWriter::MedLoadWriter(const std::string& path, const std::string& mesh_na
                                      MED_CELL, MED_TRIA3, MED_NODAL, MED_FULL_INTERLACE,
                                      static_cast<med_int>(triangles.size()), connectivity.data()),
         path, "MEDmeshElementConnectivityWr");
+  write_node_groups(file, path, mesh_name_, nodes.size(), groups);
   for (const FieldLayout& field : kFields) {
     const std::string names = field.components == 1 ? short_names({"P"})
                                                     : short_names({"X", "Y", "Z"});
@@ -204,6 +245,40 @@ MedLoadFile read_med_loads(const std::string& path) {
   for (std::size_t t = 0; t < result.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
       result.triangles[t][k] = static_cast<std::uint32_t>(connectivity[3 * t + k] - 1);
+
+  // Node groups: families → groups, then each node's family number.
+  std::map<med_int, std::vector<std::string>> groups_of_family;
+  const med_int family_count = MEDnFamily(file, mesh_name);
+  for (int f = 1; f <= family_count; ++f) {
+    const med_int group_count = MEDnFamilyGroup(file, mesh_name, f);
+    if (group_count < 0) fail(path, "MEDnFamilyGroup failed");
+    char family_name[MED_NAME_SIZE + 1] = {};
+    med_int number = 0;
+    std::string names(static_cast<std::size_t>(group_count) * MED_LNAME_SIZE + 1, '\0');
+    check(MEDfamilyInfo(file, mesh_name, f, family_name, &number, names.data()), path,
+          "MEDfamilyInfo");
+    for (med_int g = 0; g < group_count; ++g) {
+      std::string name = names.substr(static_cast<std::size_t>(g) * MED_LNAME_SIZE, MED_LNAME_SIZE);
+      name.resize(std::strlen(name.c_str()));
+      groups_of_family[number].push_back(name);
+    }
+  }
+  if (!groups_of_family.empty() && node_count > 0) {
+    std::vector<med_int> numbers(static_cast<std::size_t>(node_count), 0);
+    med_bool has_numbers = MED_FALSE, unused = MED_FALSE;
+    if (MEDmeshnEntity(file, mesh_name, MED_NO_DT, MED_NO_IT, MED_NODE, MED_NONE, MED_FAMILY_NUMBER,
+                       MED_NODAL, &unused, &has_numbers) > 0)
+      check(MEDmeshEntityFamilyNumberRd(file, mesh_name, MED_NO_DT, MED_NO_IT, MED_NODE, MED_NONE,
+                                        numbers.data()),
+            path, "MEDmeshEntityFamilyNumberRd");
+    std::map<std::string, std::vector<std::uint32_t>> nodes_of_group;
+    for (std::size_t v = 0; v < numbers.size(); ++v) {
+      const auto it = groups_of_family.find(numbers[v]);
+      if (it == groups_of_family.end()) continue;
+      for (const std::string& g : it->second) nodes_of_group[g].push_back(static_cast<std::uint32_t>(v));
+    }
+    for (auto& [name, nodes] : nodes_of_group) result.node_groups.push_back({name, std::move(nodes)});
+  }
 
   const med_int field_count = MEDnField(file);
   for (int f = 1; f <= field_count; ++f) {

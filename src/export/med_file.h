@@ -21,15 +21,24 @@ inline constexpr const char* kMedShearField = "shear_stress";         // Pa, 3 c
 inline constexpr const char* kMedForceField = "force";                // N, 3 components, cells
 inline constexpr const char* kMedNodalForceField = "nodal_force";     // N, 3 components, nodes
 
+// A named set of mesh nodes (0-based), written to MED as a node group (code_aster: GROUP_NO),
+// e.g. the supports of the CalculiX section, so the structural model can fix them by name.
+struct MedNodeGroup {
+  std::string name;                  // ≤ 80 characters (MED_LNAME_SIZE)
+  std::vector<std::uint32_t> nodes;  // 0-based mesh node indices
+};
+
 class MedLoadWriter {
  public:
   // Fresh: creates `path` (replacing it) with mesh `mesh_name` (≤ 64 characters) of `nodes`
   // (m) and `triangles` (0-based vertex indices; written 1-based) and the four empty fields.
   // Resume (`resume` true and the file exists): keeps it; steps written again overwrite the
   // old ones. Throws std::runtime_error naming the file on any MED error.
+  // `groups` become node groups (one MED family per distinct combination of groups).
   MedLoadWriter(const std::string& path, const std::string& mesh_name,
                 std::span<const Vec3> nodes,
-                std::span<const std::array<std::uint32_t, 3>> triangles, bool resume);
+                std::span<const std::array<std::uint32_t, 3>> triangles, bool resume,
+                std::span<const MedNodeGroup> groups = {});
 
   // Writes the four fields of `frame` as computing step `step_number` (≥ 1, the MED numdt;
   // numit = MED_NO_IT) at time frame.time (s). Pre: sizes match the mesh.
@@ -61,6 +70,7 @@ struct MedLoadFile {
   std::vector<std::string> field_names;                     // in file order
   std::vector<std::string> field_units;                     // first component's unit, per field
   std::vector<std::string> time_units;                      // per field
+  std::vector<MedNodeGroup> node_groups;                    // sorted by name, nodes ascending
 };
 
 // Reads the mesh and every computing step of the four fields. Throws std::runtime_error on a

@@ -103,8 +103,13 @@ TEST(MedFile, ReadsBackIdenticallyAndMdumpAcceptsIt) {
   const Surface plate = square_plate(0.4, 3);
   const std::string path = (folder / "plate.med").string();
   std::vector<LoadFrame> written;
+  // Two overlapping node groups (a corner node is in both): three MED families besides 0.
+  const std::vector<MedNodeGroup> groups = {{"LEFT_EDGE", nodes_in_box(plate.vertices, {-1, -1, -1}, {1e-9, 1, 1})},
+                                            {"BOTTOM_EDGE", nodes_in_box(plate.vertices, {-1, -1, -1}, {1, 1e-9, 1})}};
+  ASSERT_EQ(groups[0].nodes.size(), 4u);  // a 3 × 3 plate has 4 nodes on each edge
+  ASSERT_EQ(groups[1].nodes.size(), 4u);
   {
-    MedLoadWriter writer(path, "plate", plate.vertices, plate.triangles, false);
+    MedLoadWriter writer(path, "plate", plate.vertices, plate.triangles, false, groups);
     for (int k = 1; k <= 3; ++k) {
       written.push_back(synthetic_frame(plate, 0.05 * k, 1.5 * k));
       writer.write(k, written.back());
@@ -116,6 +121,11 @@ TEST(MedFile, ReadsBackIdenticallyAndMdumpAcceptsIt) {
   EXPECT_EQ(file.mesh_dimension, 2);
   EXPECT_EQ(file.nodes, plate.vertices);
   EXPECT_EQ(file.triangles, plate.triangles);
+  ASSERT_EQ(file.node_groups.size(), 2u);  // sorted by name
+  EXPECT_EQ(file.node_groups[0].name, "BOTTOM_EDGE");
+  EXPECT_EQ(file.node_groups[0].nodes, groups[1].nodes);
+  EXPECT_EQ(file.node_groups[1].name, "LEFT_EDGE");
+  EXPECT_EQ(file.node_groups[1].nodes, groups[0].nodes);
   ASSERT_EQ(file.frames.size(), 3u);
   for (std::size_t k = 0; k < 3; ++k) {
     EXPECT_EQ(file.step_numbers[k], static_cast<int>(k + 1));
@@ -150,7 +160,7 @@ TEST(MedFile, ReadsBackIdenticallyAndMdumpAcceptsIt) {
             0)
       << read_text(dump);
   const std::string text = read_text(dump);
-  for (const char* expected : {"pressure", "shear_stress", "nodal_force", "TRIA3", "Pa"})
+  for (const char* expected : {"pressure", "shear_stress", "nodal_force", "TRIA3", "Pa", "LEFT_EDGE", "BOTTOM_EDGE"})
     EXPECT_NE(text.find(expected), std::string::npos) << expected << " missing in mdump output";
 }
 
