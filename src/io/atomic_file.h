@@ -3,6 +3,8 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
+#include <string>
 #include <string_view>
 
 namespace quarry {
@@ -16,5 +18,8 @@ namespace quarry {
 // Cost: one write of the bytes plus two fsyncs (milliseconds on disks; keep calls per output
 // interval, not per step). Thread-safe for distinct paths.
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
+
+// The whole content of `path` (binary), or nothing if it cannot be opened. Cost: one read.
+std::optional<std::string> read_file(const std::filesystem::path& path);
 
 }  // namespace quarry

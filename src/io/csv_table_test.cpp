@@ -25,10 +25,7 @@ fs::path temporary_file(const std::string& name) {
 }
 
 std::string read_all(const fs::path& path) {
-  std::ifstream input(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << input.rdbuf();
-  return buffer.str();
+  return read_file(path).value_or("");
 }
 
 TEST(CsvTable, WritesHeaderAndShortestNumbers) {

@@ -1,5 +1,6 @@
 // Tests for the deck parser: the bad-deck golden cases in tests/bad_decks (first line of the
 // formatted errors), and positive tests that decks parse into the expected values and locations.
+#include "io/atomic_file.h"
 #include "io/deck.h"
 
 #include <gtest/gtest.h>
@@ -22,10 +23,7 @@ fs::path source_dir() {
 }
 
 std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return read_file(path).value_or("");
 }
 
 std::string first_line(const std::string& text) {

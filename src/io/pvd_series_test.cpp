@@ -22,10 +22,7 @@ fs::path temporary_file(const std::string& name) {
 }
 
 std::string read_all(const fs::path& path) {
-  std::ifstream input(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << input.rdbuf();
-  return buffer.str();
+  return read_file(path).value_or("");
 }
 
 std::size_t count_of(const std::string& text, const std::string& needle) {

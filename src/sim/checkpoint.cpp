@@ -5,8 +5,7 @@
 // surface positions and load windows, factory random streams — so a restart is bit-identical.
 #include <fmt/format.h>
 
-#include <fstream>
-#include <sstream>
+#include <optional>
 
 #include "io/atomic_file.h"
 #include "sim/binary_stream.h"
@@ -19,12 +18,10 @@ namespace {
 constexpr std::uint64_t kMagic = 0x31304B4359525551ull;  // "QURYCK01"
 
 std::string read_all(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UserError(SourceLocation{path, 0, 0}, "cannot open checkpoint file",
-                           "give the path of a checkpoint.qck written by 'quarry run'");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  std::optional<std::string> bytes = read_file(path);
+  if (!bytes) throw UserError(SourceLocation{path, 0, 0}, "cannot open checkpoint file",
+                              "give the path of a checkpoint.qck written by 'quarry run'");
+  return std::move(*bytes);
 }
 
 template <class Stream, class F>
@@ -48,12 +45,8 @@ void each_surface_array(Stream& s, Surface& surface, F&& f) {
   f(s, surface.window_shear_impulse);
 }
 
-std::string read_deck_text(const std::string& deck_path) {
-  std::ifstream in(deck_path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+// The deck as it is now ("" if it is gone): stored in checkpoints, compared on restart.
+std::string read_deck_text(const std::string& deck_path) { return read_file(deck_path).value_or(""); }
 
 }  // namespace
 

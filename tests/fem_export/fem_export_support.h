@@ -13,6 +13,7 @@
 
 #include "core/vec3.h"
 #include "geometry/surface.h"
+#include "io/atomic_file.h"
 
 namespace quarry::fem_export_testing {
 
@@ -85,10 +86,7 @@ inline std::vector<double> dat_row_after(const std::filesystem::path& dat, const
 }
 
 inline std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return read_file(path).value_or("");
 }
 
 // Inserts `cards` before the deck's *END STEP (extra output requests for a test).
