@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Quarry vs. LIGGGHTS 3.8.0 and LAMMPS on the settled-bed reference problem (issue 3), side by
 # side on this machine: builds Quarry (Release), installs the peers (Debian packages) if missing,
-# prepares settled beds for every code, times 2,000 steps of each code at 1 and 2 threads/ranks,
-# interleaving the codes run by run, and writes
+# settles each bed once with LAMMPS and starts every code from those same particles (LIGGGHTS and
+# Quarry read LAMMPS' data file and re-settle it 2,000 steps with their own contact model, since
+# a data file carries no tangential contact history), times 2,000 steps of each code at 1 and 2
+# threads/ranks, interleaving the codes run by run, and writes
 #   bench/results/<date>-<machine>.csv   one row per timed run
 #   bench/results/<date>-<machine>.md    medians, Quarry/peer ratios, memory, settled-bed check
 #   bench/results/<date>-<machine>.png   particle-steps per second against N
@@ -12,8 +14,10 @@
 # Options (environment): SIZES, REPEATS, CODES (quarry liggghts lmp_granular lmp_ghh),
 #   THREADS ("1 2"), QUIET_WAIT (s to wait for an idle machine before each run), MACHINE (name
 #   in the result files), BUILD_DIR (default build/release = `cmake --preset release`),
-#   SKIP_BUILD=1, SKIP_INSTALL=1. Beds and logs go to bench/_work/ (large; not committed);
-#   beds are reused by later invocations.
+#   SKIP_BUILD=1, SKIP_INSTALL=1, BEDS_ONLY=1 (prepare the settled beds, time nothing). Beds and
+#   logs go to bench/_work/ (large; not committed); beds are reused by later invocations (delete
+#   bench/_work/runs/<code>_<size>.* to rebuild one; a Quarry bed is built from the LAMMPS one,
+#   bed_<size>.rst.data, whichever codes are timed).
 set -euo pipefail
 BENCH=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$BENCH/.." && pwd)
@@ -25,6 +29,7 @@ CODES=${CODES:-"quarry liggghts lmp_granular lmp_ghh"}
 THREADS=${THREADS:-"1 2"}
 QUIET_WAIT=${QUIET_WAIT:-60}
 NWARM=200
+NRESETTLE=2000   # steps LIGGGHTS and Quarry re-settle the LAMMPS bed (bench/peers/in.lig.settle)
 SEED=4711
 BUILD_DIR=${BUILD_DIR:-build/release}
 WORK="$BENCH/_work"
@@ -64,25 +69,25 @@ for f in "$BENCH"/peers/common.in "$BENCH"/peers/model_* "$BENCH"/peers/in.*; do
   ln -sf "../../peers/$(basename "$f")" "$RUNS/$(basename "$f")"
 done
 
-# size -> "nx ny nz steps peer_recipe quarry_settle_steps"; the peers' recipe as in
-# bench/peers (lattice:<settle steps> | tile:<from>:<rx>:<ry>:<resettle>). Quarry settles every
-# size from its own lattice: the peers' step count for 10k/50k; 200k/1m at most 20,000 steps,
-# ending early once the kinetic energy per particle is below 1e-11 J (the peers' settled level).
+# size -> "nx ny nz steps lammps_recipe"; the LAMMPS bed's recipe as in bench/peers
+# (lattice:<settle steps> | tile:<from>:<rx>:<ry>:<resettle>). Every code starts from that bed.
 geom() {
   case $1 in
-    10k)  echo "20 20 25 2000 lattice:25000 25000" ;;
-    50k)  echo "40 50 25 2000 lattice:20000 20000" ;;
-    200k) echo "80 100 25 2000 tile:50k:2:2:5000 20000" ;;
-    1m)   echo "200 200 25 500 tile:50k:5:4:3000 20000" ;;
+    10k)  echo "20 20 25 2000 lattice:25000" ;;
+    50k)  echo "40 50 25 2000 lattice:20000" ;;
+    200k) echo "80 100 25 2000 tile:50k:2:2:5000" ;;
+    1m)   echo "200 200 25 500 tile:50k:5:4:3000" ;;
     *) echo "unknown size $1" >&2; exit 1 ;;
   esac
 }
 
 # ---- settled beds (not timed) ------------------------------------------------------------------
+# LAMMPS bed bed_<size>.rst (restart, for the LAMMPS runs) and bed_<size>.rst.data (write_data,
+# what LIGGGHTS and Quarry read); then, if LIGGGHTS is timed, its re-settled restart.
 build_peer_bed() {   # size
-  local s=$1 nx ny nz steps how qsettle from rx ry nre
-  read -r nx ny nz steps how qsettle <<<"$(geom "$s")"
-  if [ ! -f "$RUNS/bed_$s.rst" ]; then
+  local s=$1 nx ny nz steps how from rx ry nre
+  read -r nx ny nz steps how <<<"$(geom "$s")"
+  if [ ! -f "$RUNS/bed_$s.rst" ] || [ ! -f "$RUNS/bed_$s.rst.data" ]; then
     case $how in
       lattice:*)
         ( cd "$RUNS" && $MPIRUN lmp -in in.lmp.settle -var nx $nx -var ny $ny -var nz $nz \
@@ -98,17 +103,19 @@ build_peer_bed() {   # size
   fi
   if [[ " $CODES " == *" liggghts "* ]] && [ ! -f "$RUNS/lig_$s.rst" ]; then
     ( cd "$RUNS" && $MPIRUN liggghts -in in.lig.settle -var nx $nx -var ny $ny -var nz $nz \
-        -var dfile bed_$s.rst.data -var nsettle 2000 -var rfile lig_$s.rst -log none ) \
+        -var dfile bed_$s.rst.data -var nsettle $NRESETTLE -var rfile lig_$s.rst -log none ) \
         > "$LOGS/settle_${s}_liggghts.log" 2>&1
   fi
 }
 
+# Quarry starts from the LAMMPS bed, as LIGGGHTS does: same particles (ids, positions, sizes,
+# velocities), re-settled NRESETTLE steps with Quarry's model, saved as quarry_<size>.qck.
 build_quarry_bed() {   # size
-  local s=$1 nx ny nz steps how qsettle energy=0
-  read -r nx ny nz steps how qsettle <<<"$(geom "$s")"
+  local s=$1 nx ny nz steps how
+  read -r nx ny nz steps how <<<"$(geom "$s")"
   [ -f "$RUNS/quarry_$s.qck" ] && return 0
-  case $s in 200k|1m) energy=1e-11 ;; esac
-  "$QBIN" --nx $nx --ny $ny --nz $nz --seed $SEED --settle-steps $qsettle --settle-energy $energy \
+  build_peer_bed "$s"
+  "$QBIN" --nx $nx --ny $ny --nz $nz --from-data "$RUNS/bed_$s.rst.data" --settle-steps $NRESETTLE \
       --threads 2 --steps 0 --bed "$RUNS/quarry_$s.qck" > "$LOGS/settle_${s}_quarry.log" 2>&1
 }
 
@@ -131,8 +138,8 @@ time_field() { sed -n "s/^[[:space:]]*$2: //p" "$1" | head -1; }
 
 # ---- one timed run: appends one CSV row ---------------------------------------------------------
 bench_one() {   # size code threads rep
-  local s=$1 code=$2 np=$3 rep=$4 nx ny nz steps how qsettle
-  read -r nx ny nz steps how qsettle <<<"$(geom "$s")"
+  local s=$1 code=$2 np=$3 rep=$4 nx ny nz steps how
+  read -r nx ny nz steps how <<<"$(geom "$s")"
   local tag="${s}_${code}_np${np}_r${rep}" log="$LOGS/${s}_${code}_np${np}_r${rep}.log"
   local cmd launch=""
   [ "$np" = 2 ] && launch="$MPIRUN"
@@ -181,9 +188,10 @@ bench_one() {   # size code threads rep
 
 for s in $SIZES; do
   echo "== settled beds $s"
-  [[ " $CODES " == *" quarry "* ]] && build_quarry_bed "$s"
   [[ " $CODES " =~ " liggghts "|" lmp_" ]] && build_peer_bed "$s"
+  [[ " $CODES " == *" quarry "* ]] && build_quarry_bed "$s"   # builds the LAMMPS bed if missing
 done
+[ "${BEDS_ONLY:-0}" = 1 ] && { echo "beds ready in $RUNS"; exit 0; }
 [ -f "$RESULTS.csv" ] || "$QREPORT" --header > "$RESULTS.csv"
 for s in $SIZES; do
   echo "== timing $s"
@@ -202,7 +210,7 @@ done
   echo
   echo "- CPU: $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc --all) logical CPUs; memory $(free -g | awk '/^Mem:/{print $2}') GiB"
   echo "- Invocation: \`SIZES=\"$SIZES\" REPEATS=$REPEATS CODES=\"$CODES\" THREADS=\"$THREADS\" bash bench/run.sh\`; Quarry commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown) (plus uncommitted changes, if any)"
-  echo "- Quarry beds: settled from its own jittered lattice (same recipe and seed value as the peers, a different random generator); peers: LAMMPS-settled lattice (+2,000 LIGGGHTS steps for LIGGGHTS) as in bench/peers."
+  echo "- Beds: every code starts from the same LAMMPS-settled bed (bench/peers); LIGGGHTS and Quarry read its data file and re-settle it $NRESETTLE steps with their own model (a data file has no tangential contact history), LAMMPS continues from its restart."
   for s in $SIZES; do
     last=$(ls "$LOGS/${s}_quarry_np1_r"*.log 2>/dev/null | tail -1 || true)
     [ -n "$last" ] || continue

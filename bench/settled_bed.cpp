@@ -1,6 +1,7 @@
 // quarry_settled_bed: the peer-comparison reference problem in Quarry (issue 3). Settles the
-// jittered lattice (or loads a settled bed), times warm-up + timed steps of sim::step, and prints
-// one machine-readable line "QUARRY_BENCH key=value ..." plus the per-stage time table.
+// jittered lattice, or re-settles the peers' LAMMPS-settled bed (--from-data, a write_data file),
+// or loads a settled bed (--bed); times warm-up + timed steps of sim::step, and prints one
+// machine-readable line "QUARRY_BENCH key=value ..." plus the per-stage time table.
 #include <omp.h>
 #include <sys/resource.h>
 
@@ -11,6 +12,8 @@
 #include <fmt/format.h>
 #include <iostream>
 
+#include "core/allocator.h"
+#include "bench/lammps_data.h"
 #include "bench/settled_bed_scene.h"
 #include "core/diagnostics.h"
 #include "sim/run.h"
@@ -23,8 +26,9 @@ namespace bench = quarry::bench;
 
 struct Options {
   bench::SettledBedParameters bed;
-  long settle_steps = 25000;        // the peers' lattice settling for 10k (run.sh geom)
+  long settle_steps = 25000;        // the peers' lattice settling for 10k (bench/peers)
   double settle_energy = 0.0;       // J per particle; > 0: stop settling once below it
+  std::string data_file;            // LAMMPS data file: start from its particles, not the lattice
   std::string bed_file;             // load if it exists, else settle and save here
   int threads = 1;
   long warmup_steps = 200;          // the peers' NWARM
@@ -75,7 +79,18 @@ int run_bench(const Options& options) {
     if (world.lists_stale) bench::prepare_first_step(world);
     std::cerr << fmt::format("bed: loaded {} ({} particles, t = {:.4f} s)\n", options.bed_file, n, world.time);
   } else {
+    if (!options.data_file.empty()) {
+      // The peers' bed (LAMMPS write_data): same particles, no tangential contact history (a
+      // data file has none), so it is re-settled briefly as LIGGGHTS does (in.lig.settle).
+      const bench::LammpsData data = bench::read_lammps_data(options.data_file);
+      bench::replace_particles(world, options.bed, data);
+      std::cerr << fmt::format("bed: {} particles from {} ({})\n", data.atoms.size(), options.data_file,
+                               data.title);
+    }
     bench::prepare_first_step(world);
+    if (!options.data_file.empty())
+      std::cerr << fmt::format("bed: ke/particle {:.3e} J before settling\n",
+                               bench::kinetic_energy_per_particle(world));
     settle(world, options);
     if (!options.bed_file.empty()) {
       quarry::sim::write_checkpoint(world, options.bed_file, 0);
@@ -114,13 +129,18 @@ int run_bench(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  quarry::use_mapped_large_allocations();
   Options options;
   CLI::App app{"Quarry settled-bed benchmark (the LIGGGHTS/LAMMPS reference problem of issue 3)"};
   app.add_option("--nx", options.bed.cells_x, "lattice sites along x")->check(CLI::PositiveNumber);
   app.add_option("--ny", options.bed.cells_y, "lattice sites along y")->check(CLI::PositiveNumber);
   app.add_option("--nz", options.bed.cells_z, "lattice sites along z")->check(CLI::PositiveNumber);
   app.add_option("--seed", options.bed.seed, "jitter random seed");
-  app.add_option("--settle-steps", options.settle_steps, "most settling steps from the lattice");
+  app.add_option("--from-data", options.data_file,
+                 "start from the particles of this LAMMPS data file (write_data, atom_style sphere, "
+                 "units si; the peers' settled bed) instead of the lattice");
+  app.add_option("--settle-steps", options.settle_steps,
+                 "most settling steps from the lattice or the --from-data bed");
   app.add_option("--settle-energy", options.settle_energy,
                  "stop settling when kinetic energy per particle (J) is below this (0: never)");
   app.add_option("--bed", options.bed_file, "settled bed file: loaded if it exists, else written");
@@ -131,7 +151,7 @@ int main(int argc, char** argv) {
   try {
     return run_bench(options);
   } catch (const quarry::UserError& e) {
-    std::cerr << "quarry_settled_bed: " << e.what() << "\n";
+    std::cerr << e.diagnostics().format();  // file:line:col: error: …, the line, a hint
     return 2;
   } catch (const quarry::PhysicsError& e) {
     std::cerr << "quarry_settled_bed: " << e.what() << "\n";

@@ -6,6 +6,10 @@
 #include <cmath>
 #include <random>
 
+#include <fmt/format.h>
+
+#include "bench/lammps_data.h"
+#include "core/diagnostics.h"
 #include "sim/step.h"
 
 namespace quarry::bench {
@@ -103,8 +107,61 @@ World make_lattice_world(const SettledBedParameters& parameters) {
   return world;
 }
 
+void replace_particles(World& world, const SettledBedParameters& parameters, const LammpsData& data) {
+  const std::size_t n = parameters.particle_count();
+  const std::string lattice =
+      fmt::format("--nx {} --ny {} --nz {}", parameters.cells_x, parameters.cells_y, parameters.cells_z);
+  if (data.atoms.size() != n)
+    throw UserError(SourceLocation{data.path, 0, 0},
+                    fmt::format("{} atoms, but the lattice {} has {} particles", data.atoms.size(), lattice, n),
+                    "pass the --nx/--ny/--nz the peers' bed was settled with (bench/run.sh, geom)");
+  // The walls stand on Quarry's box [0, box_max]; the peers' box must be the same one.
+  // Tolerance: 1e-9 of the box size, far below a particle's 1e-3 m radius.
+  const Vec3 box = parameters.box_max();  // m
+  const double tolerance = 1e-9 * std::max({box.x, box.y, box.z});  // m
+  for (int d = 0; d < 3; ++d)
+    if (std::abs(data.box_lo[d]) > tolerance || std::abs(data.box_hi[d] - box[d]) > tolerance)
+      throw UserError(SourceLocation{data.path, 0, 0},
+                      fmt::format("the file's box [{}, {}] m along {} is not the problem's [0, {}] m "
+                                  "({}: {} lattice spacings of {} m)",
+                                  data.box_lo[d], data.box_hi[d], "xyz"[d], box[d], lattice,
+                                  d == 2 ? parameters.cells_z + 2
+                                         : (d == 0 ? parameters.cells_x : parameters.cells_y),
+                                  parameters.lattice_spacing),
+                      "pass the --nx/--ny/--nz the peers' bed was settled with (bench/run.sh, geom)");
+  for (const LammpsAtom& atom : data.atoms) {
+    const SourceLocation where{data.path, atom.line, 0};
+    if (atom.type != 1)
+      throw UserError(where, fmt::format("atom-ID {} has atom-type {}; the problem has one particle type",
+                                         atom.id, atom.type),
+                      "the peers' settle creates every atom as type 1");
+    const double radius = 0.5 * atom.diameter;  // m
+    // The neighbour grid's cells are 2 max_radius + skin wide: a larger sphere could miss contacts.
+    if (radius > world.max_radius * (1.0 + 1e-12))
+      throw UserError(where, fmt::format("atom-ID {}: radius {} m exceeds the problem's {} m", atom.id,
+                                         radius, world.max_radius),
+                      "the reference problem's spheres are 2 mm across (SettledBedParameters)");
+    for (int d = 0; d < 3; ++d)
+      if (!(atom.position[d] >= 0.0 && atom.position[d] <= box[d]))
+        throw UserError(where, fmt::format("atom-ID {}: {} = {} m lies outside the box [0, {}] m", atom.id,
+                                           "xyz"[d], atom.position[d], box[d]),
+                        "the walls are the box faces: every centre must lie inside");
+  }
+  // As make_lattice_world does: straight into the store, type and material 0, then stale lists.
+  ParticleStore& p = world.particles;
+  p.clear();
+  p.reserve(n);
+  for (const LammpsAtom& atom : data.atoms) {  // ascending id
+    const std::size_t i = p.add(atom.id, 0, 0, atom.position, atom.velocity, 0.5 * atom.diameter,
+                                atom.density, world.time);
+    p.angular_velocity[i] = atom.angular_velocity;
+  }
+  world.next_id = data.atoms.empty() ? 1 : data.atoms.back().id + 1;
+  world.lists_stale = true;
+}
+
 void prepare_first_step(World& world) {
-  sim::insert_and_remove(world);  // no factories: only sizes the wall slots
+  sim::insert_and_remove(world);  // no factories: removes particles outside the domain, if any
   sim::update_neighbors(world, true);
   sim::compute_forces(world);
 }
@@ -114,7 +171,7 @@ double kinetic_energy_per_particle(const World& world) {
   double energy = 0.0;  // J
   for (std::size_t i = 0; i < p.size(); ++i)
     energy += 0.5 * norm2(p.velocity[i]) / p.inv_mass[i] +
-              0.5 * norm2(p.angular_velocity[i]) / p.inv_inertia[i];
+              0.5 * norm2(p.angular_velocity[i]) / p.inv_inertia(i);
   return p.size() > 0 ? energy / static_cast<double>(p.size()) : 0.0;
 }
 

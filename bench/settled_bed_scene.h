@@ -11,6 +11,8 @@
 
 namespace quarry::bench {
 
+struct LammpsData;  // bench/lammps_data.h
+
 // Geometry and numerics of the reference problem; the defaults are the peers' values.
 struct SettledBedParameters {
   int cells_x = 20, cells_y = 20, cells_z = 25;  // lattice sites per direction (N = product)
@@ -46,8 +48,16 @@ SimulationSpec settled_bed_spec(const SettledBedParameters& parameters);
 // ids 1..N) directly into world.particles; marks the lists stale. Deterministic for a seed.
 World make_lattice_world(const SettledBedParameters& parameters);
 
+// Replaces the particles of a world fresh from make_lattice_world (before prepare_first_step:
+// no lists, no contact history yet) by a LAMMPS data file's, so that Quarry starts from the
+// bed the peers start from: same atom-IDs, radius = diameter / 2, mass from the density,
+// velocities and angular velocities as written (SI). Throws UserError unless the file holds
+// exactly the lattice's particle count, has the same box, one atom type, no sphere larger than
+// the spec's (the neighbour grid is sized for it) and every centre inside the box.
+void replace_particles(World& world, const SettledBedParameters& parameters, const LammpsData& data);
+
 // First force evaluation on a freshly placed or loaded state (what sim::run does before its
-// loop): sizes the wall slots, rebuilds every list, computes forces. Call before stepping.
+// loop): rebuilds every list, computes forces. Call before stepping.
 void prepare_first_step(World& world);
 
 // Kinetic energy (translational + rotational) per particle (J).

@@ -61,7 +61,7 @@ TEST(SettledBedScene, JitterIsDeterministicPerSeed) {
 TEST(SettledBedScene, SettledBedRestsOnItsWalls) {
   World world = make_lattice_world(small_bed());
   prepare_first_step(world);
-  for (int s = 0; s < 40000 && (s < 5000 || kinetic_energy_per_particle(world) > 1e-12); ++s) sim::step(world);
+  for (int s = 0; s < 100000 && (s < 5000 || kinetic_energy_per_particle(world) > 1e-12); ++s) sim::step(world);
   EXPECT_LT(kinetic_energy_per_particle(world), 1e-12);
   const BedState bed = measure_bed(world);
   EXPECT_NEAR(bed.all_walls_force_z, bed.weight, 5e-3 * bed.weight);

@@ -8,6 +8,7 @@
 
 #include <iostream>
 
+#include "core/allocator.h"
 #include "io/deck.h"
 #include "sim/estimate.h"
 #include "sim/run.h"
@@ -78,6 +79,7 @@ int command_estimate(const std::string& deck) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  quarry::use_mapped_large_allocations();
   CLI::App app{"Quarry — discrete element method engine for bulk materials"};
   app.require_subcommand(1);
   Common common;

@@ -45,8 +45,8 @@ TEST(SjkrCohesion, ContactLawAddsAttractionKTimesArea) {
   kinematics.overlap = 0.001;  // m
   kinematics.radius_i = 0.01;  // m
   kinematics.radius_j = 0.02;  // m
-  kinematics.mass_i = 0.01;    // kg
-  kinematics.mass_j = 0.08;    // kg
+  kinematics.inv_mass_i = 1.0 / 0.01;    // 1/kg
+  kinematics.inv_mass_j = 1.0 / 0.08;    // 1/kg
   ContactHistory history;
   const ContactResult pair = evaluate_contact(parameters, kinematics, history, 1.0e-6);
   // Hertz elastic part with R* = 0.02/3 m, minus k A = 2e5 · 4.082856e-5 = 8.165713 N.
@@ -56,7 +56,7 @@ TEST(SjkrCohesion, ContactLawAddsAttractionKTimesArea) {
   EXPECT_NEAR(pair.force_i.y, hertz - 8.165713, 1e-5);
 
   kinematics.radius_j = 0.0;  // the same sphere against a wall
-  kinematics.mass_j = 0.0;
+  kinematics.inv_mass_j = 0.0;  // a wall
   const ContactResult wall = evaluate_contact(parameters, kinematics, history, 1.0e-6);
   // k A = 2e5 · 5.969026e-5 = 11.938052 N, Hertz with R* = Ri.
   const double wall_hertz =

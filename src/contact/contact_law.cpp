@@ -76,6 +76,12 @@ InteractionParameters make_interaction(const MaterialProperties& a, const Materi
   parameters.linear_normal_stiffness = spec.linear_stiffness.value;
   parameters.linear_tangential_ratio = spec.linear_tangential_ratio.value;
   parameters.clip_attraction = spec.clip_attraction.value;
+  // hertz_mindlin_damping_coefficient(β, k, m*) = −2 sqrt(5/6) β sqrt(k m*) with k = 2 E* a
+  // (normal) or 8 G* a (tangential): the constant part, so that a contact needs one sqrt(a m*).
+  parameters.hertz_normal_damping = contact::hertz_mindlin_damping_coefficient(
+      parameters.damping_ratio_beta, 2.0 * parameters.effective_youngs_modulus, 1.0);
+  parameters.hertz_tangential_damping = contact::hertz_mindlin_damping_coefficient(
+      parameters.damping_ratio_beta, 8.0 * parameters.effective_shear_modulus, 1.0);
   return parameters;
 }
 

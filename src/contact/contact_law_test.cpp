@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <cmath>
 #include <numbers>
 
@@ -72,8 +74,8 @@ ContactKinematics oblique_pair() {
   kinematics.overlap = 3.0e-5;  // m
   kinematics.radius_i = 0.01;   // m
   kinematics.radius_j = 0.015;  // m
-  kinematics.mass_i = 0.01;     // kg
-  kinematics.mass_j = 0.034;    // kg
+  kinematics.inv_mass_i = 1.0 / 0.01;     // 1/kg
+  kinematics.inv_mass_j = 1.0 / 0.034;    // 1/kg
   kinematics.velocity_i = Vec3{-0.3, 0.2, 0.1};
   kinematics.velocity_j = Vec3{0.1, -0.1, 0.4};
   kinematics.angular_velocity_i = Vec3{5.0, -3.0, 2.0};
@@ -120,7 +122,7 @@ TEST(EvaluateContact, TangentialForceOpposesSlipOfTheContactPointIncludingSpin) 
   kinematics.normal = Vec3{0.0, 0.0, 1.0};
   kinematics.overlap = 1.0e-6;                           // m
   kinematics.radius_i = 0.01;                            // m
-  kinematics.mass_i = 0.01;                              // kg
+  kinematics.inv_mass_i = 1.0 / 0.01;                              // 1/kg
   kinematics.angular_velocity_i = Vec3{0.0, 10.0, 0.0};  // contact point moves along −x
   ContactHistory history;
   const ContactResult result = evaluate_contact(parameters, kinematics, history, 1.0e-6);
@@ -146,6 +148,53 @@ TEST(EvaluateContact, SeparatedPairGivesNoForceAndReleasesTheSprings) {
   EXPECT_EQ(result.normal_force, 0.0);
   EXPECT_EQ(history.tangential_displacement, Vec3{});
   EXPECT_EQ(history.rolling_torque, Vec3{});
+}
+
+// The force loop's scalar kernel must be the same law as evaluate_contact (contact_law.h):
+// random touching pairs, sticking and sliding, fresh and carried history. Agreement to
+// round-off (the compiler may fuse multiply-adds differently in the two forms).
+TEST(EvaluateContact, ScalarHertzMindlinKernelIsTheSameLaw) {
+  InteractionSpec spec;
+  spec.restitution = 0.5;
+  spec.static_friction = 0.5;
+  const InteractionParameters parameters = make_interaction(steel, glass, spec);
+  ASSERT_TRUE(is_plain_hertz_mindlin(parameters));
+  std::mt19937_64 random(2026);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const auto random_vec = [&](double scale) { return Vec3{unit(random), unit(random), unit(random)} * scale; };
+  int sliding = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    ContactKinematics kinematics;
+    kinematics.normal = normalized(random_vec(1.0));
+    kinematics.radius_i = 1e-3 * (1.5 + unit(random));  // m
+    kinematics.radius_j = 1e-3 * (1.5 + unit(random));
+    kinematics.overlap = 1e-6 * (1.01 + unit(random));  // m
+    kinematics.inv_mass_i = 1.0 / (1e-5 * (1.5 + unit(random)));  // 1/kg
+    kinematics.inv_mass_j = 1.0 / (1e-5 * (1.5 + unit(random)));
+    kinematics.velocity_i = random_vec(0.1);
+    kinematics.velocity_j = random_vec(0.1);
+    kinematics.angular_velocity_i = random_vec(50.0);
+    kinematics.angular_velocity_j = random_vec(50.0);
+    const Vec3 start = trial % 3 == 0 ? Vec3{} : random_vec(trial % 2 ? 1e-7 : 1e-9);  // m
+    ContactHistory history{start, Vec3{}};
+    const ContactResult expected = evaluate_contact(parameters, kinematics, history, 1e-5);
+    Vec3 tangential = start;
+    const PairContactForces got = hertz_mindlin_contact(
+        parameters, kinematics.normal.x, kinematics.normal.y, kinematics.normal.z, kinematics.overlap,
+        kinematics.radius_i, kinematics.radius_j, kinematics.inv_mass_i, kinematics.inv_mass_j,
+        kinematics.velocity_i, kinematics.velocity_j, kinematics.angular_velocity_i,
+        kinematics.angular_velocity_j, tangential, 1e-5);
+    const auto close = [](const Vec3& a, const Vec3& b, double scale) { return norm(a - b) <= 1e-12 * scale; };
+    const double force_scale = norm(expected.force_i);
+    EXPECT_TRUE(close(Vec3{got.force_x, got.force_y, got.force_z}, expected.force_i, force_scale)) << trial;
+    EXPECT_TRUE(close(Vec3{got.torque_i_x, got.torque_i_y, got.torque_i_z}, expected.torque_i, 2e-3 * force_scale)) << trial;
+    EXPECT_TRUE(close(Vec3{got.torque_j_x, got.torque_j_y, got.torque_j_z}, expected.torque_j, 2e-3 * force_scale)) << trial;
+    EXPECT_TRUE(close(tangential, history.tangential_displacement, norm(history.tangential_displacement) + 1e-30)) << trial;
+    const Vec3 shear = expected.force_i - expected.normal_force * kinematics.normal;
+    sliding += norm(shear) >= (1.0 - 1e-9) * 0.5 * std::fabs(expected.normal_force);
+  }
+  EXPECT_GT(sliding, 100);   // both regimes were exercised
+  EXPECT_LT(sliding, 1900);
 }
 
 }  // namespace

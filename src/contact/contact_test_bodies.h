@@ -39,8 +39,8 @@ inline ContactKinematics kinematics_between(const Sphere& i, const Sphere& j) {
   kinematics.overlap = i.radius + j.radius - distance;
   kinematics.radius_i = i.radius;
   kinematics.radius_j = j.radius;
-  kinematics.mass_i = i.mass;
-  kinematics.mass_j = j.mass;
+  kinematics.inv_mass_i = 1.0 / i.mass;
+  kinematics.inv_mass_j = 1.0 / j.mass;
   kinematics.velocity_i = i.velocity;
   kinematics.velocity_j = j.velocity;
   kinematics.angular_velocity_i = i.angular_velocity;
@@ -54,7 +54,7 @@ inline ContactKinematics kinematics_on_floor(const Sphere& i) {
   kinematics.normal = Vec3{0.0, 0.0, 1.0};
   kinematics.overlap = i.radius - i.position.z;
   kinematics.radius_i = i.radius;
-  kinematics.mass_i = i.mass;
+  kinematics.inv_mass_i = 1.0 / i.mass;
   kinematics.velocity_i = i.velocity;
   kinematics.angular_velocity_i = i.angular_velocity;
   return kinematics;

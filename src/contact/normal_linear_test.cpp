@@ -70,7 +70,7 @@ TEST(LinearSpringDashpot, TangentialStiffnessIsTheRatioTimesNormal) {
   kinematics.normal = Vec3{0.0, 0.0, 1.0};
   kinematics.overlap = 1.0e-4;  // m
   kinematics.radius_i = 0.01;   // m
-  kinematics.mass_i = 0.01;     // kg
+  kinematics.inv_mass_i = 1.0 / 0.01;     // 1/kg
   kinematics.velocity_i = Vec3{0.1, 0.0, 0.0};
   ContactHistory history;
   const ContactResult result = evaluate_contact(parameters, kinematics, history, 1.0e-4);

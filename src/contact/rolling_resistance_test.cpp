@@ -87,7 +87,7 @@ TEST(EpsdRollingTorque, LoadsWithRollingStiffnessAndCapsAtMuRRFn) {
   kinematics.normal = Vec3{0.0, 0.0, 1.0};
   kinematics.overlap = 1.0e-5;  // m
   kinematics.radius_i = 0.01;   // m
-  kinematics.mass_i = 0.01;     // kg
+  kinematics.inv_mass_i = 1.0 / 0.01;     // 1/kg
   const double spin = 2.0;      // rad/s
   kinematics.angular_velocity_i = Vec3{0.0, spin, 0.0};
   const double dt = 1.0e-5;  // s
@@ -136,8 +136,8 @@ TEST(EpsdRollingTorque, SphereSpherePairGetsEqualAndOppositeTorques) {
   kinematics.overlap = 2.0e-5;  // m
   kinematics.radius_i = 0.01;   // m
   kinematics.radius_j = 0.02;   // m
-  kinematics.mass_i = 0.01;     // kg
-  kinematics.mass_j = 0.08;     // kg
+  kinematics.inv_mass_i = 1.0 / 0.01;     // 1/kg
+  kinematics.inv_mass_j = 1.0 / 0.08;     // 1/kg
   kinematics.angular_velocity_i = Vec3{0.0, 1.0, 0.5};
   kinematics.angular_velocity_j = Vec3{0.3, -1.0, 0.0};
   ContactHistory history;

@@ -32,7 +32,7 @@ DraggedSphere dragged_sphere(double restitution, double friction, double speed) 
   dragged.kinematics.normal = Vec3{0.0, 0.0, 1.0};
   dragged.kinematics.overlap = 1.0e-5;  // m
   dragged.kinematics.radius_i = 0.01;   // m
-  dragged.kinematics.mass_i = 0.01;     // kg
+  dragged.kinematics.inv_mass_i = 1.0 / 0.01;     // 1/kg
   dragged.kinematics.velocity_i = Vec3{speed, 0.0, 0.0};
   return dragged;
 }

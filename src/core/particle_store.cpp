@@ -7,11 +7,13 @@
 namespace quarry {
 
 namespace {
+// Every per-particle array; the optional external loads only once they are enabled.
 template <class F>
 void for_each_array(ParticleStore& s, F&& f) {
   f(s.position); f(s.velocity); f(s.angular_velocity); f(s.force); f(s.torque);
-  f(s.radius); f(s.inv_mass); f(s.inv_inertia); f(s.material);
-  f(s.id); f(s.type); f(s.creation_time); f(s.external_force); f(s.external_torque);
+  f(s.radius); f(s.inv_mass); f(s.material);
+  f(s.id); f(s.type); f(s.creation_time);
+  if (s.has_external_loads()) { f(s.external_force); f(s.external_torque); }
   for (auto& c : s.custom_values) f(c);
 }
 }  // namespace
@@ -20,7 +22,6 @@ std::size_t ParticleStore::add(ParticleId pid, std::uint16_t type_index,
                                std::uint16_t material_index, const Vec3& x, const Vec3& v,
                                double radius_m, double density, double time) {
   const double mass = density * 4.0 / 3.0 * std::numbers::pi * radius_m * radius_m * radius_m;
-  const double inertia = 0.4 * mass * radius_m * radius_m;  // solid sphere, kg·m²
   position.push_back(x);
   velocity.push_back(v);
   angular_velocity.push_back({});
@@ -28,13 +29,14 @@ std::size_t ParticleStore::add(ParticleId pid, std::uint16_t type_index,
   torque.push_back({});
   radius.push_back(radius_m);
   inv_mass.push_back(1.0 / mass);
-  inv_inertia.push_back(1.0 / inertia);
   material.push_back(material_index);
   id.push_back(pid);
   type.push_back(type_index);
   creation_time.push_back(time);
-  external_force.push_back({});
-  external_torque.push_back({});
+  if (has_external_loads()) {
+    external_force.push_back({});
+    external_torque.push_back({});
+  }
   for (auto& c : custom_values) c.push_back(0.0);
   return position.size() - 1;
 }
@@ -67,6 +69,12 @@ std::size_t ParticleStore::register_custom(const std::string& name, double initi
 
 void ParticleStore::reserve(std::size_t n) {
   for_each_array(*this, [&](auto& array) { array.reserve(n); });
+}
+
+void ParticleStore::enable_external_loads() {
+  external_loads_enabled = true;
+  external_force.resize(size());
+  external_torque.resize(size());
 }
 
 void ParticleStore::clear() {

@@ -28,14 +28,15 @@ struct ParticleStore {
   std::vector<Vec3> torque;            // N·m, total of the current step
   std::vector<double> radius;          // m
   std::vector<double> inv_mass;        // 1/kg
-  std::vector<double> inv_inertia;     // 1/(kg·m²), solid sphere I = 2/5 m R²
   std::vector<std::uint16_t> material; // index into the material table
   // ---- cold ----
   std::vector<ParticleId> id;          // persistent
   std::vector<std::uint16_t> type;     // index into the particle-type table
   std::vector<double> creation_time;   // s
-  std::vector<Vec3> external_force;    // N, set by coupling; kept until changed
-  std::vector<Vec3> external_torque;   // N·m
+  // Coupling loads (N, N·m), kept until changed. Empty until enable_external_loads(): most
+  // runs have none, and 48 bytes per particle of zeros would be read every step.
+  std::vector<Vec3> external_force;
+  std::vector<Vec3> external_torque;
   // Custom per-particle properties (coupling/user data): name -> one double per particle.
   std::vector<std::string> custom_names;
   std::vector<std::vector<double>> custom_values;
@@ -52,9 +53,16 @@ struct ParticleStore {
   // Adds a custom property initialised to `initial`; returns its index (existing: same index).
   std::size_t register_custom(const std::string& name, double initial);
   void reserve(std::size_t n);
+  // Sizes external_force/external_torque to the particles (zeros); no-op if already done.
+  void enable_external_loads();
+  bool has_external_loads() const { return external_loads_enabled; }
+  bool external_loads_enabled = false;
   void clear();
 
   double mass(std::size_t i) const { return 1.0 / inv_mass[i]; }
+  // 1/I (1/(kg·m²)) of the solid sphere, I = 2/5 m R²: derived, not stored (8 bytes per
+  // particle saved; one division where it is needed).
+  double inv_inertia(std::size_t i) const { return 2.5 * inv_mass[i] / (radius[i] * radius[i]); }
 };
 
 }  // namespace quarry

@@ -12,7 +12,7 @@ TEST(ParticleStore, AddComputesSphereMassAndInertia) {
   s.add(7, 0, 0, {1, 2, 3}, {0, 0, -1}, 0.01, 2500.0, 0.5);
   const double m = 2500.0 * 4.0 / 3.0 * std::numbers::pi * 1e-6;  // ρ·4/3·π·R³ (kg)
   EXPECT_NEAR(s.mass(0), m, 1e-15);
-  EXPECT_NEAR(1.0 / s.inv_inertia[0], 0.4 * m * 1e-4, 1e-18);  // I = 2/5 m R²
+  EXPECT_NEAR(1.0 / s.inv_inertia(0), 0.4 * m * 1e-4, 1e-18);  // I = 2/5 m R²
   EXPECT_EQ(s.id[0], 7u);
 }
 

@@ -16,7 +16,7 @@ inline void kick(ParticleStore& p, double h) {
 #pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (std::size_t i = 0; i < n; ++i) {
     p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
-    p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia[i]);
+    p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
   }
 }
 
@@ -26,7 +26,7 @@ inline void kick_drift(ParticleStore& p, double h, double dt) {
 #pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (std::size_t i = 0; i < n; ++i) {
     p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
-    p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia[i]);
+    p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
     p.position[i] += p.velocity[i] * dt;
   }
 }

@@ -1,6 +1,6 @@
 // PairList: half Verlet list (pairs i < j closer than Ri + Rj + skin; Verlet, Phys. Rev. 159
-// (1967) 98) in CSR form with per-pair contact history and a reverse index for a fixed-order
-// gather. Rebuilt in time-step stage 2 when a particle moved > skin/2; stage 3 iterates it.
+// (1967) 98) in CSR form with per-pair contact history. Rebuilt in time-step stage 2 when a
+// particle moved > skin/2; the force stage (stage 3) iterates it row by row.
 #pragma once
 
 #include <cstddef>
@@ -14,30 +14,21 @@
 
 namespace quarry {
 
-// A particle sphere packed for the candidate loop: position (m) and radius (m) side by side.
-struct PackedSphere {
-  double x, y, z, radius;
-};
-
 // Scratch memory of build_pair_list, kept between builds so that a warmed-up rebuild does not
-// allocate. Not part of the list's meaning; callers never read it.
+// allocate. Not part of the list's meaning; callers never read it. Sized for a low peak:
+// the build never holds more than the new list, the previous list's *contacts* (pairs with
+// history) and a few integers per particle.
 struct PairListWorkspace {
   CellGrid grid;
-  std::vector<PackedSphere> spheres_by_cell;          // grid order
-  std::vector<std::vector<std::uint64_t>> thread_pairs;  // per thread: lower << 32 | higher
-  std::vector<std::uint32_t> pair_lower;              // all found pairs, lower index
-  std::vector<std::uint32_t> pair_higher;             //   and higher index
-  CountingSortWorkspace pair_sort;
-  std::vector<std::uint32_t> old_index_of;            // per new particle: index at the last build
-  std::vector<ParticleId> id_table_keys;              // open-addressing hash: particle id
-  std::vector<std::uint32_t> id_table_values;         //   → index at the last build (~0u: empty)
-  // The previous build's list, swapped out while the new one is made.
-  std::vector<std::uint32_t> previous_offsets;
+  std::vector<std::uint32_t> old_index_of;     // per new particle: index at the last build
+  std::vector<std::uint32_t> id_table;         // id → index at the last build (~0u: none);
+  std::vector<ParticleId> id_table_keys;       //   dense by id when ids are compact, else hashed
+  // The previous build's pairs that carry history, kept while the new list is made.
+  std::vector<std::uint32_t> previous_offsets;   // n_previous + 1
   std::vector<std::uint32_t> previous_partner;
   std::vector<Vec3> previous_tangential_displacement;  // m
-  std::vector<Vec3> previous_rolling_torque;           // N·m
+  std::vector<Vec3> previous_rolling_torque;           // N·m (empty unless rolling history)
   std::vector<ParticleId> previous_ids;
-  CountingSortWorkspace reverse_sort;
 };
 
 struct PairList {
@@ -45,14 +36,14 @@ struct PairList {
   std::vector<std::uint32_t> partner;   // j > i (index), ascending within each i
   // Contact history aligned with `partner` (carried across rebuilds by particle-id pair):
   std::vector<Vec3> tangential_displacement;   // m
-  std::vector<Vec3> rolling_torque;            // N·m
-  // Reverse index to gather pair forces onto the partner in a fixed order:
-  std::vector<std::uint32_t> reverse_offsets;  // n+1
-  std::vector<std::uint32_t> reverse_pairs;    // pair indices where the particle is the partner, ascending
+  std::vector<Vec3> rolling_torque;            // N·m; empty unless keep_rolling_history
   std::vector<Vec3> reference_positions;       // m, positions at the last build
   std::vector<ParticleId> ids_at_build;        // particle ids at the last build (index order)
   double skin = 0;                             // m
   std::size_t builds = 0;
+  // Only the EPSD rolling model has a rolling-torque history; without it the array would be
+  // 24 bytes per pair of nothing (World sets this from the material table).
+  bool keep_rolling_history = true;
   PairListWorkspace workspace;
 
   std::size_t size() const { return partner.size(); }
@@ -65,10 +56,11 @@ struct PairList {
 // history. History is stored as seen from the lower index i (δt of i relative
 // to j, rolling torque on i): if a re-sort makes the former partner the lower index, both
 // vectors are negated, so contact kernels must treat them as antisymmetric in the pair.
-// Also refreshes reference_positions, ids_at_build and the reverse index.
+// Also refreshes reference_positions and ids_at_build.
 // Deterministic: the same particles give the same list, bit for bit, for any thread count.
 // Pre: skin ≥ 0; ids unique; n < 2^32 and fewer than 2^32 pairs. Throws PhysicsError if a
-// position is not finite. Cost: O(n + pairs) with a cell grid of edge 2·Rmax + skin; OpenMP.
+// position is not finite. Cost: O(n + pairs) with a cell grid of edge 2·Rmax + skin, two
+// passes (count, fill) so that no pair buffer is needed; OpenMP over particle ranges.
 void build_pair_list(const ParticleStore& particles, double skin, PairList& list);
 
 // True if the list must be rebuilt before it can be trusted: it was never built, the particle

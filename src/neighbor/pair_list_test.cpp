@@ -1,5 +1,4 @@
-// Tests of the half Verlet pair list: same pair set as an O(n²) search, CSR and reverse-index
-// invariants, contact history carried by id pair across re-sorting/removal/insertion, identical
+// Tests of the half Verlet pair list: same pair set as an O(n²) search, CSR invariants, contact history carried by id pair across re-sorting/removal/insertion, identical
 // lists for 1 and 2 threads, and the skin/2 rebuild criterion (Verlet, Phys. Rev. 159 (1967) 98).
 #include "neighbor/pair_list.h"
 
@@ -44,7 +43,7 @@ void expect_csr_invariants(const PairList& list, std::size_t particle_count) {
   EXPECT_EQ(list.offsets.front(), 0u);
   EXPECT_EQ(list.offsets.back(), list.size());
   EXPECT_EQ(list.tangential_displacement.size(), list.size());
-  EXPECT_EQ(list.rolling_torque.size(), list.size());
+  EXPECT_EQ(list.rolling_torque.size(), list.keep_rolling_history ? list.size() : 0);
   for (std::uint32_t i = 0; i < particle_count; ++i) {
     ASSERT_LE(list.offsets[i], list.offsets[i + 1]);
     for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
@@ -54,16 +53,6 @@ void expect_csr_invariants(const PairList& list, std::size_t particle_count) {
         EXPECT_LT(list.partner[k - 1], list.partner[k]);
       }
     }
-  }
-  // Reverse index: exactly the pairs whose partner is j, ascending.
-  ASSERT_EQ(list.reverse_offsets.size(), particle_count + 1);
-  ASSERT_EQ(list.reverse_pairs.size(), list.size());
-  std::vector<std::vector<std::uint32_t>> expected(particle_count);
-  for (std::uint32_t k = 0; k < list.size(); ++k) expected[list.partner[k]].push_back(k);
-  for (std::uint32_t j = 0; j < particle_count; ++j) {
-    const std::vector<std::uint32_t> got(list.reverse_pairs.begin() + list.reverse_offsets[j],
-                                         list.reverse_pairs.begin() + list.reverse_offsets[j + 1]);
-    ASSERT_EQ(got, expected[j]) << "particle " << j;
   }
 }
 
@@ -198,6 +187,48 @@ TEST(PairList, HistoryFollowsIdsThroughSpatialSortAndRandomPermutation) {
   EXPECT_EQ(carried, list.size());
 }
 
+TEST(PairList, WithoutRollingHistoryOnlyTheTangentialHistoryIsKeptAndCarried) {
+  ParticleStore cloud = test_scenes::random_cloud(2000, 0.02, 0.5e-3, 1.5e-3, 35);
+  PairList list;
+  list.keep_rolling_history = false;
+  build_pair_list(cloud, 0.3e-3, list);
+  expect_csr_invariants(list, cloud.size());
+  EXPECT_TRUE(list.rolling_torque.empty());
+  for (std::uint32_t i = 0; i < cloud.size(); ++i)
+    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k)
+      list.tangential_displacement[k] = history_of(cloud.id[i], cloud.id[list.partner[k]]);
+  const auto before = id_pairs(cloud, list);
+  std::vector<std::size_t> order(cloud.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = order.size() - 1 - k;  // flips every pair
+  cloud.permute(order);
+  build_pair_list(cloud, 0.3e-3, list);
+  EXPECT_TRUE(list.rolling_torque.empty());
+  std::size_t carried = 0;
+  for (std::uint32_t i = 0; i < cloud.size(); ++i)
+    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+      const ParticleId a = cloud.id[i], b = cloud.id[list.partner[k]];
+      ASSERT_TRUE(before.count({b, a}));
+      EXPECT_EQ(list.tangential_displacement[k], -history_of(b, a));
+      ++carried;
+    }
+  EXPECT_GT(carried, cloud.size() / 2);
+}
+
+TEST(PairList, HistoryOfSparseIdsIsCarried) {
+  // Ids far apart (not 1..N): the id → index map falls back from a table to a hash.
+  ParticleStore cloud = test_scenes::random_cloud(1500, 0.02, 0.5e-3, 1.5e-3, 36);
+  for (auto& id : cloud.id) id = id * 1000003ull + (1ull << 40);
+  PairList list;
+  build_pair_list(cloud, 0.3e-3, list);
+  stamp_history(cloud, list);
+  const auto before = id_pairs(cloud, list);
+  cloud.permute(spatial_order(cloud, 3.3e-3));
+  build_pair_list(cloud, 0.3e-3, list);
+  std::size_t carried = 0, fresh = 0;
+  expect_history_carried(cloud, list, before, carried, fresh);
+  EXPECT_EQ(carried, list.size());
+}
+
 TEST(PairList, HistoryAfterRemovalAndInsertion) {
   ParticleStore cloud = test_scenes::random_cloud(2500, 0.025, 0.5e-3, 1.5e-3, 33);
   PairList list;
@@ -242,8 +273,6 @@ TEST(PairList, IdenticalForOneAndTwoThreads) {
   EXPECT_EQ(lists[0].partner, lists[1].partner);
   EXPECT_EQ(lists[0].tangential_displacement, lists[1].tangential_displacement);
   EXPECT_EQ(lists[0].rolling_torque, lists[1].rolling_torque);
-  EXPECT_EQ(lists[0].reverse_offsets, lists[1].reverse_offsets);
-  EXPECT_EQ(lists[0].reverse_pairs, lists[1].reverse_pairs);
 }
 
 TEST(PairList, RebuildCriterionIsHalfTheSkin) {

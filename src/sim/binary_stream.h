@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <istream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -35,9 +36,12 @@ class BinaryWriter {
   std::string buffer_;
 };
 
+// Reads what BinaryWriter wrote, straight from a stream of known length: no copy of the whole
+// file in memory (a checkpoint of millions of particles is gigabytes). Throws
+// std::runtime_error on a truncated or corrupt stream; never reads past `size` bytes.
 class BinaryReader {
  public:
-  explicit BinaryReader(const std::string& bytes) : bytes_(bytes) {}
+  BinaryReader(std::istream& in, std::uint64_t size) : in_(in), remaining_(size) {}
   template <class T>
   T value() {
     static_assert(std::is_trivially_copyable_v<T>);
@@ -47,29 +51,31 @@ class BinaryReader {
   }
   template <class T>
   void vector(std::vector<T>& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
     const auto n = value<std::uint64_t>();
-    if (n > (bytes_.size() - position_) / (sizeof(T) == 0 ? 1 : sizeof(T)))
+    if (n > remaining_ / (sizeof(T) == 0 ? 1 : sizeof(T)))
       throw std::runtime_error("checkpoint is truncated or corrupt");
     v.resize(n);
     if (n) take(v.data(), n * sizeof(T));
   }
   std::string string() {
     const auto n = value<std::uint64_t>();
-    if (n > bytes_.size() - position_) throw std::runtime_error("checkpoint is truncated or corrupt");
-    std::string s = bytes_.substr(position_, n);
-    position_ += n;
+    if (n > remaining_) throw std::runtime_error("checkpoint is truncated or corrupt");
+    std::string s(n, '\0');
+    if (n) take(s.data(), n);
     return s;
   }
-  bool at_end() const { return position_ == bytes_.size(); }
+  bool at_end() const { return remaining_ == 0; }
 
  private:
-  void take(void* out, std::size_t n) {
-    if (n > bytes_.size() - position_) throw std::runtime_error("checkpoint is truncated or corrupt");
-    std::memcpy(out, bytes_.data() + position_, n);
-    position_ += n;
+  void take(void* out, std::uint64_t n) {
+    if (n > remaining_) throw std::runtime_error("checkpoint is truncated or corrupt");
+    in_.read(static_cast<char*>(out), static_cast<std::streamsize>(n));
+    if (!in_) throw std::runtime_error("checkpoint is truncated or unreadable");
+    remaining_ -= n;
   }
-  const std::string& bytes_;
-  std::size_t position_ = 0;
+  std::istream& in_;
+  std::uint64_t remaining_;
 };
 
 }  // namespace quarry

@@ -5,6 +5,8 @@
 // surface positions and load windows, factory random streams — so a restart is bit-identical.
 #include <fmt/format.h>
 
+#include <filesystem>
+#include <fstream>
 #include <optional>
 
 #include "io/atomic_file.h"
@@ -15,26 +17,36 @@ namespace quarry::sim {
 
 namespace {
 
-constexpr std::uint64_t kMagic = 0x31304B4359525551ull;  // "QURYCK01"
+constexpr std::uint64_t kMagic = 0x32304B4359525551ull;  // "QURYCK02"
 
-std::string read_all(const std::string& path) {
-  std::optional<std::string> bytes = read_file(path);
-  if (!bytes) throw UserError(SourceLocation{path, 0, 0}, "cannot open checkpoint file",
-                              "give the path of a checkpoint.qck written by 'quarry run'");
-  return std::move(*bytes);
+// An open checkpoint file and its length, read piece by piece by BinaryReader.
+struct CheckpointFile {
+  std::ifstream stream;
+  std::uint64_t size = 0;  // bytes
+};
+
+CheckpointFile open_checkpoint(const std::string& path) {
+  CheckpointFile file;
+  std::error_code error;
+  file.size = std::filesystem::file_size(path, error);
+  file.stream.open(path, std::ios::binary);
+  if (error || !file.stream)
+    throw UserError(SourceLocation{path, 0, 0}, "cannot open checkpoint file",
+                    "give the path of a checkpoint.qck written by 'quarry run'");
+  return file;
 }
 
 template <class Stream, class F>
 void each_particle_array(Stream& s, ParticleStore& p, F&& f) {
   f(s, p.position); f(s, p.velocity); f(s, p.angular_velocity); f(s, p.force); f(s, p.torque);
-  f(s, p.radius); f(s, p.inv_mass); f(s, p.inv_inertia); f(s, p.material); f(s, p.id);
+  f(s, p.radius); f(s, p.inv_mass); f(s, p.material); f(s, p.id);
   f(s, p.type); f(s, p.creation_time); f(s, p.external_force); f(s, p.external_torque);
 }
 
 template <class Stream, class F>
 void each_pair_array(Stream& s, PairList& l, F&& f) {
   f(s, l.offsets); f(s, l.partner); f(s, l.tangential_displacement); f(s, l.rolling_torque);
-  f(s, l.reverse_offsets); f(s, l.reverse_pairs); f(s, l.reference_positions); f(s, l.ids_at_build);
+  f(s, l.reference_positions); f(s, l.ids_at_build);
 }
 
 template <class Stream, class F>
@@ -66,6 +78,7 @@ void write_checkpoint(const World& const_world, const std::string& path, std::ui
   w.value(world.rebuilds);
   w.value(static_cast<std::uint8_t>(world.lists_stale));
   w.value(frame_index);
+  w.value(static_cast<std::uint8_t>(world.particles.external_loads_enabled));
   each_particle_array(w, world.particles, put);
   w.value<std::uint64_t>(world.particles.custom_names.size());
   for (std::size_t k = 0; k < world.particles.custom_names.size(); ++k) {
@@ -75,12 +88,13 @@ void write_checkpoint(const World& const_world, const std::string& path, std::ui
   each_pair_array(w, world.pairs, put);
   w.value(world.pairs.skin);
   w.value<std::uint64_t>(world.pairs.builds);
+  w.vector(world.candidates.particles);
   w.vector(world.candidates.offsets);
   w.vector(world.candidates.surface);
   w.vector(world.candidates.triangle);
   w.value<std::uint64_t>(world.candidates.vertices_at_build.size());
   for (const auto& v : world.candidates.vertices_at_build) w.vector(v);
-  w.vector(world.wall_slots);
+  w.vector(world.wall_contacts);
   w.value<std::uint64_t>(world.surfaces.size());
   for (auto& surface : world.surfaces) {
     each_surface_array(w, surface, put);
@@ -94,17 +108,17 @@ void write_checkpoint(const World& const_world, const std::string& path, std::ui
 }
 
 std::string checkpoint_deck_path(const std::string& path) {
-  const std::string bytes = read_all(path);
-  BinaryReader r(bytes);
-  if (bytes.size() < 8 || r.value<std::uint64_t>() != kMagic)
+  CheckpointFile file = open_checkpoint(path);
+  BinaryReader r(file.stream, file.size);
+  if (file.size < 8 || r.value<std::uint64_t>() != kMagic)
     throw UserError(SourceLocation{path, 0, 0}, "not a Quarry checkpoint (wrong magic number)",
                     "give the path of a checkpoint.qck written by 'quarry run'");
   return r.string();
 }
 
 std::uint64_t read_checkpoint(World& world, const std::string& path) {
-  const std::string bytes = read_all(path);
-  BinaryReader r(bytes);
+  CheckpointFile file = open_checkpoint(path);
+  BinaryReader r(file.stream, file.size);
   try {
     if (r.value<std::uint64_t>() != kMagic) throw std::runtime_error("wrong magic number");
     const std::string deck_path = r.string();
@@ -124,6 +138,7 @@ std::uint64_t read_checkpoint(World& world, const std::string& path) {
     world.rebuilds = r.value<std::uint64_t>();
     world.lists_stale = r.value<std::uint8_t>() != 0;
     const auto frame_index = r.value<std::uint64_t>();
+    world.particles.external_loads_enabled = r.value<std::uint8_t>() != 0;
     each_particle_array(r, world.particles, get);
     const auto customs = r.value<std::uint64_t>();
     world.particles.custom_names.assign(customs, {});
@@ -135,13 +150,14 @@ std::uint64_t read_checkpoint(World& world, const std::string& path) {
     each_pair_array(r, world.pairs, get);
     world.pairs.skin = r.value<double>();
     world.pairs.builds = r.value<std::uint64_t>();
+    r.vector(world.candidates.particles);
     r.vector(world.candidates.offsets);
     r.vector(world.candidates.surface);
     r.vector(world.candidates.triangle);
     const auto surfaces_at_build = r.value<std::uint64_t>();
     if (surfaces_at_build != world.surfaces.size()) throw std::runtime_error("surface count differs");
     for (auto& v : world.candidates.vertices_at_build) r.vector(v);
-    r.vector(world.wall_slots);
+    r.vector(world.wall_contacts);
     if (r.value<std::uint64_t>() != world.surfaces.size()) throw std::runtime_error("surface count differs");
     for (auto& surface : world.surfaces) {
       each_surface_array(r, surface, get);
@@ -163,10 +179,6 @@ std::uint64_t read_checkpoint(World& world, const std::string& path) {
       at_build.vertices = world.candidates.vertices_at_build[s];
       world.grids[s].build(at_build, 2.0 * world.max_radius + world.skin);
     }
-    world.pair_force.assign(world.pairs.size(), {});
-    world.pair_torque_i.assign(world.pairs.size(), {});
-    world.pair_torque_j.assign(world.pairs.size(), {});
-    world.pair_overlap.assign(world.pairs.size(), 0.0);
     return frame_index;
   } catch (const UserError&) {
     throw;

@@ -1,7 +1,21 @@
-// Force stage (DESIGN §2 step 3): particle–particle contacts computed once per pair and stored,
-// then gathered per particle in a fixed order (no atomics: bit-identical for any thread count);
-// particle–surface contacts per particle, their reactions gathered onto triangles and vertices
-// in particle order; then gravity and the external (coupling) forces.
+// Force stage (DESIGN §2 step 3). Particle–particle contacts are computed once per pair of the
+// half list and added straight onto both particles ("Newton's third law" accumulation), with a
+// summation order that does not depend on the thread count; body forces are added as soon as a
+// particle's pair sum is complete; then particle–surface contacts for the particles near a
+// surface, their reactions gathered onto triangles and vertices in particle order.
+//
+// Why the order is fixed. The list holds pair (i, j) only in row i, with j > i, rows ascending.
+// A serial pass (zero all, then rows in order: F_i += f, F_j −= f) adds onto particle p first
+// the pairs (k, p) with k < p in ascending k, then p's own row in row order — and after row p
+// nothing touches p again. With T threads each owns a contiguous range of rows. A pair whose
+// partner lies in a later thread's range ("crossing") is computed first and its result kept;
+// after a barrier each thread starts its particles from the crossing contributions of earlier
+// ranges (ascending source row), then runs its rows exactly as the serial pass, taking the kept
+// result for its own crossing pairs. Every particle thus receives the same terms in the same
+// order for any T: the sums are bit-identical (checked by the determinism tests). Crossing pairs
+// are few (the ranges are compact in space after the space-filling-curve sort).
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -11,105 +25,177 @@ namespace quarry::sim {
 
 namespace {
 
-void pair_forces(World& world) {
+using CrossingPair = ForceWorkspace::CrossingPair;
+// CrossingPair::partner of a crossing pair that does not touch (nothing to add).
+constexpr std::uint32_t kNotTouching = 0xffffffffu;
+
+// Raw views of the arrays the pair loop reads; through the vectors the compiler would have to
+// reload particle data after every store (possible aliasing of Vec3 arrays).
+struct PairView {
+  const Vec3* position;
+  const Vec3* velocity;
+  const Vec3* angular_velocity;
+  const double* radius;
+  const double* inv_mass;
+  const std::uint16_t* material;
+  const std::uint32_t* partner;
+  Vec3* tangential;
+  Vec3* rolling;  // null without rolling history
+  const MaterialTable* materials;
+  double dt;            // s
+  double overlap_limit;  // fraction of the smaller radius
+};
+
+// The contact of pair k = (i, j): false if they do not touch (the pair's history is then reset:
+// the spring is released when contact is lost). `excessive` is set if the overlap passes the
+// guard's limit (check_overlaps reports it after the step). kPlain: every material pair is
+// plain Hertz–Mindlin (is_plain_hertz_mindlin), so the scalar kernel is used.
+template <bool kPlain>
+[[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
+                                                std::uint32_t k, CrossingPair& out, int& excessive) {
+  const Vec3 d = v.position[i] - v.position[j];
+  const double touch = v.radius[i] + v.radius[j];  // m
+  const double distance2 = norm2(d);               // m²
+  if (distance2 >= touch * touch) {
+    v.tangential[k] = {};
+    if (v.rolling) v.rolling[k] = {};
+    return false;
+  }
+  const double distance = std::sqrt(distance2);  // m
+  const Vec3 normal = d * (1.0 / distance);
+  const double overlap = touch - distance;       // m
+  const InteractionParameters& parameters = v.materials->between(v.material[i], v.material[j]);
+  if constexpr (kPlain) {
+    const PairContactForces c = hertz_mindlin_contact(
+        parameters, normal.x, normal.y, normal.z, overlap, v.radius[i], v.radius[j], v.inv_mass[i],
+        v.inv_mass[j], v.velocity[i], v.velocity[j], v.angular_velocity[i], v.angular_velocity[j],
+        v.tangential[k], v.dt);
+    out.force = {c.force_x, c.force_y, c.force_z};
+    out.torque_i = {c.torque_i_x, c.torque_i_y, c.torque_i_z};
+    out.torque_j = {c.torque_j_x, c.torque_j_y, c.torque_j_z};
+  } else {
+    ContactKinematics kin;
+    kin.normal = normal;
+    kin.overlap = overlap;
+    kin.radius_i = v.radius[i];
+    kin.radius_j = v.radius[j];
+    kin.inv_mass_i = v.inv_mass[i];
+    kin.inv_mass_j = v.inv_mass[j];
+    kin.velocity_i = v.velocity[i];
+    kin.velocity_j = v.velocity[j];
+    kin.angular_velocity_i = v.angular_velocity[i];
+    kin.angular_velocity_j = v.angular_velocity[j];
+    ContactHistory history{v.tangential[k], v.rolling ? v.rolling[k] : Vec3{}};
+    const ContactResult r = evaluate_contact(parameters, kin, history, v.dt);
+    v.tangential[k] = history.tangential_displacement;
+    if (v.rolling) v.rolling[k] = history.rolling_torque;
+    out.force = r.force_i;
+    out.torque_i = r.torque_i;
+    out.torque_j = r.torque_j;
+  }
+  excessive |= overlap > v.overlap_limit * std::min(v.radius[i], v.radius[j]);
+  return true;
+}
+
+// First row of each thread's range: balances rows + pairs (both cost), ascending.
+void split_rows(const std::uint32_t* offsets, std::size_t n, int threads, std::vector<std::uint32_t>& start) {
+  start.assign(static_cast<std::size_t>(threads) + 1, static_cast<std::uint32_t>(n));
+  const double total = static_cast<double>(offsets[n]) + static_cast<double>(n);
+  start[0] = 0;
+  for (int t = 1; t < threads; ++t) {
+    const double target = total * t / threads;
+    std::size_t lo = 0, hi = n;  // first i with offsets[i] + i >= target
+    while (lo < hi) {
+      const std::size_t mid = (lo + hi) / 2;
+      if (static_cast<double>(offsets[mid]) + static_cast<double>(mid) < target) lo = mid + 1;
+      else hi = mid;
+    }
+    start[t] = static_cast<std::uint32_t>(std::max<std::size_t>(lo, start[t - 1]));
+  }
+}
+
+// Pair forces and body forces (gravity, coupling loads): sets p.force and p.torque.
+template <bool kPlain>
+void pair_and_body_forces(World& world) {
   ParticleStore& p = world.particles;
   PairList& list = world.pairs;
   const std::size_t n = p.size();
-  const std::size_t pairs = list.size();
-  world.pair_force.resize(pairs);
-  world.pair_torque_i.resize(pairs);
-  world.pair_torque_j.resize(pairs);
-  world.pair_overlap.resize(pairs);
-  const double dt = world.dt;
-  const double overlap_limit = world.spec.simulation.max_overlap_fraction.value;  // of min radius
-  int excessive = 0;  // set if some overlap passed the guard's limit (check_overlaps reports it)
-  // Raw arrays: the stores below are Vec3 like the particle arrays, so through the vectors the
-  // compiler would have to reload particle i's data after every store (possible aliasing).
-  const Vec3* position = p.position.data();
-  const Vec3* velocity = p.velocity.data();
-  const Vec3* angular_velocity = p.angular_velocity.data();
-  const double* radius = p.radius.data();
-  const double* inv_mass = p.inv_mass.data();
-  const std::uint16_t* material = p.material.data();
-  const std::uint32_t* offsets = list.offsets.data();
-  const std::uint32_t* partner = list.partner.data();
-  Vec3* tangential = list.tangential_displacement.data();
-  Vec3* rolling = list.rolling_torque.data();
-  Vec3* pair_force = world.pair_force.data();
-  Vec3* pair_torque_i = world.pair_torque_i.data();
-  Vec3* pair_torque_j = world.pair_torque_j.data();
-  double* pair_overlap = world.pair_overlap.data();
-  const MaterialTable& materials = world.materials;
-#pragma omp parallel for schedule(dynamic, 512) if (n > parallel_threshold) reduction(| : excessive)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 position_i = position[i];
-    const double radius_i = radius[i];
-    const double mass_i = 1.0 / inv_mass[i];  // kg
-    const Vec3 velocity_i = velocity[i];
-    const Vec3 angular_velocity_i = angular_velocity[i];
-    const InteractionParameters* row = &materials.between(material[i], 0);
-    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-      const std::uint32_t j = partner[k];
-      const Vec3 d = position_i - position[j];
-      const double touch = radius_i + radius[j];
-      const double distance2 = norm2(d);
-      if (distance2 >= touch * touch) {
-        // Not touching: no force, and the tangential history of a broken contact is reset.
-        pair_force[k] = {};
-        pair_torque_i[k] = {};
-        pair_torque_j[k] = {};
-        pair_overlap[k] = 0.0;
-        tangential[k] = {};
-        rolling[k] = {};
-        continue;
+  PairView v{p.position.data(), p.velocity.data(), p.angular_velocity.data(), p.radius.data(),
+             p.inv_mass.data(), p.material.data(), list.partner.data(),
+             list.tangential_displacement.data(),
+             list.rolling_torque.empty() ? nullptr : list.rolling_torque.data(), &world.materials,
+             world.dt, world.spec.simulation.max_overlap_fraction.value};
+  const std::uint32_t* const offsets = list.offsets.data();
+  Vec3* const force = p.force.data();
+  Vec3* const torque = p.torque.data();
+  const double* const inv_mass = p.inv_mass.data();
+  const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
+  const Vec3* const external_force = p.has_external_loads() ? p.external_force.data() : nullptr;
+  const Vec3* const external_torque = p.has_external_loads() ? p.external_torque.data() : nullptr;
+  ForceWorkspace& ws = world.force_workspace;
+  const int thread_count = n > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
+  if (ws.crossing.size() < static_cast<std::size_t>(thread_count)) ws.crossing.resize(thread_count);
+  std::vector<std::uint32_t>& start = ws.range_start;
+  int excessive = 0;
+#pragma omp parallel num_threads(thread_count) reduction(| : excessive)
+  {
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+#pragma omp single
+    split_rows(offsets, n, threads, start);
+    const std::uint32_t first = start[t], end = start[t + 1];
+    std::vector<CrossingPair>& mine = ws.crossing[t];
+    mine.clear();
+    // Phase 1: this range's crossing pairs (partner in a later range).
+    if (threads > 1) {
+      for (std::uint32_t i = first; i < end; ++i)
+        for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+          const std::uint32_t j = v.partner[k];
+          if (j < end) continue;
+          CrossingPair c;
+          c.partner = j;
+          if (!pair_contact<kPlain>(v, i, j, k, c, excessive)) c.partner = kNotTouching;
+          mine.push_back(c);
+        }
+    }
+#pragma omp barrier
+    // Phase 2: start from the earlier ranges' crossing contributions, then the rows in order.
+    for (std::uint32_t i = first; i < end; ++i) force[i] = torque[i] = Vec3{};
+    for (int u = 0; u < t; ++u)
+      for (const CrossingPair& c : ws.crossing[u])
+        if (c.partner >= first && c.partner < end) {
+          force[c.partner] -= c.force;
+          torque[c.partner] += c.torque_j;
+        }
+    std::size_t next_crossing = 0;
+    for (std::uint32_t i = first; i < end; ++i) {
+      Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
+      for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+        const std::uint32_t j = v.partner[k];
+        if (j >= end) {
+          const CrossingPair& c = mine[next_crossing++];
+          if (c.partner == kNotTouching) continue;
+          force_i += c.force;
+          torque_i += c.torque_i;
+          continue;
+        }
+        CrossingPair c;
+        if (!pair_contact<kPlain>(v, i, j, k, c, excessive)) continue;
+        force_i += c.force;
+        torque_i += c.torque_i;
+        force[j] -= c.force;
+        torque[j] += c.torque_j;
       }
-      const double distance = std::sqrt(distance2);
-      ContactKinematics kin;
-      kin.normal = d / distance;
-      kin.overlap = touch - distance;
-      kin.radius_i = radius_i;
-      kin.radius_j = radius[j];
-      kin.mass_i = mass_i;
-      kin.mass_j = 1.0 / inv_mass[j];
-      kin.velocity_i = velocity_i;
-      kin.velocity_j = velocity[j];
-      kin.angular_velocity_i = angular_velocity_i;
-      kin.angular_velocity_j = angular_velocity[j];
-      ContactHistory history{tangential[k], rolling[k]};
-      const ContactResult r = evaluate_contact(row[material[j]], kin, history, dt);
-      tangential[k] = history.tangential_displacement;
-      rolling[k] = history.rolling_torque;
-      pair_force[k] = r.force_i;
-      pair_torque_i[k] = r.torque_i;
-      pair_torque_j[k] = r.torque_j;
-      pair_overlap[k] = kin.overlap;
-      excessive |= kin.overlap > overlap_limit * std::min(kin.radius_i, kin.radius_j);
+      // Row i was the last to touch particle i: its pair sum is complete.
+      force_i += gravity / inv_mass[i];
+      if (external_force) {
+        force_i += external_force[i];
+        torque_i += external_torque[i];
+      }
+      force[i] = force_i;
+      torque[i] = torque_i;
     }
   }
   world.excessive_overlap = excessive != 0;
-}
-
-// Sums the stored pair forces onto the particles: first the pairs where the particle is i,
-// then those where it is the partner, each in ascending pair order.
-void gather_pair_forces(World& world) {
-  ParticleStore& p = world.particles;
-  const PairList& list = world.pairs;
-  const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (std::size_t i = 0; i < n; ++i) {
-    Vec3 force, torque;
-    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-      force += world.pair_force[k];
-      torque += world.pair_torque_i[k];
-    }
-    for (std::uint32_t r = list.reverse_offsets[i]; r < list.reverse_offsets[i + 1]; ++r) {
-      const std::uint32_t k = list.reverse_pairs[r];
-      force -= world.pair_force[k];
-      torque += world.pair_torque_j[k];
-    }
-    p.force[i] = force;
-    p.torque[i] = torque;
-  }
 }
 
 // Velocity of the surface material at a contact point: the vertices' velocities interpolated
@@ -123,118 +209,122 @@ Vec3 surface_velocity(const Surface& surface, const SurfaceContact& c) {
   return v + belt - c.normal * dot(belt, c.normal);
 }
 
-void wall_forces(World& world) {
+// Contacts of candidate particle i with the surfaces: appended to `out` (detection order),
+// history taken over from i's contacts of the previous step, [previous_begin, previous_end).
+void wall_contacts_of(World& world, std::uint32_t i, std::size_t candidate,
+                      const WallContact* previous_begin, const WallContact* previous_end,
+                      std::vector<SurfaceContact>& found, std::vector<WallContact>& out, int& excessive) {
   ParticleStore& p = world.particles;
-  const std::size_t n = p.size();
   const SurfaceCandidates& cand = world.candidates;
-  const double dt = world.dt;
   const double overlap_limit = world.spec.simulation.max_overlap_fraction.value;  // of radius
-  int excessive = 0;
-#pragma omp parallel if (n > parallel_threshold) reduction(| : excessive)
-  {
-    std::vector<SurfaceContact> found;
-    std::vector<std::pair<std::uint16_t, SurfaceContact>> contacts;
-#pragma omp for schedule(dynamic, 256)
-    for (std::size_t i = 0; i < n; ++i) {
-      WallSlot* slots = &world.wall_slots[i * kWallSlots];
-      const std::uint32_t begin = cand.offsets[i], end = cand.offsets[i + 1];
-      if (begin == end) {
-        // No surface within reach (most particles): slots are filled front to back, so one
-        // look at the first tells whether anything must be cleared.
-        if (slots[0].surface >= 0)
-          for (int s = 0; s < kWallSlots; ++s) slots[s].surface = -1;
-        continue;
+  const std::size_t first_new = out.size();
+  std::uint64_t used = 0;  // bit q: previous contact q was taken over
+  Vec3 force, torque;
+  const std::uint32_t begin = cand.offsets[candidate], end = cand.offsets[candidate + 1];
+  // Candidates are grouped by surface: detect contacts one surface at a time.
+  for (std::uint32_t a = begin; a < end;) {
+    std::uint32_t b = a;
+    while (b < end && cand.surface[b] == cand.surface[a]) ++b;
+    const std::uint16_t s = cand.surface[a];
+    const Surface& surface = world.surfaces[s];
+    find_surface_contacts(surface, world.topologies[s], p.position[i], p.radius[i],
+                          std::span<const std::uint32_t>(cand.triangle.data() + a, b - a), found);
+    a = b;
+    for (const SurfaceContact& c : found) {
+      WallContact contact;
+      contact.particle = i;
+      contact.surface = s;
+      contact.triangle = c.triangle;
+      contact.normal = c.normal;
+      contact.weights = c.weights;
+      contact.point = c.point;
+      // Keep tangential history for a contact that continues: same surface, similar normal.
+      int best = -1;
+      double best_alignment = 0.5;  // cos 60°
+      for (const WallContact* q = previous_begin; q < previous_end && q - previous_begin < 64; ++q) {
+        const int slot = static_cast<int>(q - previous_begin);
+        if ((used >> slot & 1u) || q->surface != s) continue;
+        const double alignment = dot(q->normal, c.normal);
+        if (alignment > best_alignment) best_alignment = alignment, best = slot;
       }
-      // Candidates are grouped by surface: detect contacts one surface at a time.
-      contacts.clear();
-      for (std::uint32_t a = begin; a < end;) {
-        std::uint32_t b = a;
-        while (b < end && cand.surface[b] == cand.surface[a]) ++b;
-        const std::uint16_t s = cand.surface[a];
-        find_surface_contacts(world.surfaces[s], world.topologies[s], p.position[i], p.radius[i],
-                              std::span<const std::uint32_t>(cand.triangle.data() + a, b - a), found);
-        for (const auto& c : found) contacts.emplace_back(s, c);
-        a = b;
+      if (best >= 0) {
+        used |= std::uint64_t{1} << best;
+        contact.history = previous_begin[best].history;
       }
-      // Keep tangential history for contacts that continue: same surface, similar normal.
-      WallSlot previous[kWallSlots];
-      int previous_count = 0;  // slots are filled front to back: copy only the used ones
-      while (previous_count < kWallSlots && slots[previous_count].surface >= 0) {
-        previous[previous_count] = slots[previous_count];
-        ++previous_count;
-      }
-      bool used[kWallSlots] = {};
-      Vec3 force, torque;
-      int filled = 0;
-      for (const auto& [s, c] : contacts) {
-        if (filled == kWallSlots) break;
-        WallSlot slot;
-        int best = -1;
-        double best_alignment = 0.5;  // cos 60°
-        for (int q = 0; q < previous_count; ++q) {
-          if (used[q] || previous[q].surface != s) continue;
-          const double alignment = dot(previous[q].normal, c.normal);
-          if (alignment > best_alignment) best_alignment = alignment, best = q;
-        }
-        if (best >= 0) {
-          used[best] = true;
-          slot.history = previous[best].history;
-        }
-        const Surface& surface = world.surfaces[s];
-        ContactKinematics kin;
-        kin.normal = c.normal;
-        kin.overlap = c.overlap;
-        kin.radius_i = p.radius[i];
-        kin.radius_j = 0.0;  // a wall
-        kin.mass_i = 1.0 / p.inv_mass[i];
-        kin.mass_j = 0.0;
-        kin.velocity_i = p.velocity[i];
-        kin.velocity_j = surface_velocity(surface, c);
-        kin.angular_velocity_i = p.angular_velocity[i];
-        const ContactResult r = evaluate_contact(
-            world.materials.between(p.material[i], surface.material), kin, slot.history, dt);
-        slot.surface = s;
-        slot.normal = c.normal;
-        slot.triangle = c.triangle;
-        slot.weights = c.weights;
-        slot.point = c.point;
-        slot.force_on_particle = r.force_i;
-        excessive |= c.overlap > overlap_limit * p.radius[i];
-        force += r.force_i;
-        torque += r.torque_i;
-        slots[filled++] = slot;
-      }
-      for (int q = filled; q < std::max(filled, previous_count); ++q) slots[q].surface = -1;
-      p.force[i] += force;
-      p.torque[i] += torque;
+      ContactKinematics kin;
+      kin.normal = c.normal;
+      kin.overlap = c.overlap;
+      kin.radius_i = p.radius[i];
+      kin.radius_j = 0.0;  // a wall
+      kin.inv_mass_i = p.inv_mass[i];
+      kin.inv_mass_j = 0.0;  // a wall
+      kin.velocity_i = p.velocity[i];
+      kin.velocity_j = surface_velocity(surface, c);
+      kin.angular_velocity_i = p.angular_velocity[i];
+      const ContactResult r = evaluate_contact(
+          world.materials.between(p.material[i], surface.material), kin, contact.history, world.dt);
+      contact.force_on_particle = r.force_i;
+      excessive |= c.overlap > overlap_limit * p.radius[i];
+      force += r.force_i;
+      torque += r.torque_i;
+      out.push_back(contact);
     }
   }
-  world.excessive_overlap = world.excessive_overlap || excessive != 0;
-  // Reactions on the surfaces, gathered in particle order (deterministic).
-  for (auto& surface : world.surfaces) surface.clear_step_loads();
-  for (std::size_t i = 0; i < n; ++i) {
-    for (int q = 0; q < kWallSlots; ++q) {
-      const WallSlot& slot = world.wall_slots[i * kWallSlots + q];
-      if (slot.surface < 0) break;
-      Surface& surface = world.surfaces[slot.surface];
-      const Vec3 reaction = -slot.force_on_particle;
-      surface.triangle_force[slot.triangle] += reaction;
-      const auto& tri = surface.triangles[slot.triangle];
-      for (int k = 0; k < 3; ++k) surface.vertex_force[tri[k]] += reaction * slot.weights[k];
-      surface.total_force += reaction;
-      surface.total_torque += cross(slot.point, reaction);
-    }
+  if (out.size() > first_new) {
+    p.force[i] += force;
+    p.torque[i] += torque;
   }
 }
 
-void body_forces(World& world) {
-  ParticleStore& p = world.particles;
-  const Vec3 gravity = world.spec.simulation.gravity.value;
-  const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (std::size_t i = 0; i < n; ++i) {
-    p.force[i] += gravity / p.inv_mass[i] + p.external_force[i];
-    p.torque[i] += p.external_torque[i];
+void wall_forces(World& world) {
+  const SurfaceCandidates& cand = world.candidates;
+  const std::size_t m = cand.particles.size();
+  ForceWorkspace& ws = world.force_workspace;
+  std::swap(ws.previous_wall_contacts, world.wall_contacts);
+  world.wall_contacts.clear();
+  const std::vector<WallContact>& previous = ws.previous_wall_contacts;
+  const int thread_count = m > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
+  if (ws.wall_found.size() < static_cast<std::size_t>(thread_count)) ws.wall_found.resize(thread_count);
+  int excessive = 0;
+  int team = 1;  // threads that ran
+#pragma omp parallel num_threads(thread_count) reduction(| : excessive)
+  {
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+    const std::size_t first = m * t / threads, end = m * (t + 1) / threads;
+    // Per-thread buffers, concatenated in thread order below; one thread needs no third copy.
+    std::vector<WallContact>& out = threads == 1 ? world.wall_contacts : ws.wall_found[t];
+    out.clear();
+    if (t == 0) team = threads;
+    std::vector<SurfaceContact> found;
+    // Previous contacts are sorted by particle, as are the candidates: walk both together.
+    const auto by_particle = [](const WallContact& c, std::uint32_t i) { return c.particle < i; };
+    const WallContact* q = previous.data();
+    if (first < end)
+      q = std::lower_bound(previous.data(), previous.data() + previous.size(), cand.particles[first], by_particle);
+    const WallContact* const q_end = previous.data() + previous.size();
+    for (std::size_t c = first; c < end; ++c) {
+      const std::uint32_t i = cand.particles[c];
+      while (q < q_end && q->particle < i) ++q;
+      const WallContact* q_stop = q;
+      while (q_stop < q_end && q_stop->particle == i) ++q_stop;
+      wall_contacts_of(world, i, c, q, q_stop, found, out, excessive);
+      q = q_stop;
+    }
+  }
+  if (team > 1)  // one thread wrote straight into world.wall_contacts
+    for (int t = 0; t < team; ++t)
+      world.wall_contacts.insert(world.wall_contacts.end(), ws.wall_found[t].begin(), ws.wall_found[t].end());
+  world.excessive_overlap = world.excessive_overlap || excessive != 0;
+  // Reactions on the surfaces, gathered in particle order (deterministic).
+  for (auto& surface : world.surfaces) surface.clear_step_loads();
+  for (const WallContact& c : world.wall_contacts) {
+    Surface& surface = world.surfaces[c.surface];
+    const Vec3 reaction = -c.force_on_particle;
+    surface.triangle_force[c.triangle] += reaction;
+    const auto& tri = surface.triangles[c.triangle];
+    for (int k = 0; k < 3; ++k) surface.vertex_force[tri[k]] += reaction * c.weights[k];
+    surface.total_force += reaction;
+    surface.total_torque += cross(c.point, reaction);
   }
 }
 
@@ -243,17 +333,16 @@ void body_forces(World& world) {
 void compute_forces(World& world) {
   {
     ScopedStage timer(world.timers, world.timers.stage("pair forces"));
-    pair_forces(world);
-  }
-  {
-    ScopedStage timer(world.timers, world.timers.stage("gather"));
-    gather_pair_forces(world);
+    const auto& pairs = world.materials.pairs;
+    if (std::all_of(pairs.begin(), pairs.end(), is_plain_hertz_mindlin))
+      pair_and_body_forces<true>(world);
+    else
+      pair_and_body_forces<false>(world);
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("surface forces"));
     wall_forces(world);
   }
-  body_forces(world);
 }
 
 }  // namespace quarry::sim

@@ -11,8 +11,12 @@
 namespace quarry::sim {
 
 namespace {
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-std::string show(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z); }
+bool finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+std::string show(const Vec3& v) {
+  return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z);
+}
 }  // namespace
 
 void check_finite(const World& world) {
@@ -38,9 +42,11 @@ void check_overlaps(const World& world) {
   const PairList& list = world.pairs;
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-      const double overlap = world.pair_overlap[k];
-      if (overlap <= 0.0) continue;
+      // Positions are those of the force stage (the closing half kick changes velocities only).
       const std::uint32_t j = list.partner[k];
+      const double overlap =
+          (p.radius[i] + p.radius[j]) - norm(p.position[i] - p.position[j]);  // m
+      if (overlap <= 0.0) continue;
       const double smaller = std::min(p.radius[i], p.radius[j]);
       if (overlap <= limit * smaller) continue;
       throw PhysicsError(fmt::format(
@@ -52,21 +58,18 @@ void check_overlaps(const World& world) {
           smaller, 100.0 * limit, norm(p.velocity[i] - p.velocity[j]), world.dt));
     }
   }
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    for (int q = 0; q < kWallSlots; ++q) {
-      const WallSlot& slot = world.wall_slots[i * kWallSlots + q];
-      if (slot.surface < 0) break;
-      const double overlap = p.radius[i] - norm(p.position[i] - slot.point);
-      if (overlap <= limit * p.radius[i]) continue;
-      throw PhysicsError(fmt::format(
-          "step {} (t = {:.6g} s): particle id {} penetrates surface '{}' (element {}) by {:.4g} m "
-          "= {:.1f} % of its radius {:.4g} m (limit {:.0f} %); speed {:.4g} m/s\n"
-          "  hint: reduce simulation.time_step (now {:.4g} s) or raise the Young's modulus; a "
-          "surface moving faster than particles can follow also causes this",
-          world.step_count, world.time, p.id[i], world.surfaces[slot.surface].name, slot.triangle,
-          overlap, 100.0 * overlap / p.radius[i], p.radius[i], 100.0 * limit,
-          norm(p.velocity[i]), world.dt));
-    }
+  for (const WallContact& contact : world.wall_contacts) {
+    const std::size_t i = contact.particle;
+    const double overlap = p.radius[i] - norm(p.position[i] - contact.point);
+    if (overlap <= limit * p.radius[i]) continue;
+    throw PhysicsError(fmt::format(
+        "step {} (t = {:.6g} s): particle id {} penetrates surface '{}' (element {}) by {:.4g} m "
+        "= {:.1f} % of its radius {:.4g} m (limit {:.0f} %); speed {:.4g} m/s\n"
+        "  hint: reduce simulation.time_step (now {:.4g} s) or raise the Young's modulus; a "
+        "surface moving faster than particles can follow also causes this",
+        world.step_count, world.time, p.id[i], world.surfaces[contact.surface].name,
+        contact.triangle, overlap, 100.0 * overlap / p.radius[i], p.radius[i], 100.0 * limit,
+        norm(p.velocity[i]), world.dt));
   }
 }
 

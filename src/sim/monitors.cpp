@@ -27,7 +27,7 @@ std::vector<double> monitor_row(const World& world) {
   Vec3 velocity;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double m = 1.0 / p.inv_mass[i];
-    kinetic += 0.5 * m * norm2(p.velocity[i]) + 0.5 / p.inv_inertia[i] * norm2(p.angular_velocity[i]);
+    kinetic += 0.5 * m * norm2(p.velocity[i]) + 0.5 / p.inv_inertia(i) * norm2(p.angular_velocity[i]);
     speed += norm(p.velocity[i]);
     velocity += p.velocity[i];
   }

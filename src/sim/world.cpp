@@ -85,19 +85,47 @@ bool World::has_moving_surfaces() const {
 }
 
 std::size_t World::pair_contact_count() const {
-  return static_cast<std::size_t>(
-      std::count_if(pair_overlap.begin(), pair_overlap.end(), [](double d) { return d > 0.0; }));
+  // The force stage's own test (contact_law.h): |xi − xj|² < (Ri + Rj)².
+  std::size_t count = 0;
+  const std::size_t n = pairs.offsets.empty() ? 0 : pairs.offsets.size() - 1;
+  for (std::size_t i = 0; i < n && i < particles.size(); ++i)
+    for (std::uint32_t k = pairs.offsets[i]; k < pairs.offsets[i + 1]; ++k) {
+      const std::uint32_t j = pairs.partner[k];
+      const double touch = particles.radius[i] + particles.radius[j];  // m
+      count += norm2(particles.position[i] - particles.position[j]) < touch * touch;
+    }
+  return count;
 }
 
-std::size_t World::wall_contact_count() const {
-  return static_cast<std::size_t>(std::count_if(
-      wall_slots.begin(), wall_slots.end(), [](const WallSlot& s) { return s.surface >= 0; }));
+std::size_t World::wall_contact_count() const { return wall_contacts.size(); }
+
+void reindex_wall_contacts(World& world, const std::vector<std::size_t>& order) {
+  std::vector<std::uint32_t> new_index(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) new_index[order[k]] = static_cast<std::uint32_t>(k);
+  for (WallContact& c : world.wall_contacts) c.particle = new_index[c.particle];
+  std::stable_sort(world.wall_contacts.begin(), world.wall_contacts.end(),
+                   [](const WallContact& a, const WallContact& b) { return a.particle < b.particle; });
+}
+
+void drop_wall_contacts_of_removed(World& world, const std::vector<char>& removed) {
+  std::vector<std::uint32_t> new_index(removed.size());
+  std::uint32_t kept = 0;
+  for (std::size_t i = 0; i < removed.size(); ++i) {
+    new_index[i] = kept;
+    kept += removed[i] ? 0 : 1;
+  }
+  std::erase_if(world.wall_contacts, [&](const WallContact& c) { return removed[c.particle] != 0; });
+  for (WallContact& c : world.wall_contacts) c.particle = new_index[c.particle];
 }
 
 World build_world(const SimulationSpec& spec) {
   World world;
   world.spec = spec;
   world.materials = build_material_table(spec);
+  // Rolling-torque history exists only for the EPSD model (contact_law.h).
+  world.pairs.keep_rolling_history =
+      std::any_of(world.materials.pairs.begin(), world.materials.pairs.end(),
+                  [](const InteractionParameters& p) { return p.rolling_model == RollingModel::epsd; });
   world.types = particle_type_infos(spec);
   for (const auto& t : spec.particle_types) world.type_names.push_back(t.name.value);
 

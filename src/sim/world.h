@@ -32,27 +32,45 @@ struct MaterialTable {
   }
 };
 
-// Particle–surface contacts of one particle, kept in fixed slots so that tangential history
-// follows a contact while it slides from triangle to triangle.
-inline constexpr int kWallSlots = 6;
-struct WallSlot {
-  std::int32_t surface = -1;   // -1: empty slot
-  Vec3 normal;                 // unit, surface → particle, at the last step
+// One particle–surface contact of the current step. The contacts are kept sorted by particle
+// index (then detection order); the next step finds a particle's previous contacts by binary
+// search, so tangential history follows a contact while it slides from triangle to triangle.
+// Only particles near a surface have any: memory is per contact, not per particle.
+struct WallContact {
+  std::uint32_t particle = 0;  // index
+  std::uint16_t surface = 0;
+  std::uint32_t triangle = 0;
+  Vec3 normal;                 // unit, surface → particle
   ContactHistory history;
   // This step's result, gathered onto the surface's triangles in a fixed order.
-  std::uint32_t triangle = 0;
   std::array<double, 3> weights{};
   Vec3 point;                  // m
   Vec3 force_on_particle;      // N
 };
 
-// Candidate triangles per particle for particle–surface contacts, rebuilt with the pair list
-// (triangles whose bounding box comes within skin of the particle).
+// Candidate triangles for particle–surface contacts, rebuilt with the pair list (triangles
+// whose bounding box comes within skin of the particle). CSR over the particles that have
+// any (most of a bed has none).
 struct SurfaceCandidates {
-  std::vector<std::uint32_t> offsets;         // n+1
+  std::vector<std::uint32_t> particles;       // ascending particle indices
+  std::vector<std::uint32_t> offsets;         // particles.size()+1
   std::vector<std::uint16_t> surface;         // per entry
   std::vector<std::uint32_t> triangle;        // per entry
   std::vector<std::vector<Vec3>> vertices_at_build;  // per surface (m)
+};
+
+// Scratch of the force stage, kept between steps so that it does not allocate.
+struct ForceWorkspace {
+  // A pair whose partner belongs to a later thread's particle range: its result, computed
+  // before the ranges are summed (sim/forces.cpp explains the fixed summation order).
+  struct CrossingPair {
+    std::uint32_t partner = 0;
+    Vec3 force, torque_i, torque_j;  // N on i (partner: −force), N·m
+  };
+  std::vector<std::vector<CrossingPair>> crossing;    // per thread
+  std::vector<std::uint32_t> range_start;             // first row of each thread's range
+  std::vector<std::vector<WallContact>> wall_found;  // per thread
+  std::vector<WallContact> previous_wall_contacts;
 };
 
 struct World {
@@ -68,12 +86,9 @@ struct World {
   std::vector<Factory> factories;
 
   PairList pairs;
-  std::vector<Vec3> pair_force;       // N on i, per pair (j gets the opposite)
-  std::vector<Vec3> pair_torque_i;    // N·m
-  std::vector<Vec3> pair_torque_j;    // N·m
-  std::vector<double> pair_overlap;   // m (> 0: touching)
   SurfaceCandidates candidates;
-  std::vector<WallSlot> wall_slots;   // kWallSlots per particle
+  std::vector<WallContact> wall_contacts;  // this step's, ascending particle index
+  ForceWorkspace force_workspace;
 
   double time = 0.0;                  // s
   std::uint64_t step_count = 0;
@@ -92,7 +107,7 @@ struct World {
   StageTimers timers;
 
   bool has_moving_surfaces() const;
-  std::size_t pair_contact_count() const;   // pairs with overlap > 0
+  std::size_t pair_contact_count() const;   // listed pairs with overlap > 0 now
   std::size_t wall_contact_count() const;
 };
 
@@ -100,6 +115,12 @@ struct World {
 // Throws UserError (with the deck locations) for problems only visible now, e.g. a time step
 // too large for the Hertz contact time.
 World build_world(const SimulationSpec& spec);
+
+// After the particles were reordered (new index k holds old index order[k]) or some removed
+// (keep_old[i] == 0), moves the wall contacts' particle indices along; contacts of removed
+// particles are dropped. The pair list needs nothing: it remaps by particle id at its rebuild.
+void reindex_wall_contacts(World& world, const std::vector<std::size_t>& order);
+void drop_wall_contacts_of_removed(World& world, const std::vector<char>& removed);
 
 // The particle types' info for factories and estimates.
 std::vector<ParticleTypeInfo> particle_type_infos(const SimulationSpec& spec);

@@ -1,6 +1,7 @@
 // Stages that change what exists or where it is: prescribed surface motion, factories,
 // removal of particles that left the domain, spatial re-sorting and list rebuilds.
 #include <fmt/format.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +28,8 @@ double max_surface_displacement(const World& world) {
 }
 
 // Candidate triangles: those whose bounding box comes within (R + skin) of the particle.
+// Each thread collects a contiguous range of particles; the ranges are concatenated in order,
+// so the result does not depend on the thread count.
 void build_surface_candidates(World& world) {
   const ParticleStore& p = world.particles;
   const std::size_t n = p.size();
@@ -37,41 +40,54 @@ void build_surface_candidates(World& world) {
     if (moving) world.grids[s].build(world.surfaces[s], cell);
     c.vertices_at_build[s] = world.surfaces[s].vertices;
   }
-  // Per particle, per thread: query, then concatenate in particle order (deterministic).
-  std::vector<std::vector<std::uint16_t>> surf(n);
-  std::vector<std::vector<std::uint32_t>> tri(n);
-#pragma omp parallel if (n > parallel_threshold)
+  c.particles.clear();
+  c.offsets.assign(1, 0);
+  c.surface.clear();
+  c.triangle.clear();
+  if (world.surfaces.empty()) return;
+  struct Found {
+    std::vector<std::uint32_t> particles, counts, triangles;
+    std::vector<std::uint16_t> surfaces;
+  };
+  const int thread_count = n > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
+  std::vector<Found> found(static_cast<std::size_t>(thread_count));
+#pragma omp parallel num_threads(thread_count)
   {
-    std::vector<std::uint32_t> found;
-#pragma omp for schedule(dynamic, 256)
-    for (std::size_t i = 0; i < n; ++i) {
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+    Found& mine = found[t];
+    std::vector<std::uint32_t> hits;
+    for (std::size_t i = n * t / threads; i < n * (t + 1) / threads; ++i) {
       const double reach = p.radius[i] + world.skin;
       Aabb box;
       box.lo = p.position[i] - Vec3{reach, reach, reach};
       box.hi = p.position[i] + Vec3{reach, reach, reach};
+      std::uint32_t count = 0;
       for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
-        world.grids[s].query(box, found);
+        world.grids[s].query(box, hits);
         const Surface& surface = world.surfaces[s];
-        for (std::uint32_t t : found) {
+        for (std::uint32_t tri : hits) {
           // Exact test against the triangle's own box, so the set does not depend on the grid.
           Aabb tb;
-          for (int k = 0; k < 3; ++k) tb.expand(surface.vertices[surface.triangles[t][k]]);
+          for (int k = 0; k < 3; ++k) tb.expand(surface.vertices[surface.triangles[tri][k]]);
           if (tb.lo.x > box.hi.x || tb.hi.x < box.lo.x || tb.lo.y > box.hi.y ||
               tb.hi.y < box.lo.y || tb.lo.z > box.hi.z || tb.hi.z < box.lo.z)
             continue;
-          surf[i].push_back(static_cast<std::uint16_t>(s));
-          tri[i].push_back(t);
+          mine.surfaces.push_back(static_cast<std::uint16_t>(s));
+          mine.triangles.push_back(tri);
+          ++count;
         }
+      }
+      if (count > 0) {
+        mine.particles.push_back(static_cast<std::uint32_t>(i));
+        mine.counts.push_back(count);
       }
     }
   }
-  c.offsets.assign(n + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) c.offsets[i + 1] = c.offsets[i] + static_cast<std::uint32_t>(tri[i].size());
-  c.surface.resize(c.offsets[n]);
-  c.triangle.resize(c.offsets[n]);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::copy(surf[i].begin(), surf[i].end(), c.surface.begin() + c.offsets[i]);
-    std::copy(tri[i].begin(), tri[i].end(), c.triangle.begin() + c.offsets[i]);
+  for (const Found& f : found) {
+    c.particles.insert(c.particles.end(), f.particles.begin(), f.particles.end());
+    for (std::uint32_t count : f.counts) c.offsets.push_back(c.offsets.back() + count);
+    c.surface.insert(c.surface.end(), f.surfaces.begin(), f.surfaces.end());
+    c.triangle.insert(c.triangle.end(), f.triangles.begin(), f.triangles.end());
   }
 }
 
@@ -92,15 +108,9 @@ void insert_and_remove(World& world) {
     for (std::size_t i = 0; i < p.size(); ++i)
       if (!domain.contains(p.position[i])) outside[i] = 1, any = true;
     if (any) {
-      std::vector<WallSlot> kept;
-      kept.reserve(world.wall_slots.size());
-      for (std::size_t i = 0; i < p.size(); ++i) {
-        if (outside[i]) { ++world.removed_outside; continue; }
-        kept.insert(kept.end(), world.wall_slots.begin() + i * kWallSlots,
-                    world.wall_slots.begin() + (i + 1) * kWallSlots);
-      }
+      world.removed_outside += static_cast<std::uint64_t>(std::count(outside.begin(), outside.end(), 1));
+      drop_wall_contacts_of_removed(world, outside);
       p.remove_flagged(outside);
-      world.wall_slots = std::move(kept);
       world.lists_stale = true;
     }
   }
@@ -125,25 +135,20 @@ void insert_and_remove(World& world) {
     const InsertionReport report = factory.insert_due(world.time, p, world.next_id, touches_surface);
     if (report.inserted > 0) world.lists_stale = true;
   }
-  world.wall_slots.resize(p.size() * kWallSlots);
 }
 
 void rebuild_lists(World& world) {
   ParticleStore& p = world.particles;
   const int interval = world.spec.simulation.sort_interval.value;
   if (interval > 0 && world.steps_since_sort >= static_cast<std::uint64_t>(interval)) {
-    // Re-sort along a space-filling curve for cache locality; wall slots follow their particle.
+    // Re-sort along a space-filling curve for cache locality; wall contacts follow their particle.
     const std::vector<std::size_t> order = spatial_order(p, 2.0 * world.max_radius + world.skin);
     p.permute(order);
-    std::vector<WallSlot> slots(world.wall_slots.size());
-    for (std::size_t k = 0; k < order.size(); ++k)
-      std::copy_n(world.wall_slots.begin() + order[k] * kWallSlots, kWallSlots, slots.begin() + k * kWallSlots);
-    world.wall_slots = std::move(slots);
+    reindex_wall_contacts(world, order);
     world.steps_since_sort = 0;
   }
   build_pair_list(p, world.skin, world.pairs);
   build_surface_candidates(world);
-  world.wall_slots.resize(p.size() * kWallSlots);
   world.rebuilds += 1;
   world.lists_stale = false;
 }
