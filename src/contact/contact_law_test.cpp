@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
-
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <random>
+#include <vector>
+
+#include "contact/hertz_mindlin_batch.h"
 
 namespace quarry {
 namespace {
@@ -150,10 +153,11 @@ TEST(EvaluateContact, SeparatedPairGivesNoForceAndReleasesTheSprings) {
   EXPECT_EQ(history.rolling_torque, Vec3{});
 }
 
-// The force loop's scalar kernel must be the same law as evaluate_contact (contact_law.h):
-// random touching pairs, sticking and sliding, fresh and carried history. Agreement to
-// round-off (the compiler may fuse multiply-adds differently in the two forms).
-TEST(EvaluateContact, ScalarHertzMindlinKernelIsTheSameLaw) {
+// The force loop's batch kernel must be the same law as evaluate_contact (contact_law.h):
+// random touching pairs, sticking and sliding, fresh and carried history, a batch size that is
+// not a whole number of vectors. Agreement to round-off (the two forms may fuse multiply-adds
+// differently, and the batch multiplies by 1/kt where the law divides).
+TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
   InteractionSpec spec;
   spec.restitution = 0.5;
   spec.static_friction = 0.5;
@@ -162,36 +166,59 @@ TEST(EvaluateContact, ScalarHertzMindlinKernelIsTheSameLaw) {
   std::mt19937_64 random(2026);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const auto random_vec = [&](double scale) { return Vec3{unit(random), unit(random), unit(random)} * scale; };
+  auto batch = std::make_unique<HertzMindlinBatch>();
+  std::vector<ContactKinematics> cases;
+  std::vector<Vec3> starts;
   int sliding = 0;
-  for (int trial = 0; trial < 2000; ++trial) {
-    ContactKinematics kinematics;
-    kinematics.normal = normalized(random_vec(1.0));
-    kinematics.radius_i = 1e-3 * (1.5 + unit(random));  // m
-    kinematics.radius_j = 1e-3 * (1.5 + unit(random));
-    kinematics.overlap = 1e-6 * (1.01 + unit(random));  // m
-    kinematics.inv_mass_i = 1.0 / (1e-5 * (1.5 + unit(random)));  // 1/kg
-    kinematics.inv_mass_j = 1.0 / (1e-5 * (1.5 + unit(random)));
-    kinematics.velocity_i = random_vec(0.1);
-    kinematics.velocity_j = random_vec(0.1);
-    kinematics.angular_velocity_i = random_vec(50.0);
-    kinematics.angular_velocity_j = random_vec(50.0);
-    const Vec3 start = trial % 3 == 0 ? Vec3{} : random_vec(trial % 2 ? 1e-7 : 1e-9);  // m
-    ContactHistory history{start, Vec3{}};
-    const ContactResult expected = evaluate_contact(parameters, kinematics, history, 1e-5);
-    Vec3 tangential = start;
-    const PairContactForces got = hertz_mindlin_contact(
-        parameters, kinematics.normal.x, kinematics.normal.y, kinematics.normal.z, kinematics.overlap,
-        kinematics.radius_i, kinematics.radius_j, kinematics.inv_mass_i, kinematics.inv_mass_j,
-        kinematics.velocity_i, kinematics.velocity_j, kinematics.angular_velocity_i,
-        kinematics.angular_velocity_j, tangential, 1e-5);
-    const auto close = [](const Vec3& a, const Vec3& b, double scale) { return norm(a - b) <= 1e-12 * scale; };
-    const double force_scale = norm(expected.force_i);
-    EXPECT_TRUE(close(Vec3{got.force_x, got.force_y, got.force_z}, expected.force_i, force_scale)) << trial;
-    EXPECT_TRUE(close(Vec3{got.torque_i_x, got.torque_i_y, got.torque_i_z}, expected.torque_i, 2e-3 * force_scale)) << trial;
-    EXPECT_TRUE(close(Vec3{got.torque_j_x, got.torque_j_y, got.torque_j_z}, expected.torque_j, 2e-3 * force_scale)) << trial;
-    EXPECT_TRUE(close(tangential, history.tangential_displacement, norm(history.tangential_displacement) + 1e-30)) << trial;
-    const Vec3 shear = expected.force_i - expected.normal_force * kinematics.normal;
-    sliding += norm(shear) >= (1.0 - 1e-9) * 0.5 * std::fabs(expected.normal_force);
+  for (int round = 0; round < 10; ++round) {
+    batch->count = 0;
+    cases.clear();
+    starts.clear();
+    for (int m = 0; m < 203; ++m) {
+      ContactKinematics k;
+      k.normal = normalized(random_vec(1.0));
+      k.radius_i = 1e-3 * (1.5 + unit(random));  // m
+      k.radius_j = 1e-3 * (1.5 + unit(random));
+      k.overlap = 1e-6 * (1.01 + unit(random));  // m
+      k.inv_mass_i = 1.0 / (1e-5 * (1.5 + unit(random)));  // 1/kg
+      k.inv_mass_j = 1.0 / (1e-5 * (1.5 + unit(random)));
+      k.velocity_i = random_vec(0.1);
+      k.velocity_j = random_vec(0.1);
+      k.angular_velocity_i = random_vec(50.0);
+      k.angular_velocity_j = random_vec(50.0);
+      const Vec3 start = m % 3 == 0 ? Vec3{} : random_vec(m % 2 ? 1e-7 : 1e-9);  // m
+      const Vec3 d = k.normal * ((k.radius_i + k.radius_j) - k.overlap);  // x_i − x_j
+      batch->dx[m] = d.x, batch->dy[m] = d.y, batch->dz[m] = d.z, batch->distance2[m] = norm2(d);
+      batch->radius_i[m] = k.radius_i, batch->radius_j[m] = k.radius_j;
+      batch->inv_mass_i[m] = k.inv_mass_i, batch->inv_mass_j[m] = k.inv_mass_j;
+      const Vec3 v = k.velocity_i - k.velocity_j;
+      batch->vx[m] = v.x, batch->vy[m] = v.y, batch->vz[m] = v.z;
+      batch->wix[m] = k.angular_velocity_i.x, batch->wiy[m] = k.angular_velocity_i.y, batch->wiz[m] = k.angular_velocity_i.z;
+      batch->wjx[m] = k.angular_velocity_j.x, batch->wjy[m] = k.angular_velocity_j.y, batch->wjz[m] = k.angular_velocity_j.z;
+      batch->hx[m] = start.x, batch->hy[m] = start.y, batch->hz[m] = start.z;
+      ++batch->count;
+      // The kernel derives n and δ from x_i − x_j: give the law the same (rounded) values.
+      const double distance = std::sqrt(norm2(d));
+      k.normal = d * (1.0 / distance);
+      k.overlap = (k.radius_i + k.radius_j) - distance;
+      cases.push_back(k);
+      starts.push_back(start);
+    }
+    evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5);
+    for (int m = 0; m < batch->count; ++m) {
+      ContactHistory history{starts[m], Vec3{}};
+      const ContactResult expected = evaluate_contact(parameters, cases[m], history, 1e-5);
+      const auto close = [](const Vec3& a, const Vec3& b, double scale) { return norm(a - b) <= 1e-12 * scale; };
+      const double force_scale = norm(expected.force_i);  // N
+      const double lever = 1e-3;                          // m, torque scale per newton
+      EXPECT_TRUE(close({batch->fx[m], batch->fy[m], batch->fz[m]}, expected.force_i, force_scale)) << m;
+      EXPECT_TRUE(close({batch->tix[m], batch->tiy[m], batch->tiz[m]}, expected.torque_i, lever * force_scale)) << m;
+      EXPECT_TRUE(close({batch->tjx[m], batch->tjy[m], batch->tjz[m]}, expected.torque_j, lever * force_scale)) << m;
+      EXPECT_TRUE(close({batch->hx[m], batch->hy[m], batch->hz[m]}, history.tangential_displacement,
+                        norm(history.tangential_displacement) + 1e-30)) << m;
+      const Vec3 shear = expected.force_i - expected.normal_force * cases[m].normal;
+      sliding += norm(shear) >= (1.0 - 1e-9) * 0.5 * std::fabs(expected.normal_force);
+    }
   }
   EXPECT_GT(sliding, 100);   // both regimes were exercised
   EXPECT_LT(sliding, 1900);

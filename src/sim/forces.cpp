@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "contact/hertz_mindlin_batch.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -46,11 +47,9 @@ struct PairView {
   double overlap_limit;  // fraction of the smaller radius
 };
 
-// The contact of pair k = (i, j): false if they do not touch (the pair's history is then reset:
-// the spring is released when contact is lost). `excessive` is set if the overlap passes the
-// guard's limit (check_overlaps reports it after the step). kPlain: every material pair is
-// plain Hertz–Mindlin (is_plain_hertz_mindlin), so the scalar kernel is used.
-template <bool kPlain>
+// The contact of pair k = (i, j) by the scalar law: false if they do not touch (the pair's
+// history is then reset: the spring is released when contact is lost). `excessive` is set if
+// the overlap passes the guard's limit (check_overlaps reports it after the step).
 [[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
                                                 std::uint32_t k, CrossingPair& out, int& excessive) {
   const Vec3 d = v.position[i] - v.position[j];
@@ -65,15 +64,7 @@ template <bool kPlain>
   const Vec3 normal = d * (1.0 / distance);
   const double overlap = touch - distance;       // m
   const InteractionParameters& parameters = v.materials->between(v.material[i], v.material[j]);
-  if constexpr (kPlain) {
-    const PairContactForces c = hertz_mindlin_contact(
-        parameters, normal.x, normal.y, normal.z, overlap, v.radius[i], v.radius[j], v.inv_mass[i],
-        v.inv_mass[j], v.velocity[i], v.velocity[j], v.angular_velocity[i], v.angular_velocity[j],
-        v.tangential[k], v.dt);
-    out.force = {c.force_x, c.force_y, c.force_z};
-    out.torque_i = {c.torque_i_x, c.torque_i_y, c.torque_i_z};
-    out.torque_j = {c.torque_j_x, c.torque_j_y, c.torque_j_z};
-  } else {
+  {
     ContactKinematics kin;
     kin.normal = normal;
     kin.overlap = overlap;
@@ -114,8 +105,50 @@ void split_rows(const std::uint32_t* offsets, std::size_t n, int threads, std::v
   }
 }
 
+// Batched path: appends pair k = (i, j) to the batch if the spheres touch (else resets the
+// pair's history, as pair_contact does) and flags an overlap past the guard's limit.
+[[gnu::always_inline]] inline bool add_if_touching(const PairView& v, std::uint32_t i, std::uint32_t j,
+                                                   std::uint32_t k, HertzMindlinBatch& b, int& excessive) {
+  const Vec3 d = v.position[i] - v.position[j];
+  const double touch = v.radius[i] + v.radius[j];  // m
+  const double distance2 = norm2(d);               // m²
+  if (distance2 >= touch * touch) {
+    v.tangential[k] = {};
+    return false;
+  }
+  // δ > limit·min(Ri, Rj)  ⇔  |d| < touch − limit·min(Ri, Rj).
+  const double inner = touch - v.overlap_limit * std::min(v.radius[i], v.radius[j]);  // m
+  excessive |= !(inner > 0.0) || distance2 < inner * inner;
+  const int m = b.count++;
+  b.pair[m] = k;
+  b.dx[m] = d.x, b.dy[m] = d.y, b.dz[m] = d.z, b.distance2[m] = distance2;
+  b.radius_i[m] = v.radius[i], b.radius_j[m] = v.radius[j];
+  b.inv_mass_i[m] = v.inv_mass[i], b.inv_mass_j[m] = v.inv_mass[j];
+  const Vec3 dv = v.velocity[i] - v.velocity[j];
+  b.vx[m] = dv.x, b.vy[m] = dv.y, b.vz[m] = dv.z;
+  const Vec3 wi = v.angular_velocity[i], wj = v.angular_velocity[j];
+  b.wix[m] = wi.x, b.wiy[m] = wi.y, b.wiz[m] = wi.z;
+  b.wjx[m] = wj.x, b.wjy[m] = wj.y, b.wjz[m] = wj.z;
+  const Vec3 h = v.tangential[k];
+  b.hx[m] = h.x, b.hy[m] = h.y, b.hz[m] = h.z;
+  return true;
+}
+
+// Batched path: lane m's result, and its new history stored with the pair.
+[[gnu::always_inline]] inline void take_lane(const PairView& v, const HertzMindlinBatch& b, int m,
+                                             CrossingPair& out) {
+  v.tangential[b.pair[m]] = {b.hx[m], b.hy[m], b.hz[m]};
+  out.force = {b.fx[m], b.fy[m], b.fz[m]};
+  out.torque_i = {b.tix[m], b.tiy[m], b.tiz[m]};
+  out.torque_j = {b.tjx[m], b.tjy[m], b.tjz[m]};
+}
+
 // Pair forces and body forces (gravity, coupling loads): sets p.force and p.torque.
-template <bool kPlain>
+// kBatched: one material pair, plain Hertz–Mindlin — contacts are evaluated in batches by the
+// vector kernel (contact/hertz_mindlin_batch.h), except the pairs of a row too long for a
+// batch (a large particle among many small ones), which take the scalar law in every thread
+// layout alike. Otherwise every contact takes the scalar law (pair_contact).
+template <bool kBatched>
 void pair_and_body_forces(World& world) {
   ParticleStore& p = world.particles;
   PairList& list = world.pairs;
@@ -135,6 +168,12 @@ void pair_and_body_forces(World& world) {
   ForceWorkspace& ws = world.force_workspace;
   const int thread_count = n > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
   if (ws.crossing.size() < static_cast<std::size_t>(thread_count)) ws.crossing.resize(thread_count);
+  if (kBatched && ws.batches.size() < static_cast<std::size_t>(thread_count)) ws.batches.resize(thread_count);
+  const InteractionParameters& only = world.materials.between(0, 0);
+  constexpr std::uint32_t kRowLimit = HertzMindlinBatch::kCapacity;
+  const auto batched_row = [offsets](std::uint32_t i) {
+    return kBatched && offsets[i + 1] - offsets[i] <= kRowLimit;
+  };
   std::vector<std::uint32_t>& start = ws.range_start;
   int excessive = 0;
 #pragma omp parallel num_threads(thread_count) reduction(| : excessive)
@@ -144,18 +183,38 @@ void pair_and_body_forces(World& world) {
     split_rows(offsets, n, threads, start);
     const std::uint32_t first = start[t], end = start[t + 1];
     std::vector<CrossingPair>& mine = ws.crossing[t];
+    HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
+    const auto flush_crossing = [&] {
+      if (!kBatched || batch->count == 0) return;
+      evaluate_hertz_mindlin_batch(only, *batch, v.dt);
+      for (int m = 0; m < batch->count; ++m) take_lane(v, *batch, m, mine[batch->slot[m]]);
+      batch->count = 0;
+    };
     mine.clear();
     // Phase 1: this range's crossing pairs (partner in a later range).
     if (threads > 1) {
+      if constexpr (kBatched) batch->count = 0;
       for (std::uint32_t i = first; i < end; ++i)
         for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
           const std::uint32_t j = v.partner[k];
           if (j < end) continue;
-          CrossingPair c;
+          mine.push_back(CrossingPair{});
+          CrossingPair& c = mine.back();
           c.partner = j;
-          if (!pair_contact<kPlain>(v, i, j, k, c, excessive)) c.partner = kNotTouching;
-          mine.push_back(c);
+          if constexpr (kBatched) {
+            if (batched_row(i)) {
+              if (!add_if_touching(v, i, j, k, *batch, excessive)) {
+                c.partner = kNotTouching;
+                continue;
+              }
+              batch->slot[batch->count - 1] = static_cast<std::uint32_t>(mine.size() - 1);
+              if (batch->full()) flush_crossing();
+              continue;
+            }
+          }
+          if (!pair_contact(v, i, j, k, c, excessive)) c.partner = kNotTouching;
         }
+      flush_crossing();
     }
 #pragma omp barrier
     // Phase 2: start from the earlier ranges' crossing contributions, then the rows in order.
@@ -167,7 +226,9 @@ void pair_and_body_forces(World& world) {
           torque[c.partner] += c.torque_j;
         }
     std::size_t next_crossing = 0;
-    for (std::uint32_t i = first; i < end; ++i) {
+    int lane = 0;  // batched path: next lane of the current batch
+    // Row i in list order; contact(i, j, k, c) gives pair k's result, false if not touching.
+    const auto add_row = [&](std::uint32_t i, auto&& contact) {
       Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
       for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
         const std::uint32_t j = v.partner[k];
@@ -179,7 +240,7 @@ void pair_and_body_forces(World& world) {
           continue;
         }
         CrossingPair c;
-        if (!pair_contact<kPlain>(v, i, j, k, c, excessive)) continue;
+        if (!contact(i, j, k, c)) continue;
         force_i += c.force;
         torque_i += c.torque_i;
         force[j] -= c.force;
@@ -193,6 +254,41 @@ void pair_and_body_forces(World& world) {
       }
       force[i] = force_i;
       torque[i] = torque_i;
+    };
+    const auto scalar = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, CrossingPair& c) {
+      return pair_contact(v, i, j, k, c, excessive);
+    };
+    if constexpr (kBatched) {
+      const auto from_batch = [&](std::uint32_t, std::uint32_t, std::uint32_t k, CrossingPair& c) {
+        if (lane >= batch->count || batch->pair[lane] != k) return false;
+        take_lane(v, *batch, lane++, c);
+        return true;
+      };
+      for (std::uint32_t block = first; block < end;) {
+        // Collect the touching pairs of as many whole rows as fit, evaluate, then add in order.
+        batch->count = 0;
+        std::uint32_t stop = block;
+        while (stop < end) {
+          const std::uint32_t row_pairs = offsets[stop + 1] - offsets[stop];
+          if (!batched_row(stop)) {
+            if (stop == block) ++stop;  // a long row alone: scalar law below
+            break;
+          }
+          if (batch->count + static_cast<int>(row_pairs) > HertzMindlinBatch::kCapacity) break;
+          for (std::uint32_t k = offsets[stop]; k < offsets[stop + 1]; ++k)
+            if (v.partner[k] < end) add_if_touching(v, stop, v.partner[k], k, *batch, excessive);
+          ++stop;
+        }
+        if (batch->count > 0) evaluate_hertz_mindlin_batch(only, *batch, v.dt);
+        lane = 0;
+        for (std::uint32_t i = block; i < stop; ++i) {
+          if (batched_row(i)) add_row(i, from_batch);
+          else add_row(i, scalar);
+        }
+        block = stop;
+      }
+    } else {
+      for (std::uint32_t i = first; i < end; ++i) add_row(i, scalar);
     }
   }
   world.excessive_overlap = excessive != 0;
@@ -334,7 +430,7 @@ void compute_forces(World& world) {
   {
     ScopedStage timer(world.timers, world.timers.stage("pair forces"));
     const auto& pairs = world.materials.pairs;
-    if (std::all_of(pairs.begin(), pairs.end(), is_plain_hertz_mindlin))
+    if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]))
       pair_and_body_forces<true>(world);
     else
       pair_and_body_forces<false>(world);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "contact/contact_law.h"
+#include "contact/hertz_mindlin_batch.h"
 #include "core/particle_store.h"
 #include "core/simulation_spec.h"
 #include "core/stage_timer.h"
@@ -69,6 +70,7 @@ struct ForceWorkspace {
   };
   std::vector<std::vector<CrossingPair>> crossing;    // per thread
   std::vector<std::uint32_t> range_start;             // first row of each thread's range
+  std::vector<HertzMindlinBatch> batches;             // per thread (batched contact kernel)
   std::vector<std::vector<WallContact>> wall_found;  // per thread
   std::vector<WallContact> previous_wall_contacts;
 };
