@@ -259,6 +259,8 @@ void pair_and_body_forces(World& world) {
       return pair_contact(v, i, j, k, c, excessive);
     };
     if constexpr (kBatched) {
+      constexpr std::uint32_t kPrefetchDistance = 16;  // pairs
+      const std::uint32_t pair_end = offsets[end];
       const auto from_batch = [&](std::uint32_t, std::uint32_t, std::uint32_t k, CrossingPair& c) {
         if (lane >= batch->count || batch->pair[lane] != k) return false;
         take_lane(v, *batch, lane++, c);
@@ -275,8 +277,19 @@ void pair_and_body_forces(World& world) {
             break;
           }
           if (batch->count + static_cast<int>(row_pairs) > HertzMindlinBatch::kCapacity) break;
-          for (std::uint32_t k = offsets[stop]; k < offsets[stop + 1]; ++k)
+          for (std::uint32_t k = offsets[stop]; k < offsets[stop + 1]; ++k) {
+            // Partners a few pairs ahead: start loading what collecting and adding will read
+            // (beyond a few 10^4 particles the partners' data comes from L3 or memory).
+            if (k + kPrefetchDistance < pair_end) {
+              const std::uint32_t ahead = v.partner[k + kPrefetchDistance];
+              __builtin_prefetch(v.position + ahead);
+              __builtin_prefetch(v.velocity + ahead);
+              __builtin_prefetch(v.angular_velocity + ahead);
+              __builtin_prefetch(force + ahead, 1);
+              __builtin_prefetch(torque + ahead, 1);
+            }
             if (v.partner[k] < end) add_if_touching(v, stop, v.partner[k], k, *batch, excessive);
+          }
           ++stop;
         }
         if (batch->count > 0) evaluate_hertz_mindlin_batch(only, *batch, v.dt);

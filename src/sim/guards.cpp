@@ -21,8 +21,15 @@ std::string show(const Vec3& v) {
 
 void check_finite(const World& world) {
   const ParticleStore& p = world.particles;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (finite(p.position[i]) && finite(p.velocity[i]) && finite(p.angular_velocity[i])) continue;
+  const std::size_t n = p.size();
+  // The first offending index (the same for any thread count), or n: a parallel min-reduction.
+  std::size_t first_bad = n;
+#pragma omp parallel for schedule(static) if (n > parallel_threshold) reduction(min : first_bad)
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(finite(p.position[i]) && finite(p.velocity[i]) && finite(p.angular_velocity[i])))
+      first_bad = std::min(first_bad, i);
+  if (first_bad < n) {
+    const std::size_t i = first_bad;
     throw PhysicsError(fmt::format(
         "step {} (t = {:.6g} s): particle id {} has a non-finite state: position {} m, "
         "velocity {} m/s, angular velocity {} rad/s, force {} N\n"

@@ -103,11 +103,14 @@ void insert_and_remove(World& world) {
   // Particles outside the domain are removed and counted (guard 11).
   const Aabb& domain = world.spec.simulation.domain.value;
   if (!domain.empty()) {
-    std::vector<char> outside(p.size(), 0);
+    // One parallel pass to see whether anything left (almost never); flags only then.
+    const std::size_t n = p.size();
     bool any = false;
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (!domain.contains(p.position[i])) outside[i] = 1, any = true;
+#pragma omp parallel for schedule(static) if (n > parallel_threshold) reduction(|| : any)
+    for (std::size_t i = 0; i < n; ++i) any = any || !domain.contains(p.position[i]);
     if (any) {
+      std::vector<char> outside(n, 0);
+      for (std::size_t i = 0; i < n; ++i) outside[i] = !domain.contains(p.position[i]);
       world.removed_outside += static_cast<std::uint64_t>(std::count(outside.begin(), outside.end(), 1));
       drop_wall_contacts_of_removed(world, outside);
       p.remove_flagged(outside);
