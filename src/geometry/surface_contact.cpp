@@ -115,6 +115,10 @@ void find_surface_contacts(const Surface& surface, const MeshTopology& topology,
   for (const std::uint32_t t : candidate_triangles) {
     if (!(surface.triangle_areas[t] > 0.0)) continue;
     const auto& tri = surface.triangles[t];
+    // The distance to the triangle's plane bounds the distance to the triangle from below: a
+    // cheap rejection of the many candidates that are within the skin but not touching.
+    const double height = dot(centre - surface.vertices[tri[0]], surface.triangle_normals[t]);  // m
+    if (height * height >= radius2) continue;
     const ClosestPoint closest =
         closest_point_on_triangle(centre, surface.vertices[tri[0]], surface.vertices[tri[1]], surface.vertices[tri[2]]);
     if (norm2(centre - closest.point) >= radius2) continue;  // beyond reach of every feature of t
