@@ -112,13 +112,13 @@ struct ContactResult {
   double tangential_stiffness = 0.0;  // N/m
   double tangential_damping = 0.0;    // N·s/m
   if (parameters.normal_model == NormalModel::hertz_mindlin) {
-    // hertz_normal_spring, mindlin_tangential_stiffness and hertz_mindlin_damping_coefficient
-    // with the common square roots taken once: a = sqrt(R* δ), kn = 2 E* a, kt = 8 G* a.
-    const double contact_radius = std::sqrt(effective_radius * overlap);  // m
-    normal_spring.stiffness = 2.0 * parameters.effective_youngs_modulus * contact_radius;
-    normal_spring.elastic_force = 2.0 / 3.0 * normal_spring.stiffness * overlap;
-    tangential_stiffness = 8.0 * parameters.effective_shear_modulus * contact_radius;
-    const double root = std::sqrt(contact_radius * effective_mass);  // sqrt(m·kg)
+    normal_spring = contact::hertz_normal_spring(parameters.effective_youngs_modulus,
+                                                 effective_radius, overlap);
+    tangential_stiffness = contact::mindlin_tangential_stiffness(parameters.effective_shear_modulus,
+                                                                 effective_radius, overlap);
+    // hertz_mindlin_damping_coefficient with its constant part precomputed: sqrt(k m*) with
+    // k ∝ a = sqrt(R* δ) (the helpers' square root; the compiler computes it once).
+    const double root = std::sqrt(std::sqrt(effective_radius * overlap) * effective_mass);  // sqrt(m·kg)
     normal_damping = parameters.hertz_normal_damping * root;
     tangential_damping = parameters.hertz_tangential_damping * root;
   } else {

@@ -47,8 +47,7 @@ void evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
                  tz = rz - normal_velocity * nz;  // m/s, tangential velocity
     // Hertz normal spring, Mindlin tangential stiffness, EDEM dashpots (contact_law.h).
     const double contact_radius = std::sqrt(effective_radius * overlap);  // m, a
-    const double normal_stiffness = 2.0 * youngs * contact_radius;        // N/m
-    const double elastic_force = 2.0 / 3.0 * normal_stiffness * overlap;  // N
+    const double elastic_force = 4.0 / 3.0 * youngs * contact_radius * overlap;  // N
     const double tangential_stiffness = 8.0 * shear * contact_radius;     // N/m
     const double root = std::sqrt(contact_radius * effective_mass);
     const double normal_force = elastic_force - normal_damping_factor * root * normal_velocity;  // N

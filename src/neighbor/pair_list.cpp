@@ -212,7 +212,6 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   // The previous list's contacts, for their history; then the new arrays at their exact size.
   const bool has_previous = list.builds > 0 && list.offsets.size() == list.ids_at_build.size() + 1;
   const std::size_t previous_count = has_previous ? list.ids_at_build.size() : 0;
-  if (!list.offsets.empty() && !has_previous) list.offsets.assign(1, 0);
   keep_previous_contacts(list, previous_count);
   std::swap(workspace.previous_ids, list.ids_at_build);
   const bool remapped = has_previous && map_to_previous_indices(particles.id, workspace.previous_ids, workspace);

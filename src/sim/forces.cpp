@@ -47,44 +47,51 @@ struct PairView {
   double overlap_limit;  // fraction of the smaller radius
 };
 
-// The contact of pair k = (i, j) by the scalar law: false if they do not touch (the pair's
-// history is then reset: the spring is released when contact is lost). `excessive` is set if
-// the overlap passes the guard's limit (check_overlaps reports it after the step).
-[[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
-                                                std::uint32_t k, CrossingPair& out, int& excessive) {
-  const Vec3 d = v.position[i] - v.position[j];
+// Head of both paths for pair k = (i, j): x_i − x_j and its square. False if the spheres do not
+// touch; the pair's history is then reset (the spring is released when contact is lost).
+// Otherwise sets `excessive` if the overlap passes the guard's limit (check_overlaps reports
+// it after the step): δ > limit·min(Ri, Rj) ⇔ |d| < touch − limit·min(Ri, Rj).
+[[gnu::always_inline]] inline bool touching(const PairView& v, std::uint32_t i, std::uint32_t j,
+                                            std::uint32_t k, Vec3& d, double& distance2, int& excessive) {
+  d = v.position[i] - v.position[j];
   const double touch = v.radius[i] + v.radius[j];  // m
-  const double distance2 = norm2(d);               // m²
+  distance2 = norm2(d);                            // m²
   if (distance2 >= touch * touch) {
     v.tangential[k] = {};
     if (v.rolling) v.rolling[k] = {};
     return false;
   }
+  const double inner = touch - v.overlap_limit * std::min(v.radius[i], v.radius[j]);  // m
+  excessive |= !(inner > 0.0) || distance2 < inner * inner;
+  return true;
+}
+
+// The contact of pair k = (i, j) by the scalar law: false if they do not touch (see touching).
+[[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
+                                                std::uint32_t k, CrossingPair& out, int& excessive) {
+  Vec3 d;
+  double distance2;  // m²
+  if (!touching(v, i, j, k, d, distance2, excessive)) return false;
   const double distance = std::sqrt(distance2);  // m
-  const Vec3 normal = d * (1.0 / distance);
-  const double overlap = touch - distance;       // m
-  const InteractionParameters& parameters = v.materials->between(v.material[i], v.material[j]);
-  {
-    ContactKinematics kin;
-    kin.normal = normal;
-    kin.overlap = overlap;
-    kin.radius_i = v.radius[i];
-    kin.radius_j = v.radius[j];
-    kin.inv_mass_i = v.inv_mass[i];
-    kin.inv_mass_j = v.inv_mass[j];
-    kin.velocity_i = v.velocity[i];
-    kin.velocity_j = v.velocity[j];
-    kin.angular_velocity_i = v.angular_velocity[i];
-    kin.angular_velocity_j = v.angular_velocity[j];
-    ContactHistory history{v.tangential[k], v.rolling ? v.rolling[k] : Vec3{}};
-    const ContactResult r = evaluate_contact(parameters, kin, history, v.dt);
-    v.tangential[k] = history.tangential_displacement;
-    if (v.rolling) v.rolling[k] = history.rolling_torque;
-    out.force = r.force_i;
-    out.torque_i = r.torque_i;
-    out.torque_j = r.torque_j;
-  }
-  excessive |= overlap > v.overlap_limit * std::min(v.radius[i], v.radius[j]);
+  ContactKinematics kin;
+  kin.normal = d * (1.0 / distance);
+  kin.overlap = (v.radius[i] + v.radius[j]) - distance;
+  kin.radius_i = v.radius[i];
+  kin.radius_j = v.radius[j];
+  kin.inv_mass_i = v.inv_mass[i];
+  kin.inv_mass_j = v.inv_mass[j];
+  kin.velocity_i = v.velocity[i];
+  kin.velocity_j = v.velocity[j];
+  kin.angular_velocity_i = v.angular_velocity[i];
+  kin.angular_velocity_j = v.angular_velocity[j];
+  ContactHistory history{v.tangential[k], v.rolling ? v.rolling[k] : Vec3{}};
+  const ContactResult r =
+      evaluate_contact(v.materials->between(v.material[i], v.material[j]), kin, history, v.dt);
+  v.tangential[k] = history.tangential_displacement;
+  if (v.rolling) v.rolling[k] = history.rolling_torque;
+  out.force = r.force_i;
+  out.torque_i = r.torque_i;
+  out.torque_j = r.torque_j;
   return true;
 }
 
@@ -105,20 +112,12 @@ void split_rows(const std::uint32_t* offsets, std::size_t n, int threads, std::v
   }
 }
 
-// Batched path: appends pair k = (i, j) to the batch if the spheres touch (else resets the
-// pair's history, as pair_contact does) and flags an overlap past the guard's limit.
+// Batched path: appends pair k = (i, j) to the batch if the spheres touch (see touching).
 [[gnu::always_inline]] inline bool add_if_touching(const PairView& v, std::uint32_t i, std::uint32_t j,
                                                    std::uint32_t k, HertzMindlinBatch& b, int& excessive) {
-  const Vec3 d = v.position[i] - v.position[j];
-  const double touch = v.radius[i] + v.radius[j];  // m
-  const double distance2 = norm2(d);               // m²
-  if (distance2 >= touch * touch) {
-    v.tangential[k] = {};
-    return false;
-  }
-  // δ > limit·min(Ri, Rj)  ⇔  |d| < touch − limit·min(Ri, Rj).
-  const double inner = touch - v.overlap_limit * std::min(v.radius[i], v.radius[j]);  // m
-  excessive |= !(inner > 0.0) || distance2 < inner * inner;
+  Vec3 d;
+  double distance2;  // m²
+  if (!touching(v, i, j, k, d, distance2, excessive)) return false;
   const int m = b.count++;
   b.pair[m] = k;
   b.dx[m] = d.x, b.dy[m] = d.y, b.dz[m] = d.z, b.distance2[m] = distance2;
