@@ -150,6 +150,7 @@ std::uint64_t read_checkpoint(World& world, const std::string& path) {
     each_pair_array(r, world.pairs, get);
     world.pairs.skin = r.value<double>();
     world.pairs.builds = r.value<std::uint64_t>();
+    world.force_workspace.plan = {};  // made for the list this one replaces
     r.vector(world.candidates.particles);
     r.vector(world.candidates.offsets);
     r.vector(world.candidates.surface);

@@ -8,7 +8,8 @@
 // A serial pass (zero all, then rows in order: F_i += f, F_j −= f) adds onto particle p first
 // the pairs (k, p) with k < p in ascending k, then p's own row in row order — and after row p
 // nothing touches p again. With T threads each owns a contiguous range of rows. A pair whose
-// partner lies in a later thread's range ("crossing") is computed first and its result kept;
+// partner lies in a later thread's range ("crossing") is computed first — by all threads, shared
+// evenly, from a list of them made once per list build — and its result kept;
 // after a barrier each thread starts its particles from the crossing contributions of earlier
 // ranges (ascending source row), then runs its rows exactly as the serial pass, taking the kept
 // result for its own crossing pairs. Every particle thus receives the same terms in the same
@@ -112,25 +113,74 @@ void split_rows(const std::uint32_t* offsets, std::size_t n, int threads, std::v
   }
 }
 
-// Batched path: appends pair k = (i, j) to the batch if the spheres touch (see touching).
-[[gnu::always_inline]] inline bool add_if_touching(const PairView& v, std::uint32_t i, std::uint32_t j,
-                                                   std::uint32_t k, HertzMindlinBatch& b, int& excessive) {
-  Vec3 d;
-  double distance2;  // m²
-  if (!touching(v, i, j, k, d, distance2, excessive)) return false;
-  const int m = b.count++;
-  b.pair[m] = k;
+// The thread layout for this list: ranges, and the crossing pairs listed once (partners are
+// ascending within a row, so a row's crossing pairs are its tail). Cost O(n + crossing), once
+// per list build rather than a scan of every pair every step.
+void make_plan(const PairList& list, std::size_t n, int threads, ForceWorkspace::PairPlan& plan) {
+  plan.builds = list.builds, plan.rows = n, plan.pairs = list.size(), plan.threads = threads;
+  const std::uint32_t* const offsets = list.offsets.data();
+  split_rows(offsets, n, threads, plan.range_start);
+  plan.crossing_row.clear();
+  plan.crossing_pair.clear();
+  plan.crossing_begin.assign(1, 0);
+  for (int t = 0; t < threads; ++t) {
+    const std::uint32_t end = plan.range_start[t + 1];
+    for (std::uint32_t i = plan.range_start[t]; i < end; ++i) {
+      std::uint32_t k = offsets[i + 1];
+      while (k > offsets[i] && list.partner[k - 1] >= end) --k;
+      for (; k < offsets[i + 1]; ++k) plan.crossing_row.push_back(i), plan.crossing_pair.push_back(k);
+    }
+    plan.crossing_begin.push_back(static_cast<std::uint32_t>(plan.crossing_pair.size()));
+  }
+}
+
+// Particle i's data, read once per row: the compiler cannot keep it in registers across the
+// batch stores itself (they might alias the particle arrays).
+struct RowParticle {
+  Vec3 position, velocity, angular_velocity;  // m, m/s, rad/s
+  double radius, inv_mass;                    // m, 1/kg
+};
+
+[[gnu::always_inline]] inline RowParticle row_particle(const PairView& v, std::uint32_t i) {
+  return {v.position[i], v.velocity[i], v.angular_velocity[i], v.radius[i], v.inv_mass[i]};
+}
+
+// Batched path: writes pair k = (i, j) into the batch's next lane, which is kept (count
+// advances) if the spheres touch — no branch on touching, which is unpredictable. Also as in
+// `touching`: the history of a pair not touching is released (a touching pair's is rewritten
+// with the kernel's result), and `excessive` is set past the overlap guard's limit.
+[[gnu::always_inline]] inline void collect_pair(const PairView& v, const RowParticle& pi, std::uint32_t j,
+                                                std::uint32_t k, HertzMindlinBatch& b, int& excessive) {
+  const Vec3 d = pi.position - v.position[j];
+  const double rj = v.radius[j];        // m
+  const double touch = pi.radius + rj;  // m
+  const double distance2 = norm2(d);    // m²
+  const bool touches = !(distance2 >= touch * touch);
+  const double inner = touch - v.overlap_limit * std::min(pi.radius, rj);  // m
+  excessive |= touches & (!(inner > 0.0) | (distance2 < inner * inner));
+  const int m = b.count;
+  b.pair[m] = k, b.slot[m] = j;
   b.dx[m] = d.x, b.dy[m] = d.y, b.dz[m] = d.z, b.distance2[m] = distance2;
-  b.radius_i[m] = v.radius[i], b.radius_j[m] = v.radius[j];
-  b.inv_mass_i[m] = v.inv_mass[i], b.inv_mass_j[m] = v.inv_mass[j];
-  const Vec3 dv = v.velocity[i] - v.velocity[j];
+  b.radius_i[m] = pi.radius, b.radius_j[m] = rj;
+  b.inv_mass_i[m] = pi.inv_mass, b.inv_mass_j[m] = v.inv_mass[j];
+  const Vec3 dv = pi.velocity - v.velocity[j];
   b.vx[m] = dv.x, b.vy[m] = dv.y, b.vz[m] = dv.z;
-  const Vec3 wi = v.angular_velocity[i], wj = v.angular_velocity[j];
-  b.wix[m] = wi.x, b.wiy[m] = wi.y, b.wiz[m] = wi.z;
+  const Vec3 wj = v.angular_velocity[j];
+  b.wix[m] = pi.angular_velocity.x, b.wiy[m] = pi.angular_velocity.y, b.wiz[m] = pi.angular_velocity.z;
   b.wjx[m] = wj.x, b.wjy[m] = wj.y, b.wjz[m] = wj.z;
   const Vec3 h = v.tangential[k];
   b.hx[m] = h.x, b.hy[m] = h.y, b.hz[m] = h.z;
-  return true;
+  v.tangential[k] = {};
+  if (v.rolling && !touches) v.rolling[k] = {};  // (none with plain Hertz–Mindlin)
+  b.count = m + touches;
+}
+
+// Batched path (phase 1): appends pair k = (i, j) to the batch if the spheres touch.
+[[gnu::always_inline]] inline bool add_if_touching(const PairView& v, std::uint32_t i, std::uint32_t j,
+                                                   std::uint32_t k, HertzMindlinBatch& b, int& excessive) {
+  const int before = b.count;
+  collect_pair(v, row_particle(v, i), j, k, b, excessive);
+  return b.count > before;
 }
 
 // Batched path: lane m's result, and its new history stored with the pair.
@@ -166,86 +216,78 @@ void pair_and_body_forces(World& world) {
   const Vec3* const external_torque = p.has_external_loads() ? p.external_torque.data() : nullptr;
   ForceWorkspace& ws = world.force_workspace;
   const int thread_count = n > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
-  if (ws.crossing.size() < static_cast<std::size_t>(thread_count)) ws.crossing.resize(thread_count);
   if (kBatched && ws.batches.size() < static_cast<std::size_t>(thread_count)) ws.batches.resize(thread_count);
   const InteractionParameters& only = world.materials.between(0, 0);
   constexpr std::uint32_t kRowLimit = HertzMindlinBatch::kCapacity;
   const auto batched_row = [offsets](std::uint32_t i) {
     return kBatched && offsets[i + 1] - offsets[i] <= kRowLimit;
   };
-  std::vector<std::uint32_t>& start = ws.range_start;
+  ForceWorkspace::PairPlan& plan = ws.plan;
   int excessive = 0;
 #pragma omp parallel num_threads(thread_count) reduction(| : excessive)
   {
     const int threads = omp_get_num_threads(), t = omp_get_thread_num();
 #pragma omp single
-    split_rows(offsets, n, threads, start);
-    const std::uint32_t first = start[t], end = start[t + 1];
-    std::vector<CrossingPair>& mine = ws.crossing[t];
-    HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
-    const auto flush_crossing = [&] {
-      if (!kBatched || batch->count == 0) return;
-      evaluate_hertz_mindlin_batch(only, *batch, v.dt);
-      for (int m = 0; m < batch->count; ++m) take_lane(v, *batch, m, mine[batch->slot[m]]);
-      batch->count = 0;
-    };
-    mine.clear();
-    // Phase 1: this range's crossing pairs (partner in a later range).
+    {
+      if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size() || plan.threads != threads)
+        make_plan(list, n, threads, plan);
+      ws.crossing.resize(plan.crossing_pair.size());
+    }
+    const std::uint32_t first = plan.range_start[t], end = plan.range_start[t + 1];
+    // Phase 1: the crossing pairs of all ranges (partner in a later range), shared evenly by
+    // the threads; each result goes to its own slot, whichever thread computes it.
     if (threads > 1) {
+      const std::size_t total = plan.crossing_pair.size();
+      const std::size_t from = total * t / threads, to = total * (t + 1) / threads;
+      HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
+      const auto flush = [&] {
+        if (!kBatched || batch->count == 0) return;
+        evaluate_hertz_mindlin_batch(only, *batch, v.dt);
+        for (int m = 0; m < batch->count; ++m) take_lane(v, *batch, m, ws.crossing[batch->slot[m]]);
+        batch->count = 0;
+      };
       if constexpr (kBatched) batch->count = 0;
-      for (std::uint32_t i = first; i < end; ++i)
-        for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-          const std::uint32_t j = v.partner[k];
-          if (j < end) continue;
-          mine.push_back(CrossingPair{});
-          CrossingPair& c = mine.back();
-          c.partner = j;
-          if constexpr (kBatched) {
-            if (batched_row(i)) {
-              if (!add_if_touching(v, i, j, k, *batch, excessive)) {
-                c.partner = kNotTouching;
-                continue;
-              }
-              batch->slot[batch->count - 1] = static_cast<std::uint32_t>(mine.size() - 1);
-              if (batch->full()) flush_crossing();
+      for (std::size_t q = from; q < to; ++q) {
+        const std::uint32_t i = plan.crossing_row[q], k = plan.crossing_pair[q], j = v.partner[k];
+        CrossingPair& c = ws.crossing[q];
+        c.partner = j;
+        if constexpr (kBatched) {
+          if (batched_row(i)) {
+            if (!add_if_touching(v, i, j, k, *batch, excessive)) {
+              c.partner = kNotTouching;
               continue;
             }
+            batch->slot[batch->count - 1] = static_cast<std::uint32_t>(q);
+            if (batch->full()) flush();
+            continue;
           }
-          if (!pair_contact(v, i, j, k, c, excessive)) c.partner = kNotTouching;
         }
-      flush_crossing();
+        if (!pair_contact(v, i, j, k, c, excessive)) c.partner = kNotTouching;
+      }
+      flush();
     }
 #pragma omp barrier
-    // Phase 2: start from the earlier ranges' crossing contributions, then the rows in order.
+    // Phase 2: start from the earlier ranges' crossing contributions (ascending source row),
+    // then the rows in order.
     for (std::uint32_t i = first; i < end; ++i) force[i] = torque[i] = Vec3{};
-    for (int u = 0; u < t; ++u)
-      for (const CrossingPair& c : ws.crossing[u])
-        if (c.partner >= first && c.partner < end) {
-          force[c.partner] -= c.force;
-          torque[c.partner] += c.torque_j;
-        }
-    std::size_t next_crossing = 0;
-    int lane = 0;  // batched path: next lane of the current batch
-    // Row i in list order; contact(i, j, k, c) gives pair k's result, false if not touching.
-    const auto add_row = [&](std::uint32_t i, auto&& contact) {
-      Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
-      for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-        const std::uint32_t j = v.partner[k];
-        if (j >= end) {
-          const CrossingPair& c = mine[next_crossing++];
-          if (c.partner == kNotTouching) continue;
-          force_i += c.force;
-          torque_i += c.torque_i;
-          continue;
-        }
-        CrossingPair c;
-        if (!contact(i, j, k, c)) continue;
-        force_i += c.force;
-        torque_i += c.torque_i;
-        force[j] -= c.force;
-        torque[j] += c.torque_j;
+    for (std::uint32_t q = 0; q < plan.crossing_begin[t]; ++q) {
+      const CrossingPair& c = ws.crossing[q];
+      if (c.partner >= first && c.partner < end) {
+        force[c.partner] -= c.force;
+        torque[c.partner] += c.torque_j;
       }
-      // Row i was the last to touch particle i: its pair sum is complete.
+    }
+    HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
+    std::size_t next_crossing = plan.crossing_begin[t];
+    // Adds this range's crossing pair k of row i (computed in phase 1) onto particle i.
+    const auto add_crossing = [&](Vec3& force_i, Vec3& torque_i) {
+      const CrossingPair& c = ws.crossing[next_crossing++];
+      if (c.partner == kNotTouching) return;
+      force_i += c.force;
+      torque_i += c.torque_i;
+    };
+    // Row i was the last to touch particle i: its pair sum is complete.
+    const auto finish_row = [&](std::uint32_t i, Vec3 force_i, Vec3 torque_i) {
       force_i += gravity / inv_mass[i];
       if (external_force) {
         force_i += external_force[i];
@@ -254,53 +296,93 @@ void pair_and_body_forces(World& world) {
       force[i] = force_i;
       torque[i] = torque_i;
     };
-    const auto scalar = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k, CrossingPair& c) {
-      return pair_contact(v, i, j, k, c, excessive);
+    // Row i in list order by the scalar law.
+    const auto scalar_row = [&](std::uint32_t i) {
+      Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
+      for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+        const std::uint32_t j = v.partner[k];
+        if (j >= end) {
+          add_crossing(force_i, torque_i);
+          continue;
+        }
+        CrossingPair c;
+        if (!pair_contact(v, i, j, k, c, excessive)) continue;
+        force_i += c.force;
+        torque_i += c.torque_i;
+        force[j] -= c.force;
+        torque[j] += c.torque_j;
+      }
+      finish_row(i, force_i, torque_i);
     };
     if constexpr (kBatched) {
+      // Rows are taken in blocks: the touching pairs of as many whole rows as fit are collected
+      // into the batch (branch-free: every pair is written, the count advances if it touches),
+      // evaluated together, then added row by row in list order. A row's crossing pairs are
+      // its tail (partners ascend), added after its batch lanes: the pair order of one thread.
       constexpr std::uint32_t kPrefetchDistance = 16;  // pairs
       const std::uint32_t pair_end = offsets[end];
-      const auto from_batch = [&](std::uint32_t, std::uint32_t, std::uint32_t k, CrossingPair& c) {
-        if (lane >= batch->count || batch->pair[lane] != k) return false;
-        take_lane(v, *batch, lane++, c);
-        return true;
-      };
+      constexpr int kRows = HertzMindlinBatch::kCapacity;  // rows per block
+      std::uint16_t lanes_end[kRows];                       // per row of the block
+      std::uint32_t tail[kRows];                            // first crossing pair per row
+      int over = 0;  // excessive overlap (a local: the shared flag would live in memory)
       for (std::uint32_t block = first; block < end;) {
-        // Collect the touching pairs of as many whole rows as fit, evaluate, then add in order.
         batch->count = 0;
         std::uint32_t stop = block;
-        while (stop < end) {
-          const std::uint32_t row_pairs = offsets[stop + 1] - offsets[stop];
+        while (stop < end && stop - block < static_cast<std::uint32_t>(kRows)) {
+          const std::uint32_t row_begin = offsets[stop], row_end = offsets[stop + 1];
           if (!batched_row(stop)) {
             if (stop == block) ++stop;  // a long row alone: scalar law below
             break;
           }
-          if (batch->count + static_cast<int>(row_pairs) > HertzMindlinBatch::kCapacity) break;
-          for (std::uint32_t k = offsets[stop]; k < offsets[stop + 1]; ++k) {
+          if (batch->count + static_cast<int>(row_end - row_begin) > HertzMindlinBatch::kCapacity) break;
+          const RowParticle pi = row_particle(v, stop);
+          std::uint32_t k = row_begin;
+          for (; k < row_end; ++k) {
             // Partners a few pairs ahead: start loading what collecting and adding will read
             // (beyond a few 10^4 particles the partners' data comes from L3 or memory).
             if (k + kPrefetchDistance < pair_end) {
               const std::uint32_t ahead = v.partner[k + kPrefetchDistance];
               __builtin_prefetch(v.position + ahead);
+              __builtin_prefetch(v.radius + ahead);
               __builtin_prefetch(v.velocity + ahead);
               __builtin_prefetch(v.angular_velocity + ahead);
               __builtin_prefetch(force + ahead, 1);
               __builtin_prefetch(torque + ahead, 1);
             }
-            if (v.partner[k] < end) add_if_touching(v, stop, v.partner[k], k, *batch, excessive);
+            const std::uint32_t j = v.partner[k];
+            if (j >= end) break;  // the crossing tail
+            collect_pair(v, pi, j, k, *batch, over);
           }
+          lanes_end[stop - block] = static_cast<std::uint16_t>(batch->count);
+          tail[stop - block] = k;
           ++stop;
         }
         if (batch->count > 0) evaluate_hertz_mindlin_batch(only, *batch, v.dt);
-        lane = 0;
+        int lane = 0;
         for (std::uint32_t i = block; i < stop; ++i) {
-          if (batched_row(i)) add_row(i, from_batch);
-          else add_row(i, scalar);
+          if (!batched_row(i)) {
+            scalar_row(i);
+            continue;
+          }
+          Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
+          for (const int lanes = lanes_end[i - block]; lane < lanes; ++lane) {
+            const HertzMindlinBatch& b = *batch;
+            const std::uint32_t j = b.slot[lane];
+            v.tangential[b.pair[lane]] = {b.hx[lane], b.hy[lane], b.hz[lane]};
+            const Vec3 f{b.fx[lane], b.fy[lane], b.fz[lane]};
+            force_i += f;
+            torque_i += Vec3{b.tix[lane], b.tiy[lane], b.tiz[lane]};
+            force[j] -= f;
+            torque[j] += Vec3{b.tjx[lane], b.tjy[lane], b.tjz[lane]};
+          }
+          for (std::uint32_t k = tail[i - block]; k < offsets[i + 1]; ++k) add_crossing(force_i, torque_i);
+          finish_row(i, force_i, torque_i);
         }
         block = stop;
       }
+      excessive |= over;
     } else {
-      for (std::uint32_t i = first; i < end; ++i) add_row(i, scalar);
+      for (std::uint32_t i = first; i < end; ++i) scalar_row(i);
     }
   }
   world.excessive_overlap = excessive != 0;

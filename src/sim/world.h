@@ -68,8 +68,19 @@ struct ForceWorkspace {
     std::uint32_t partner = 0;
     Vec3 force, torque_i, torque_j;  // N on i (partner: −force), N·m
   };
-  std::vector<std::vector<CrossingPair>> crossing;    // per thread
-  std::vector<std::uint32_t> range_start;             // first row of each thread's range
+  // How the pair loop is split between threads, for one pair list and thread count: remade
+  // when the list is rebuilt (or restored) or the thread count changes, not every step.
+  struct PairPlan {
+    std::uint64_t builds = ~std::uint64_t{0};  // PairList::builds it was made for
+    std::size_t rows = 0, pairs = 0;
+    int threads = 0;
+    std::vector<std::uint32_t> range_start;     // threads + 1: first row of each range, then n
+    // The crossing pairs of all ranges, by range, row and pair (ascending): row i, pair k.
+    std::vector<std::uint32_t> crossing_row, crossing_pair;
+    std::vector<std::uint32_t> crossing_begin;  // threads + 1: range t's are [begin[t], begin[t+1])
+  };
+  PairPlan plan;
+  std::vector<CrossingPair> crossing;                 // results, aligned with plan.crossing_pair
   std::vector<HertzMindlinBatch> batches;             // per thread (batched contact kernel)
   std::vector<std::vector<WallContact>> wall_found;  // per thread
   std::vector<WallContact> previous_wall_contacts;
