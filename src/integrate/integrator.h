@@ -20,15 +20,18 @@ inline void kick(ParticleStore& p, double h) {
   }
 }
 
+// Particle i: kick by h then drift by dt (kick_drift's body, for passes that do more per particle).
+inline void kick_drift_particle(ParticleStore& p, std::size_t i, double h, double dt) {
+  p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
+  p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
+  p.position[i] += p.velocity[i] * dt;
+}
+
 // Kick by h then drift by dt in one pass over memory (the first half of a step).
 inline void kick_drift(ParticleStore& p, double h, double dt) {
   const std::size_t n = p.size();
 #pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (std::size_t i = 0; i < n; ++i) {
-    p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
-    p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
-    p.position[i] += p.velocity[i] * dt;
-  }
+  for (std::size_t i = 0; i < n; ++i) kick_drift_particle(p, i, h, dt);
 }
 
 // x += dt v.

@@ -284,7 +284,13 @@ bool pair_list_needs_rebuild(const ParticleStore& particles, const PairList& lis
     ids_changed = ids_changed || id[i] != id_at_build[i];
   }
   // A diverged particle forces a rebuild, which reports it (build_cell_grid throws).
-  if (ids_changed || !all_finite) return true;
+  if (!all_finite) return true;
+  return pair_list_needs_rebuild(list, largest_displacement_squared, ids_changed, extra_displacement);
+}
+
+bool pair_list_needs_rebuild(const PairList& list, double largest_displacement_squared, bool ids_changed,
+                             double extra_displacement) {
+  if (list.builds == 0 || ids_changed || !std::isfinite(largest_displacement_squared)) return true;
   return std::sqrt(largest_displacement_squared) + extra_displacement > 0.5 * list.skin;
 }
 

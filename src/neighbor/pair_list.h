@@ -70,4 +70,10 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
 bool pair_list_needs_rebuild(const ParticleStore& particles, const PairList& list,
                              double extra_displacement = 0.0);
 
+// The same decision from a pass over the particles that the caller made itself (the time step
+// folds it into the drift): `largest_displacement_squared` = max_i |xi − xi(build)|² (m²),
+// `ids_changed` = some id differs from ids_at_build. Pre: the particle count is that of the build.
+bool pair_list_needs_rebuild(const PairList& list, double largest_displacement_squared, bool ids_changed,
+                             double extra_displacement);
+
 }  // namespace quarry

@@ -466,6 +466,23 @@ void wall_contacts_of(World& world, std::uint32_t i, std::size_t candidate,
   }
 }
 
+// Reactions of contacts [begin, end) on the surfaces' triangles and vertices, added in order.
+void add_reactions(World& world, const WallContact* begin, const WallContact* end) {
+  for (const WallContact* c = begin; c < end; ++c) {
+    Surface& surface = world.surfaces[c->surface];
+    const Vec3 reaction = -c->force_on_particle;
+    surface.triangle_force[c->triangle] += reaction;
+    const auto& tri = surface.triangles[c->triangle];
+    for (int k = 0; k < 3; ++k) surface.vertex_force[tri[k]] += reaction * c->weights[k];
+    surface.total_force += reaction;
+    surface.total_torque += cross(c->point, reaction);
+  }
+}
+
+// Each thread finds the contacts of a contiguous range of candidates (the first thread into
+// world.wall_contacts, the others into buffers). Then, at the same time, one thread appends
+// the buffers in thread order — candidate order, as one thread would have found them — and
+// another adds the reactions in that same order (deterministic), reading where they were found.
 void wall_forces(World& world) {
   const SurfaceCandidates& cand = world.candidates;
   const std::size_t m = cand.particles.size();
@@ -473,16 +490,20 @@ void wall_forces(World& world) {
   std::swap(ws.previous_wall_contacts, world.wall_contacts);
   world.wall_contacts.clear();
   const std::vector<WallContact>& previous = ws.previous_wall_contacts;
-  const int thread_count = m > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
+  // A candidate costs a few hundred ns (triangles, contact law): worth a team from far fewer
+  // particles than the per-particle loops.
+  const int thread_count = m > parallel_threshold / 8 ? std::max(1, omp_get_max_threads()) : 1;
   if (ws.wall_found.size() < static_cast<std::size_t>(thread_count)) ws.wall_found.resize(thread_count);
+  for (auto& surface : world.surfaces) surface.clear_step_loads();
   int excessive = 0;
   int team = 1;  // threads that ran
+  const WallContact* own = nullptr;  // thread 0's contacts, before the others are appended
+  std::size_t own_count = 0;
 #pragma omp parallel num_threads(thread_count) reduction(| : excessive)
   {
     const int threads = omp_get_num_threads(), t = omp_get_thread_num();
     const std::size_t first = m * t / threads, end = m * (t + 1) / threads;
-    // Per-thread buffers, concatenated in thread order below; one thread needs no third copy.
-    std::vector<WallContact>& out = threads == 1 ? world.wall_contacts : ws.wall_found[t];
+    std::vector<WallContact>& out = t == 0 ? world.wall_contacts : ws.wall_found[t];
     out.clear();
     if (t == 0) team = threads;
     std::vector<SurfaceContact> found;
@@ -500,22 +521,28 @@ void wall_forces(World& world) {
       wall_contacts_of(world, i, c, q, q_stop, found, out, excessive);
       q = q_stop;
     }
+    if (threads > 1) {
+#pragma omp barrier
+#pragma omp single
+      {
+        std::size_t total = 0;
+        for (int u = 0; u < threads; ++u) total += u == 0 ? world.wall_contacts.size() : ws.wall_found[u].size();
+        world.wall_contacts.reserve(total);  // no reallocation while thread 0 reads its part
+        own = world.wall_contacts.data();
+        own_count = world.wall_contacts.size();
+      }
+      if (t == 1) {
+        for (int u = 1; u < threads; ++u)
+          world.wall_contacts.insert(world.wall_contacts.end(), ws.wall_found[u].begin(), ws.wall_found[u].end());
+      } else if (t == 0) {
+        add_reactions(world, own, own + own_count);
+        for (int u = 1; u < threads; ++u)
+          add_reactions(world, ws.wall_found[u].data(), ws.wall_found[u].data() + ws.wall_found[u].size());
+      }
+    }
   }
-  if (team > 1)  // one thread wrote straight into world.wall_contacts
-    for (int t = 0; t < team; ++t)
-      world.wall_contacts.insert(world.wall_contacts.end(), ws.wall_found[t].begin(), ws.wall_found[t].end());
+  if (team == 1) add_reactions(world, world.wall_contacts.data(), world.wall_contacts.data() + world.wall_contacts.size());
   world.excessive_overlap = world.excessive_overlap || excessive != 0;
-  // Reactions on the surfaces, gathered in particle order (deterministic).
-  for (auto& surface : world.surfaces) surface.clear_step_loads();
-  for (const WallContact& c : world.wall_contacts) {
-    Surface& surface = world.surfaces[c.surface];
-    const Vec3 reaction = -c.force_on_particle;
-    surface.triangle_force[c.triangle] += reaction;
-    const auto& tri = surface.triangles[c.triangle];
-    for (int k = 0; k < 3; ++k) surface.vertex_force[tri[k]] += reaction * c.weights[k];
-    surface.total_force += reaction;
-    surface.total_torque += cross(c.point, reaction);
-  }
 }
 
 }  // namespace

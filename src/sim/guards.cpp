@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "integrate/integrator.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -14,10 +15,56 @@ namespace {
 bool finite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
+bool finite_state(const ParticleStore& p, std::size_t i) {
+  return finite(p.position[i]) && finite(p.velocity[i]) && finite(p.angular_velocity[i]);
+}
 std::string show(const Vec3& v) {
   return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z);
 }
 }  // namespace
+
+DriftScan kick_drift_scan(World& world, double h, double dt) {
+  ParticleStore& p = world.particles;
+  const PairList& list = world.pairs;
+  const std::size_t n = p.size();
+  const Aabb& domain = world.spec.simulation.domain.value;
+  const bool check_domain = !domain.empty();
+  const bool compare = list.reference_positions.size() == n && list.ids_at_build.size() == n;
+  const Vec3* const reference = compare ? list.reference_positions.data() : nullptr;
+  const ParticleId* const id_at_build = compare ? list.ids_at_build.data() : nullptr;
+  // Branch-free per particle: x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum
+  // tells whether all nine components are finite; the first offender is found only if one is.
+  int bad = 0, outside = 0, ids_changed = 0;
+  double largest = 0.0;  // m²
+#pragma omp parallel for schedule(static) if (n > parallel_threshold) \
+    reduction(| : bad, outside, ids_changed) reduction(max : largest)
+  for (std::size_t i = 0; i < n; ++i) {
+    integrate::kick_drift_particle(p, i, h, dt);
+    const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
+    const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
+                        (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
+    bad |= !(zero == 0.0);
+    if (check_domain) outside |= !domain.contains(x);  // (predictable: almost always inside)
+    if (compare) {
+      // NaN compares false: a non-finite particle is reported through `bad`, not here.
+      const double d2 = norm2(x - reference[i]);  // m²
+      largest = d2 > largest ? d2 : largest;
+      ids_changed |= p.id[i] != id_at_build[i];
+    }
+  }
+  std::size_t first_bad = n;
+  if (bad)
+    for (std::size_t i = 0; i < n && first_bad == n; ++i)
+      if (!finite_state(p, i)) first_bad = i;
+  DriftScan scan;
+  scan.particles = n;
+  scan.first_non_finite = first_bad;
+  scan.any_outside = outside != 0;
+  scan.list_compared = compare;
+  scan.ids_changed = ids_changed != 0;
+  scan.largest_displacement_squared = largest;
+  return scan;
+}
 
 void check_finite(const World& world) {
   const ParticleStore& p = world.particles;
@@ -26,10 +73,17 @@ void check_finite(const World& world) {
   std::size_t first_bad = n;
 #pragma omp parallel for schedule(static) if (n > parallel_threshold) reduction(min : first_bad)
   for (std::size_t i = 0; i < n; ++i)
-    if (!(finite(p.position[i]) && finite(p.velocity[i]) && finite(p.angular_velocity[i])))
-      first_bad = std::min(first_bad, i);
-  if (first_bad < n) {
-    const std::size_t i = first_bad;
+    if (!finite_state(p, i)) first_bad = std::min(first_bad, i);
+  DriftScan scan;
+  scan.particles = n;
+  scan.first_non_finite = first_bad;
+  check_finite(world, scan);
+}
+
+void check_finite(const World& world, const DriftScan& scan) {
+  const ParticleStore& p = world.particles;
+  if (scan.first_non_finite < scan.particles) {
+    const std::size_t i = scan.first_non_finite;
     throw PhysicsError(fmt::format(
         "step {} (t = {:.6g} s): particle id {} has a non-finite state: position {} m, "
         "velocity {} m/s, angular velocity {} rad/s, force {} N\n"

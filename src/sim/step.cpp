@@ -6,14 +6,16 @@
 
 #include "integrate/integrator.h"
 
+
 namespace quarry::sim {
 
 void step(World& world) {
   const double dt = world.dt;
   const bool verlet = world.spec.simulation.integrator.value == Integrator::velocity_verlet;
+  DriftScan scan;  // what the drift saw: NaNs, particles outside the domain, displacements
   {
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
-    integrate::kick_drift(world.particles, verlet ? 0.5 * dt : dt, dt);
+    scan = kick_drift_scan(world, verlet ? 0.5 * dt : dt, dt);
   }
   world.time += dt;
   world.step_count += 1;
@@ -21,7 +23,7 @@ void step(World& world) {
     // Before anything else looks at positions: a NaN particle must stop the run, not be
     // mistaken for one that left the domain.
     ScopedStage timer(world.timers, world.timers.stage("guards"));
-    check_finite(world);
+    check_finite(world, scan);
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("geometry"));
@@ -29,11 +31,11 @@ void step(World& world) {
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("insert/remove"));
-    insert_and_remove(world);
+    insert_and_remove(world, scan);
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("neighbor"));
-    update_neighbors(world, false);
+    update_neighbors(world, scan);
   }
   compute_forces(world);  // times its own stages
   if (verlet) {

@@ -8,13 +8,30 @@ namespace quarry::sim {
 // Advances the world by one time step dt. Throws PhysicsError if the state becomes invalid.
 void step(World& world);
 
+// What the opening kick-drift saw of the new state (kick_drift_scan). Three stages would each
+// read every position again for it — the NaN guard, the domain check, the list's displacement
+// check — so the step takes it from the drift's own pass over the particles instead.
+struct DriftScan {
+  std::size_t particles = 0;         // n at the scan
+  std::size_t first_non_finite = 0;  // first index with a non-finite x, v or ω; n if none
+  bool any_outside = false;          // some particle is outside the domain
+  bool list_compared = false;        // the list was built for these n particles: the two below hold
+  bool ids_changed = false;          // some id differs from the list's ids at build
+  double largest_displacement_squared = 0.0;  // m², max |xi − xi(build)|² over finite particles
+};
+
 // Stages, in the order step() calls them; exposed for tests and the C ABI.
+DriftScan kick_drift_scan(World& world, double h, double dt);  // kick by h (s), drift by dt (s)
 void move_surfaces(World& world, double time);           // prescribed motion at `time` (s)
 void insert_and_remove(World& world);                    // factories; particles leaving the domain
 void update_neighbors(World& world, bool force_rebuild); // Verlet/candidate lists when needed
 void compute_forces(World& world);                        // contacts, gravity, external forces
 void check_finite(const World& world);                    // NaN/inf guard (after the drift)
 void check_overlaps(const World& world);                  // overlap guard (after the forces)
+// The same stages taking what the drift's scan saw instead of a pass of their own.
+void check_finite(const World& world, const DriftScan& scan);
+void insert_and_remove(World& world, const DriftScan& scan);
+void update_neighbors(World& world, const DriftScan& scan);
 
 // Rebuilds every list now (after particles were added/removed/moved from outside).
 void rebuild_lists(World& world);

@@ -99,16 +99,29 @@ void move_surfaces(World& world, double time) {
 }
 
 void insert_and_remove(World& world) {
-  ParticleStore& p = world.particles;
-  // Particles outside the domain are removed and counted (guard 11).
+  const ParticleStore& p = world.particles;
   const Aabb& domain = world.spec.simulation.domain.value;
+  // One parallel pass to see whether anything left (almost never).
+  const std::size_t n = p.size();
+  bool any = false;
   if (!domain.empty()) {
-    // One parallel pass to see whether anything left (almost never); flags only then.
-    const std::size_t n = p.size();
-    bool any = false;
 #pragma omp parallel for schedule(static) if (n > parallel_threshold) reduction(|| : any)
     for (std::size_t i = 0; i < n; ++i) any = any || !domain.contains(p.position[i]);
-    if (any) {
+  }
+  DriftScan scan;
+  scan.particles = n;
+  scan.first_non_finite = n;
+  scan.any_outside = any;
+  insert_and_remove(world, scan);
+}
+
+void insert_and_remove(World& world, const DriftScan& scan) {
+  ParticleStore& p = world.particles;
+  // Particles outside the domain are removed and counted (guard 11): flags only if any left.
+  const Aabb& domain = world.spec.simulation.domain.value;
+  if (!domain.empty()) {
+    const std::size_t n = p.size();
+    if (scan.any_outside) {
       std::vector<char> outside(n, 0);
       for (std::size_t i = 0; i < n; ++i) outside[i] = !domain.contains(p.position[i]);
       world.removed_outside += static_cast<std::uint64_t>(std::count(outside.begin(), outside.end(), 1));
@@ -161,6 +174,19 @@ void update_neighbors(World& world, bool force_rebuild) {
   const double surface_motion = world.has_moving_surfaces() ? max_surface_displacement(world) : 0.0;
   if (force_rebuild || world.lists_stale ||
       pair_list_needs_rebuild(world.particles, world.pairs, surface_motion))
+    rebuild_lists(world);
+}
+
+void update_neighbors(World& world, const DriftScan& scan) {
+  // The scan holds for the particles as they are unless something was inserted or removed
+  // since (that marks the lists stale) or the scan could not compare with the list.
+  if (world.lists_stale || !scan.list_compared || scan.particles != world.particles.size()) {
+    update_neighbors(world, false);
+    return;
+  }
+  world.steps_since_sort += 1;
+  const double surface_motion = world.has_moving_surfaces() ? max_surface_displacement(world) : 0.0;
+  if (pair_list_needs_rebuild(world.pairs, scan.largest_displacement_squared, scan.ids_changed, surface_motion))
     rebuild_lists(world);
 }
 

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "geometry/stl_reader.h"
+#include "integrate/integrator.h"
 #include "sim/run.h"
 #include "verification/test_support.h"
 
@@ -217,6 +219,65 @@ TEST(Verification, NonFiniteStateStopsWithStepParticleAndHint) {
     EXPECT_NE(text.find("particle id 1 "), std::string::npos) << text;
     EXPECT_NE(text.find("nan"), std::string::npos) << text;
     EXPECT_NE(text.find("hint:"), std::string::npos) << text;
+  }
+}
+
+}  // namespace
+}  // namespace quarry
+
+namespace quarry {
+namespace {
+
+// The time step folds the NaN guard, the domain check and the list's displacement check into
+// the drift's pass (sim::kick_drift_scan). Its findings must be those of the separate passes:
+// same state after the kick-drift, same first non-finite particle, same "someone left", and the
+// same rebuild decision (Verlet criterion max |x − x_build| > skin/2, Allen & Tildesley 1987).
+TEST(Verification, DriftScanAgreesWithTheSeparatePasses) {
+  SimulationSpec spec = parse_deck(deck_path("tests/verification/01-settled-bed/deck.yaml"));
+  World fused = start_world(spec);
+  for (int n = 0; n < 50; ++n) sim::step(fused);
+  const std::size_t n = fused.particles.size();
+  ASSERT_GT(n, 100u);
+  const double h = 0.5 * fused.dt, dt = fused.dt;  // s
+  const auto separate_largest = [](const World& w) {
+    double largest = 0.0;  // m²
+    for (std::size_t i = 0; i < w.particles.size(); ++i)
+      largest = std::max(largest, norm2(w.particles.position[i] - w.pairs.reference_positions[i]));
+    return largest;
+  };
+  {
+    World separate = fused;
+    const sim::DriftScan scan = sim::kick_drift_scan(fused, h, dt);
+    integrate::kick_drift(separate.particles, h, dt);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(fused.particles.position[i], separate.particles.position[i]);
+    EXPECT_EQ(scan.particles, n);
+    EXPECT_EQ(scan.first_non_finite, n);
+    EXPECT_FALSE(scan.any_outside);
+    EXPECT_TRUE(scan.list_compared);
+    EXPECT_FALSE(scan.ids_changed);
+    EXPECT_EQ(scan.largest_displacement_squared, separate_largest(separate));
+    EXPECT_EQ(pair_list_needs_rebuild(fused.pairs, scan.largest_displacement_squared, scan.ids_changed, 0.0),
+              pair_list_needs_rebuild(separate.particles, separate.pairs));
+  }
+  {
+    // One particle moved past the skin/2 criterion in one drift: a rebuild.
+    World w = fused;
+    w.particles.velocity[n / 3] = {0.6 * w.skin / dt, 0.0, 0.0};  // m/s
+    const sim::DriftScan scan = sim::kick_drift_scan(w, h, dt);
+    EXPECT_FALSE(scan.any_outside);
+    EXPECT_TRUE(pair_list_needs_rebuild(w.pairs, scan.largest_displacement_squared, false, 0.0));
+    EXPECT_TRUE(pair_list_needs_rebuild(w.particles, w.pairs));
+  }
+  {
+    // One particle outside the domain, two made NaN: the first of them is reported.
+    World w = fused;
+    w.particles.position[n / 2] = w.spec.simulation.domain.value.hi + Vec3{1.0, 1.0, 1.0};
+    w.particles.angular_velocity[n - 2].y = std::nan("");
+    w.particles.angular_velocity[n - 1].x = std::nan("");
+    const sim::DriftScan scan = sim::kick_drift_scan(w, h, dt);
+    EXPECT_EQ(scan.first_non_finite, n - 2);
+    EXPECT_TRUE(scan.any_outside);
+    EXPECT_THROW(sim::check_finite(w, scan), PhysicsError);
   }
 }
 
