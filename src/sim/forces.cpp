@@ -96,13 +96,18 @@ struct PairView {
   return true;
 }
 
-// First row of each thread's range: balances rows + pairs (both cost), ascending.
-void split_rows(const std::uint32_t* offsets, std::size_t n, int threads, std::vector<std::uint32_t>& start) {
+// First row of each thread's range: range t gets the fraction share[t] of rows + pairs (both
+// cost), ascending.
+void split_rows(const std::uint32_t* offsets, std::size_t n, const std::vector<double>& share,
+                std::vector<std::uint32_t>& start) {
+  const int threads = static_cast<int>(share.size());
   start.assign(static_cast<std::size_t>(threads) + 1, static_cast<std::uint32_t>(n));
   const double total = static_cast<double>(offsets[n]) + static_cast<double>(n);
   start[0] = 0;
+  double cumulative = 0.0;
   for (int t = 1; t < threads; ++t) {
-    const double target = total * t / threads;
+    cumulative += share[t - 1];
+    const double target = total * cumulative;
     std::size_t lo = 0, hi = n;  // first i with offsets[i] + i >= target
     while (lo < hi) {
       const std::size_t mid = (lo + hi) / 2;
@@ -113,13 +118,38 @@ void split_rows(const std::uint32_t* offsets, std::size_t n, int threads, std::v
   }
 }
 
+// After a step on several threads: moves the shares towards equal time per thread. Thread t
+// did plan.share[t] of the work in range_time[t] s; the next plan gives each thread a share
+// proportional to its measured rate, blended with the current one to damp noise.
+void learn_shares(ForceWorkspace& ws) {
+  const std::size_t threads = ws.plan.share.size();
+  if (threads < 2 || ws.range_time.size() < threads || ws.range_share.size() != threads) return;
+  std::vector<double> rate(threads);
+  double sum = 0.0;
+  for (std::size_t t = 0; t < threads; ++t) {
+    if (!(ws.range_time[t] > 0.0)) return;
+    rate[t] = ws.plan.share[t] / ws.range_time[t];
+    sum += rate[t];
+  }
+  for (std::size_t t = 0; t < threads; ++t) {
+    const double blended = 0.9 * ws.range_share[t] + 0.1 * rate[t] / sum;
+    ws.range_share[t] = std::clamp(blended, 0.25 / static_cast<double>(threads), 1.0);
+  }
+  double norm = 0.0;
+  for (double x : ws.range_share) norm += x;
+  for (double& x : ws.range_share) x /= norm;
+}
+
 // The thread layout for this list: ranges, and the crossing pairs listed once (partners are
 // ascending within a row, so a row's crossing pairs are its tail). Cost O(n + crossing), once
 // per list build rather than a scan of every pair every step.
-void make_plan(const PairList& list, std::size_t n, int threads, ForceWorkspace::PairPlan& plan) {
+void make_plan(const PairList& list, std::size_t n, int threads, std::vector<double>& shares,
+               ForceWorkspace::PairPlan& plan) {
   plan.builds = list.builds, plan.rows = n, plan.pairs = list.size(), plan.threads = threads;
+  if (shares.size() != static_cast<std::size_t>(threads)) shares.assign(threads, 1.0 / threads);
+  plan.share = shares;
   const std::uint32_t* const offsets = list.offsets.data();
-  split_rows(offsets, n, threads, plan.range_start);
+  split_rows(offsets, n, plan.share, plan.range_start);
   plan.crossing_row.clear();
   plan.crossing_pair.clear();
   plan.crossing_begin.assign(1, 0);
@@ -230,7 +260,8 @@ void pair_and_body_forces(World& world) {
 #pragma omp single
     {
       if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size() || plan.threads != threads)
-        make_plan(list, n, threads, plan);
+        make_plan(list, n, threads, ws.range_share, plan);
+      ws.range_time.assign(threads, 0.0);
       ws.crossing.resize(plan.crossing_pair.size());
     }
     const std::uint32_t first = plan.range_start[t], end = plan.range_start[t + 1];
@@ -267,6 +298,7 @@ void pair_and_body_forces(World& world) {
       flush();
     }
 #pragma omp barrier
+    const double phase2_start = omp_get_wtime();  // s
     // Phase 2: start from the earlier ranges' crossing contributions (ascending source row),
     // then the rows in order.
     for (std::uint32_t i = first; i < end; ++i) force[i] = torque[i] = Vec3{};
@@ -384,7 +416,9 @@ void pair_and_body_forces(World& world) {
     } else {
       for (std::uint32_t i = first; i < end; ++i) scalar_row(i);
     }
+    ws.range_time[t] = omp_get_wtime() - phase2_start;
   }
+  learn_shares(ws);
   world.excessive_overlap = excessive != 0;
 }
 

@@ -78,8 +78,13 @@ struct ForceWorkspace {
     // The crossing pairs of all ranges, by range, row and pair (ascending): row i, pair k.
     std::vector<std::uint32_t> crossing_row, crossing_pair;
     std::vector<std::uint32_t> crossing_begin;  // threads + 1: range t's are [begin[t], begin[t+1])
+    std::vector<double> share;                  // threads: the fraction of rows + pairs in each range
   };
   PairPlan plan;
+  // Balance of the ranges, learnt from the time each thread spent on its rows: the fraction of
+  // rows + pairs the next plan gives each thread (the split changes only speed: the sums are
+  // the same for any split). range_time: seconds per thread in the last step.
+  std::vector<double> range_share, range_time;
   std::vector<CrossingPair> crossing;                 // results, aligned with plan.crossing_pair
   std::vector<HertzMindlinBatch> batches;             // per thread (batched contact kernel)
   std::vector<std::vector<WallContact>> wall_found;  // per thread
