@@ -48,6 +48,14 @@ struct PairView {
   double overlap_limit;  // fraction of the smaller radius
 };
 
+// The overlap guard for touching spheres at squared centre distance distance2 (m²): true if
+// the overlap passes limit·min(Ri, Rj), i.e. δ > limit·min(Ri, Rj) ⇔ |d| < Ri + Rj − limit·min.
+// Branch-free, for both force paths.
+[[gnu::always_inline]] inline bool past_overlap_limit(double distance2, double ri, double rj, double limit) {
+  const double inner = (ri + rj) - limit * std::min(ri, rj);  // m
+  return !(inner > 0.0) | (distance2 < inner * inner);
+}
+
 // Head of both paths for pair k = (i, j): x_i − x_j and its square. False if the spheres do not
 // touch; the pair's history is then reset (the spring is released when contact is lost).
 // Otherwise sets `excessive` if the overlap passes the guard's limit (check_overlaps reports
@@ -62,8 +70,7 @@ struct PairView {
     if (v.rolling) v.rolling[k] = {};
     return false;
   }
-  const double inner = touch - v.overlap_limit * std::min(v.radius[i], v.radius[j]);  // m
-  excessive |= !(inner > 0.0) || distance2 < inner * inner;
+  excessive |= past_overlap_limit(distance2, v.radius[i], v.radius[j], v.overlap_limit);
   return true;
 }
 
@@ -124,15 +131,14 @@ void split_rows(const std::uint32_t* offsets, std::size_t n, const std::vector<d
 void learn_shares(ForceWorkspace& ws) {
   const std::size_t threads = ws.plan.share.size();
   if (threads < 2 || ws.range_time.size() < threads || ws.range_share.size() != threads) return;
-  std::vector<double> rate(threads);
+  const auto rate = [&ws](std::size_t t) { return ws.plan.share[t] / ws.range_time[t]; };
   double sum = 0.0;
   for (std::size_t t = 0; t < threads; ++t) {
     if (!(ws.range_time[t] > 0.0)) return;
-    rate[t] = ws.plan.share[t] / ws.range_time[t];
-    sum += rate[t];
+    sum += rate(t);
   }
   for (std::size_t t = 0; t < threads; ++t) {
-    const double blended = 0.9 * ws.range_share[t] + 0.1 * rate[t] / sum;
+    const double blended = 0.9 * ws.range_share[t] + 0.1 * rate(t) / sum;
     ws.range_share[t] = std::clamp(blended, 0.25 / static_cast<double>(threads), 1.0);
   }
   double norm = 0.0;
@@ -186,8 +192,7 @@ struct RowParticle {
   const double touch = pi.radius + rj;  // m
   const double distance2 = norm2(d);    // m²
   const bool touches = !(distance2 >= touch * touch);
-  const double inner = touch - v.overlap_limit * std::min(pi.radius, rj);  // m
-  excessive |= touches & (!(inner > 0.0) | (distance2 < inner * inner));
+  excessive |= touches & past_overlap_limit(distance2, pi.radius, rj, v.overlap_limit);
   const int m = b.count;
   b.pair[m] = k, b.slot[m] = j;
   b.dx[m] = d.x, b.dy[m] = d.y, b.dz[m] = d.z, b.distance2[m] = distance2;

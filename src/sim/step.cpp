@@ -6,7 +6,6 @@
 
 #include "integrate/integrator.h"
 
-
 namespace quarry::sim {
 
 void step(World& world) {

@@ -169,25 +169,34 @@ void rebuild_lists(World& world) {
   world.lists_stale = false;
 }
 
-void update_neighbors(World& world, bool force_rebuild) {
+namespace {
+
+// Counts the step towards the next sort, and rebuilds the lists if they are stale or
+// needs_rebuild(surface motion since the build, m) says so.
+template <class Decide>
+void update_neighbors_by(World& world, Decide&& needs_rebuild) {
   world.steps_since_sort += 1;
   const double surface_motion = world.has_moving_surfaces() ? max_surface_displacement(world) : 0.0;
-  if (force_rebuild || world.lists_stale ||
-      pair_list_needs_rebuild(world.particles, world.pairs, surface_motion))
-    rebuild_lists(world);
+  if (world.lists_stale || needs_rebuild(surface_motion)) rebuild_lists(world);
+}
+
+}  // namespace
+
+void update_neighbors(World& world, bool force_rebuild) {
+  update_neighbors_by(world, [&](double surface_motion) {
+    return force_rebuild || pair_list_needs_rebuild(world.particles, world.pairs, surface_motion);
+  });
 }
 
 void update_neighbors(World& world, const DriftScan& scan) {
   // The scan holds for the particles as they are unless something was inserted or removed
-  // since (that marks the lists stale) or the scan could not compare with the list.
-  if (world.lists_stale || !scan.list_compared || scan.particles != world.particles.size()) {
-    update_neighbors(world, false);
-    return;
-  }
-  world.steps_since_sort += 1;
-  const double surface_motion = world.has_moving_surfaces() ? max_surface_displacement(world) : 0.0;
-  if (pair_list_needs_rebuild(world.pairs, scan.largest_displacement_squared, scan.ids_changed, surface_motion))
-    rebuild_lists(world);
+  // since (that marks the lists stale) or it could not compare with the list: then a pass.
+  const bool scanned = scan.list_compared && scan.particles == world.particles.size();
+  update_neighbors_by(world, [&](double surface_motion) {
+    return scanned ? pair_list_needs_rebuild(world.pairs, scan.largest_displacement_squared,
+                                             scan.ids_changed, surface_motion)
+                   : pair_list_needs_rebuild(world.particles, world.pairs, surface_motion);
+  });
 }
 
 }  // namespace quarry::sim
