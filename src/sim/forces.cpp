@@ -146,9 +146,23 @@ void learn_shares(ForceWorkspace& ws) {
   for (double& x : ws.range_share) x /= norm;
 }
 
+// True if the learnt shares have moved away from the plan's by more than 1 % of the work on
+// some thread: the ranges are then drawn again before the next list build. A neighbour on a
+// shared host that slows one core for some tens of steps would otherwise hold the other thread
+// at the barrier until the list is rebuilt (measured at 200k on 2 threads: bursts of 10–100
+// steps with one thread 20–30 % slower). A new plan costs one pass over the rows' last
+// partners, about 0.5 ms at 200k; it was made about once per 15 steps there.
+bool shares_moved(const ForceWorkspace& ws) {
+  constexpr double kShift = 0.01;  // fraction of the step's rows + pairs
+  if (ws.range_share.size() != ws.plan.share.size()) return false;
+  for (std::size_t t = 0; t < ws.range_share.size(); ++t)
+    if (std::abs(ws.range_share[t] - ws.plan.share[t]) > kShift) return true;
+  return false;
+}
+
 // The thread layout for this list: ranges, and the crossing pairs listed once (partners are
 // ascending within a row, so a row's crossing pairs are its tail). Cost O(n + crossing), once
-// per list build rather than a scan of every pair every step.
+// per list build (or when the shares move) rather than a scan of every pair every step.
 void make_plan(const PairList& list, std::size_t n, int threads, std::vector<double>& shares,
                ForceWorkspace::PairPlan& plan) {
   plan.builds = list.builds, plan.rows = n, plan.pairs = list.size(), plan.threads = threads;
@@ -168,6 +182,14 @@ void make_plan(const PairList& list, std::size_t n, int threads, std::vector<dou
     }
     plan.crossing_begin.push_back(static_cast<std::uint32_t>(plan.crossing_pair.size()));
   }
+}
+
+// Starts loading what the contact of particle i reads (positions and velocities).
+[[gnu::always_inline]] inline void prefetch_particle(const PairView& v, std::uint32_t i) {
+  __builtin_prefetch(v.position + i);
+  __builtin_prefetch(v.radius + i);
+  __builtin_prefetch(v.velocity + i);
+  __builtin_prefetch(v.angular_velocity + i);
 }
 
 // Particle i's data, read once per row: the compiler cannot keep it in registers across the
@@ -264,7 +286,8 @@ void pair_and_body_forces(World& world) {
     const int threads = omp_get_num_threads(), t = omp_get_thread_num();
 #pragma omp single
     {
-      if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size() || plan.threads != threads)
+      if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size() || plan.threads != threads ||
+          shares_moved(ws))
         make_plan(list, n, threads, ws.range_share, plan);
       ws.range_time.assign(threads, 0.0);
       ws.crossing.resize(plan.crossing_pair.size());
@@ -273,6 +296,7 @@ void pair_and_body_forces(World& world) {
     // Phase 1: the crossing pairs of all ranges (partner in a later range), shared evenly by
     // the threads; each result goes to its own slot, whichever thread computes it.
     if (threads > 1) {
+      constexpr std::size_t kCrossingPrefetch = 8;  // pairs
       const std::size_t total = plan.crossing_pair.size();
       const std::size_t from = total * t / threads, to = total * (t + 1) / threads;
       HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
@@ -284,6 +308,15 @@ void pair_and_body_forces(World& world) {
       };
       if constexpr (kBatched) batch->count = 0;
       for (std::size_t q = from; q < to; ++q) {
+        // Crossing pairs lie on the ranges' borders, scattered through the arrays: nothing of
+        // them is in cache. Start loading both particles a few pairs ahead.
+        if (q + kCrossingPrefetch < to) {
+          const std::uint32_t ahead_i = plan.crossing_row[q + kCrossingPrefetch];
+          const std::uint32_t ahead_j = v.partner[plan.crossing_pair[q + kCrossingPrefetch]];
+          prefetch_particle(v, ahead_i);
+          prefetch_particle(v, ahead_j);
+          __builtin_prefetch(v.tangential + plan.crossing_pair[q + kCrossingPrefetch], 1);
+        }
         const std::uint32_t i = plan.crossing_row[q], k = plan.crossing_pair[q], j = v.partner[k];
         CrossingPair& c = ws.crossing[q];
         c.partner = j;
@@ -379,10 +412,7 @@ void pair_and_body_forces(World& world) {
             // (beyond a few 10^4 particles the partners' data comes from L3 or memory).
             if (k + kPrefetchDistance < pair_end) {
               const std::uint32_t ahead = v.partner[k + kPrefetchDistance];
-              __builtin_prefetch(v.position + ahead);
-              __builtin_prefetch(v.radius + ahead);
-              __builtin_prefetch(v.velocity + ahead);
-              __builtin_prefetch(v.angular_velocity + ahead);
+              prefetch_particle(v, ahead);
               __builtin_prefetch(force + ahead, 1);
               __builtin_prefetch(torque + ahead, 1);
             }

@@ -83,7 +83,8 @@ struct ForceWorkspace {
   PairPlan plan;
   // Balance of the ranges, learnt from the time each thread spent on its rows: the fraction of
   // rows + pairs the next plan gives each thread (the split changes only speed: the sums are
-  // the same for any split). range_time: seconds per thread in the last step.
+  // the same for any split); a plan is made at each list build, or as soon as the shares move
+  // by more than 1 % of the work. range_time: seconds per thread in the last step.
   std::vector<double> range_share, range_time;
   std::vector<CrossingPair> crossing;                 // results, aligned with plan.crossing_pair
   std::vector<HertzMindlinBatch> batches;             // per thread (batched contact kernel)
