@@ -1,10 +1,12 @@
-// Tests of the Morton spatial sort: a permutation, the Z-order of a 2×2×2 block, ties by id,
-// and better memory locality (shorter hops between consecutive particles) than random order.
+// Tests of the Hilbert spatial sort: the curve's face-neighbour property, a block sorted cell by
+// cell, ties by id, and better memory locality (shorter hops between consecutive particles)
+// than random order.
 #include "neighbor/spatial_sort.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <random>
 
 #include "neighbor/test_scenes.h"
@@ -12,17 +14,46 @@
 namespace quarry {
 namespace {
 
-TEST(SpatialSort, TwoByTwoByTwoCellsFollowTheZOrder) {
-  // Cell centres of a 2×2×2 block, added in reverse Morton order; x is the lowest Morton bit.
-  ParticleStore particles;
-  for (int code = 7; code >= 0; --code) {
-    const Vec3 x{0.5e-3 + 1e-3 * (code & 1), 0.5e-3 + 1e-3 * ((code >> 1) & 1),
-                 0.5e-3 + 1e-3 * ((code >> 2) & 1)};
-    particles.add(static_cast<ParticleId>(100 + code), 0, 0, x, {}, 0.1e-3, 2500.0, 0.0);
+// The defining property of the Hilbert curve (Hilbert 1891), which a Z curve lacks: it visits
+// every cell of the 2^b cube once, and cells with consecutive indices share a face.
+TEST(SpatialSort, HilbertIndexVisitsEveryCellOnceThroughFaceNeighbours) {
+  for (int bits = 1; bits <= 4; ++bits) {
+    const std::uint32_t side = 1u << bits;
+    std::vector<std::array<std::uint32_t, 3>> cell_at(std::size_t{side} * side * side, {side, side, side});
+    for (std::uint32_t z = 0; z < side; ++z)
+      for (std::uint32_t y = 0; y < side; ++y)
+        for (std::uint32_t x = 0; x < side; ++x) {
+          const std::uint64_t h = hilbert_index({x, y, z}, bits);
+          ASSERT_LT(h, cell_at.size()) << "bits " << bits;
+          ASSERT_EQ(cell_at[h][0], side) << "index " << h << " given twice, bits " << bits;
+          cell_at[h] = {x, y, z};
+        }
+    EXPECT_EQ(cell_at[0], (std::array<std::uint32_t, 3>{0, 0, 0}));
+    for (std::size_t h = 1; h < cell_at.size(); ++h) {
+      int steps = 0;
+      for (int d = 0; d < 3; ++d)
+        steps += static_cast<int>(std::max(cell_at[h][d], cell_at[h - 1][d]) - std::min(cell_at[h][d], cell_at[h - 1][d]));
+      ASSERT_EQ(steps, 1) << "cells " << h - 1 << " and " << h << " are not face neighbours, bits " << bits;
+    }
   }
-  const auto order = spatial_order(particles, 0.9e-3);
-  const std::vector<std::size_t> expected{7, 6, 5, 4, 3, 2, 1, 0};
-  EXPECT_EQ(order, expected);
+  // The curve starts at the origin and fills each octant before the next: on a finer curve the
+  // 4×4×4 corner block still takes the first 64 indices.
+  for (std::uint32_t z = 0; z < 4; ++z)
+    for (std::uint32_t y = 0; y < 4; ++y)
+      for (std::uint32_t x = 0; x < 4; ++x) EXPECT_LT(hilbert_index({x, y, z}, 5), 64u);
+}
+
+TEST(SpatialSort, ParticlesOfAFourCubedBlockFollowTheCurveCellByCell) {
+  // One particle at each cell centre of a 4×4×4 block (cells of 1 mm), added in reverse grid
+  // order: after sorting, consecutive particles are exactly one cell apart.
+  ParticleStore particles;
+  for (int c = 63; c >= 0; --c) {
+    const Vec3 x{0.5e-3 + 1e-3 * (c % 4), 0.5e-3 + 1e-3 * (c / 4 % 4), 0.5e-3 + 1e-3 * (c / 16)};
+    particles.add(static_cast<ParticleId>(100 + c), 0, 0, x, {}, 0.1e-3, 2500.0, 0.0);
+  }
+  particles.permute(spatial_order(particles, 0.9e-3));
+  for (std::size_t i = 1; i < particles.size(); ++i)
+    EXPECT_NEAR(norm(particles.position[i] - particles.position[i - 1]), 1e-3, 1e-12) << i;
 }
 
 TEST(SpatialSort, TiesInOneCellAreOrderedById) {
@@ -48,7 +79,7 @@ TEST(SpatialSort, IsAPermutationThatShortensHopsBetweenNeighboursInMemory) {
   };
   const double random_hop = mean_hop(cloud);  // m, ≈ 0.66 × edge for random points in a cube
   cloud.permute(order);
-  // Along a Z curve consecutive particles are mostly in the same or an adjacent cell.
+  // Along the curve consecutive particles are mostly in the same or an adjacent cell.
   EXPECT_LT(mean_hop(cloud), 0.1 * random_hop);
   EXPECT_TRUE(spatial_order(ParticleStore{}, 1e-3).empty());
 }
