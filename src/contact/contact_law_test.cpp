@@ -204,7 +204,9 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
       cases.push_back(k);
       starts.push_back(start);
     }
-    evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5);
+    // The overlap guard: these overlaps (at most 2.01e-6 m on radii of at least 0.5e-3 m) stay
+    // below 0.41 % of the smaller radius.
+    EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.005));
     for (int m = 0; m < batch->count; ++m) {
       ContactHistory history{starts[m], Vec3{}};
       const ContactResult expected = evaluate_contact(parameters, cases[m], history, 1e-5);
@@ -222,6 +224,36 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
   }
   EXPECT_GT(sliding, 100);   // both regimes were exercised
   EXPECT_LT(sliding, 1900);
+}
+
+// The batched kernel's overlap guard flags δ > limit·min(Ri, Rj) exactly as the run's report
+// (sim::check_overlaps) measures it, and never for the padding lanes of a part-filled batch.
+TEST(EvaluateContact, BatchKernelOverlapGuardFlagsTheContactPastTheLimitAndNotThePadding) {
+  InteractionSpec spec;
+  spec.restitution = 0.5;
+  spec.static_friction = 0.5;
+  const InteractionParameters parameters = make_interaction(steel, glass, spec);
+  auto batch = std::make_unique<HertzMindlinBatch>();
+  const auto one_contact = [&](double overlap, double ri, double rj) {
+    batch->count = 1;
+    const double distance = (ri + rj) - overlap;  // m, along x
+    batch->dx[0] = distance, batch->dy[0] = batch->dz[0] = 0.0, batch->distance2[0] = distance * distance;
+    batch->radius_i[0] = ri, batch->radius_j[0] = rj;
+    batch->inv_mass_i[0] = batch->inv_mass_j[0] = 1e5;
+    batch->vx[0] = batch->vy[0] = batch->vz[0] = 0.0;
+    batch->wix[0] = batch->wiy[0] = batch->wiz[0] = batch->wjx[0] = batch->wjy[0] = batch->wjz[0] = 0.0;
+    batch->hx[0] = batch->hy[0] = batch->hz[0] = 0.0;
+  };
+  // 1e-6 m on a smaller radius of 1e-3 m: 0.1 %. The padding lanes (δ = 0.5 of R = 0.75)
+  // would pass a 10 % limit if they were counted.
+  one_contact(1e-6, 1e-3, 2e-3);
+  EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.1));
+  one_contact(1e-6, 1e-3, 2e-3);
+  EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0011));
+  one_contact(1e-6, 1e-3, 2e-3);
+  EXPECT_TRUE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0009));
+  one_contact(1e-6, 2e-3, 1e-3);  // the smaller radius is j's
+  EXPECT_TRUE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0009));
 }
 
 }  // namespace

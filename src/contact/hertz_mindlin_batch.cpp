@@ -1,14 +1,15 @@
 // The batched Hertz–Mindlin kernel (hertz_mindlin_batch.h), compiled once per vector width.
 #include "contact/hertz_mindlin_batch.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace quarry {
 
 // GCC function multiversioning: one clone per target, chosen once at load time (ifunc).
 __attribute__((target_clones("arch=x86-64-v4", "default")))
-void evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, HertzMindlinBatch& b,
-                                  double dt) {
+bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, HertzMindlinBatch& b,
+                                  double dt, double overlap_limit) {
   // Pad to whole vectors with a resting contact of unit size: finite, and never read back.
   const int padded = (b.count + HertzMindlinBatch::kLanes - 1) / HertzMindlinBatch::kLanes *
                      HertzMindlinBatch::kLanes;
@@ -25,7 +26,9 @@ void evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
   const double normal_damping_factor = parameters.hertz_normal_damping;
   const double tangential_damping_factor = parameters.hertz_tangential_damping;
   const double friction = parameters.static_friction;             // μs
-#pragma omp simd
+  const int count = b.count;
+  int excessive = 0;
+#pragma omp simd reduction(| : excessive)
   for (int m = 0; m < padded; ++m) {
     const double distance = std::sqrt(b.distance2[m]);  // m
     const double inverse = 1.0 / distance;
@@ -35,6 +38,9 @@ void evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double effective_radius = ri * rj / (ri + rj);                      // m, R*
     const double effective_mass = 1.0 / (b.inv_mass_i[m] + b.inv_mass_j[m]);  // kg, m*
     const double lever_i = ri - 0.5 * overlap, lever_j = rj - 0.5 * overlap;  // m
+    // The run's overlap guard, δ > limit·min(Ri, Rj), in the same arithmetic as the report
+    // (sim::check_overlaps); the padding lanes are not contacts.
+    excessive |= (m < count) & (overlap > overlap_limit * std::min(ri, rj));
     // Relative velocity at the contact point: (v_i − v_j) − (lever_i ω_i + lever_j ω_j) × n.
     const double sx = lever_i * b.wix[m] + lever_j * b.wjx[m];
     const double sy = lever_i * b.wiy[m] + lever_j * b.wjy[m];
@@ -87,6 +93,7 @@ void evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     b.tix[m] = -lever_i * cx, b.tiy[m] = -lever_i * cy, b.tiz[m] = -lever_i * cz;
     b.tjx[m] = -lever_j * cx, b.tjy[m] = -lever_j * cy, b.tjz[m] = -lever_j * cz;
   }
+  return excessive != 0;
 }
 
 }  // namespace quarry

@@ -44,10 +44,13 @@ struct HertzMindlinBatch {
 };
 
 // Evaluates contacts [0, batch.count) (each touching: distance2 < (radius_i + radius_j)²).
+// Returns true if some contact overlaps by more than overlap_limit × the smaller radius (the
+// run's guard, simulation.max_overlap_fraction): checked here, in vector form, rather than
+// per pair while the batch is collected.
 // Cost: about a quarter (AVX2) to an eighth (AVX-512) of the scalar law per contact. Built for
 // AVX-512 and for the release target; the loader picks the one the processor runs (both give
 // the same bits: IEEE operations, no contraction, correctly rounded sqrt and division).
-void evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, HertzMindlinBatch& batch,
-                                  double dt);
+bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, HertzMindlinBatch& batch,
+                                  double dt, double overlap_limit);
 
 }  // namespace quarry

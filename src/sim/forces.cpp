@@ -50,7 +50,7 @@ struct PairView {
 
 // The overlap guard for touching spheres at squared centre distance distance2 (m²): true if
 // the overlap passes limit·min(Ri, Rj), i.e. δ > limit·min(Ri, Rj) ⇔ |d| < Ri + Rj − limit·min.
-// Branch-free, for both force paths.
+// For the scalar path; the batched kernel checks its contacts itself.
 [[gnu::always_inline]] inline bool past_overlap_limit(double distance2, double ri, double rj, double limit) {
   const double inner = (ri + rj) - limit * std::min(ri, rj);  // m
   return !(inner > 0.0) | (distance2 < inner * inner);
@@ -204,17 +204,17 @@ struct RowParticle {
 }
 
 // Batched path: writes pair k = (i, j) into the batch's next lane, which is kept (count
-// advances) if the spheres touch — no branch on touching, which is unpredictable. Also as in
-// `touching`: the history of a pair not touching is released (a touching pair's is rewritten
-// with the kernel's result), and `excessive` is set past the overlap guard's limit.
+// advances) if the spheres touch — no branch on touching, which is unpredictable. As in
+// `touching`, the history of a pair not touching is released (a touching pair's is rewritten
+// with the kernel's result); the kernel applies the overlap guard. There is no rolling
+// history on this path (compute_forces).
 [[gnu::always_inline]] inline void collect_pair(const PairView& v, const RowParticle& pi, std::uint32_t j,
-                                                std::uint32_t k, HertzMindlinBatch& b, int& excessive) {
+                                                std::uint32_t k, HertzMindlinBatch& b) {
   const Vec3 d = pi.position - v.position[j];
   const double rj = v.radius[j];        // m
   const double touch = pi.radius + rj;  // m
   const double distance2 = norm2(d);    // m²
   const bool touches = !(distance2 >= touch * touch);
-  excessive |= touches & past_overlap_limit(distance2, pi.radius, rj, v.overlap_limit);
   const int m = b.count;
   b.pair[m] = k, b.slot[m] = j;
   b.dx[m] = d.x, b.dy[m] = d.y, b.dz[m] = d.z, b.distance2[m] = distance2;
@@ -228,15 +228,14 @@ struct RowParticle {
   const Vec3 h = v.tangential[k];
   b.hx[m] = h.x, b.hy[m] = h.y, b.hz[m] = h.z;
   v.tangential[k] = {};
-  if (v.rolling && !touches) v.rolling[k] = {};  // (none with plain Hertz–Mindlin)
   b.count = m + touches;
 }
 
 // Batched path (phase 1): appends pair k = (i, j) to the batch if the spheres touch.
 [[gnu::always_inline]] inline bool add_if_touching(const PairView& v, std::uint32_t i, std::uint32_t j,
-                                                   std::uint32_t k, HertzMindlinBatch& b, int& excessive) {
+                                                   std::uint32_t k, HertzMindlinBatch& b) {
   const int before = b.count;
-  collect_pair(v, row_particle(v, i), j, k, b, excessive);
+  collect_pair(v, row_particle(v, i), j, k, b);
   return b.count > before;
 }
 
@@ -302,7 +301,7 @@ void pair_and_body_forces(World& world) {
       HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
       const auto flush = [&] {
         if (!kBatched || batch->count == 0) return;
-        evaluate_hertz_mindlin_batch(only, *batch, v.dt);
+        excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
         for (int m = 0; m < batch->count; ++m) take_lane(v, *batch, m, ws.crossing[batch->slot[m]]);
         batch->count = 0;
       };
@@ -322,7 +321,7 @@ void pair_and_body_forces(World& world) {
         c.partner = j;
         if constexpr (kBatched) {
           if (batched_row(i)) {
-            if (!add_if_touching(v, i, j, k, *batch, excessive)) {
+            if (!add_if_touching(v, i, j, k, *batch)) {
               c.partner = kNotTouching;
               continue;
             }
@@ -394,7 +393,6 @@ void pair_and_body_forces(World& world) {
       constexpr int kRows = HertzMindlinBatch::kCapacity;  // rows per block
       std::uint16_t lanes_end[kRows];                       // per row of the block
       std::uint32_t tail[kRows];                            // first crossing pair per row
-      int over = 0;  // excessive overlap (a local: the shared flag would live in memory)
       for (std::uint32_t block = first; block < end;) {
         batch->count = 0;
         std::uint32_t stop = block;
@@ -418,13 +416,13 @@ void pair_and_body_forces(World& world) {
             }
             const std::uint32_t j = v.partner[k];
             if (j >= end) break;  // the crossing tail
-            collect_pair(v, pi, j, k, *batch, over);
+            collect_pair(v, pi, j, k, *batch);
           }
           lanes_end[stop - block] = static_cast<std::uint16_t>(batch->count);
           tail[stop - block] = k;
           ++stop;
         }
-        if (batch->count > 0) evaluate_hertz_mindlin_batch(only, *batch, v.dt);
+        if (batch->count > 0) excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
         int lane = 0;
         for (std::uint32_t i = block; i < stop; ++i) {
           if (!batched_row(i)) {
@@ -447,7 +445,6 @@ void pair_and_body_forces(World& world) {
         }
         block = stop;
       }
-      excessive |= over;
     } else {
       for (std::uint32_t i = first; i < end; ++i) scalar_row(i);
     }
@@ -620,7 +617,8 @@ void compute_forces(World& world) {
   {
     ScopedStage timer(world.timers, world.timers.stage("pair forces"));
     const auto& pairs = world.materials.pairs;
-    if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]))
+    // The batched path keeps no rolling history (there is none with plain Hertz–Mindlin).
+    if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty())
       pair_and_body_forces<true>(world);
     else
       pair_and_body_forces<false>(world);
