@@ -3,6 +3,8 @@
 // SJKR cohesion kernels. EDEM's Hertz-Mindlin no-slip (EDEM theory reference guide), DESIGN §4.
 #pragma once
 
+#include <algorithm>
+
 #include "contact/cohesion_sjkr.h"
 #include "contact/effective_properties.h"
 #include "contact/normal_hertz.h"
@@ -191,6 +193,13 @@ inline bool is_plain_hertz_mindlin(const InteractionParameters& parameters) {
   return parameters.normal_model == NormalModel::hertz_mindlin &&
          parameters.rolling_model == RollingModel::none && !(parameters.cohesion_energy_density > 0.0) &&
          !parameters.clip_attraction;
+}
+
+// The run's overlap guard for a particle pair (simulation.max_overlap_fraction): true if the
+// overlap δ (m) passes limit × the smaller radius (m). Both force paths flag it with this
+// test, in the arithmetic of the report that follows (sim::check_overlaps).
+inline bool overlap_past_limit(double overlap, double radius_i, double radius_j, double limit) {
+  return overlap > limit * std::min(radius_i, radius_j);
 }
 
 }  // namespace quarry

@@ -1,7 +1,6 @@
 // The batched Hertz–Mindlin kernel (hertz_mindlin_batch.h), compiled once per vector width.
 #include "contact/hertz_mindlin_batch.h"
 
-#include <algorithm>
 #include <cmath>
 
 namespace quarry {
@@ -38,9 +37,8 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double effective_radius = ri * rj / (ri + rj);                      // m, R*
     const double effective_mass = 1.0 / (b.inv_mass_i[m] + b.inv_mass_j[m]);  // kg, m*
     const double lever_i = ri - 0.5 * overlap, lever_j = rj - 0.5 * overlap;  // m
-    // The run's overlap guard, δ > limit·min(Ri, Rj), in the same arithmetic as the report
-    // (sim::check_overlaps); the padding lanes are not contacts.
-    excessive |= (m < count) & (overlap > overlap_limit * std::min(ri, rj));
+    // The run's overlap guard; the padding lanes are not contacts.
+    excessive |= (m < count) & overlap_past_limit(overlap, ri, rj, overlap_limit);
     // Relative velocity at the contact point: (v_i − v_j) − (lever_i ω_i + lever_j ω_j) × n.
     const double sx = lever_i * b.wix[m] + lever_j * b.wjx[m];
     const double sy = lever_i * b.wiy[m] + lever_j * b.wjy[m];

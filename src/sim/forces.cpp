@@ -48,42 +48,24 @@ struct PairView {
   double overlap_limit;  // fraction of the smaller radius
 };
 
-// The overlap guard for touching spheres at squared centre distance distance2 (m²): true if
-// the overlap passes limit·min(Ri, Rj), i.e. δ > limit·min(Ri, Rj) ⇔ |d| < Ri + Rj − limit·min.
-// For the scalar path; the batched kernel checks its contacts itself.
-[[gnu::always_inline]] inline bool past_overlap_limit(double distance2, double ri, double rj, double limit) {
-  const double inner = (ri + rj) - limit * std::min(ri, rj);  // m
-  return !(inner > 0.0) | (distance2 < inner * inner);
-}
-
-// Head of both paths for pair k = (i, j): x_i − x_j and its square. False if the spheres do not
-// touch; the pair's history is then reset (the spring is released when contact is lost).
-// Otherwise sets `excessive` if the overlap passes the guard's limit (check_overlaps reports
-// it after the step): δ > limit·min(Ri, Rj) ⇔ |d| < touch − limit·min(Ri, Rj).
-[[gnu::always_inline]] inline bool touching(const PairView& v, std::uint32_t i, std::uint32_t j,
-                                            std::uint32_t k, Vec3& d, double& distance2, int& excessive) {
-  d = v.position[i] - v.position[j];
+// The contact of pair k = (i, j) by the scalar law. False if the spheres do not touch: the
+// pair's history is then released (the spring lets go when contact is lost). Otherwise sets
+// `excessive` if the overlap passes the guard's limit (check_overlaps reports it after the step).
+[[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
+                                                std::uint32_t k, CrossingPair& out, int& excessive) {
+  const Vec3 d = v.position[i] - v.position[j];
   const double touch = v.radius[i] + v.radius[j];  // m
-  distance2 = norm2(d);                            // m²
+  const double distance2 = norm2(d);               // m²
   if (distance2 >= touch * touch) {
     v.tangential[k] = {};
     if (v.rolling) v.rolling[k] = {};
     return false;
   }
-  excessive |= past_overlap_limit(distance2, v.radius[i], v.radius[j], v.overlap_limit);
-  return true;
-}
-
-// The contact of pair k = (i, j) by the scalar law: false if they do not touch (see touching).
-[[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
-                                                std::uint32_t k, CrossingPair& out, int& excessive) {
-  Vec3 d;
-  double distance2;  // m²
-  if (!touching(v, i, j, k, d, distance2, excessive)) return false;
   const double distance = std::sqrt(distance2);  // m
   ContactKinematics kin;
   kin.normal = d * (1.0 / distance);
-  kin.overlap = (v.radius[i] + v.radius[j]) - distance;
+  kin.overlap = touch - distance;
+  excessive |= overlap_past_limit(kin.overlap, v.radius[i], v.radius[j], v.overlap_limit);
   kin.radius_i = v.radius[i];
   kin.radius_j = v.radius[j];
   kin.inv_mass_i = v.inv_mass[i];
@@ -205,7 +187,7 @@ struct RowParticle {
 
 // Batched path: writes pair k = (i, j) into the batch's next lane, which is kept (count
 // advances) if the spheres touch — no branch on touching, which is unpredictable. As in
-// `touching`, the history of a pair not touching is released (a touching pair's is rewritten
+// `pair_contact`, the history of a pair not touching is released (a touching pair's is rewritten
 // with the kernel's result); the kernel applies the overlap guard. There is no rolling
 // history on this path (compute_forces).
 [[gnu::always_inline]] inline void collect_pair(const PairView& v, const RowParticle& pi, std::uint32_t j,
@@ -310,11 +292,10 @@ void pair_and_body_forces(World& world) {
         // Crossing pairs lie on the ranges' borders, scattered through the arrays: nothing of
         // them is in cache. Start loading both particles a few pairs ahead.
         if (q + kCrossingPrefetch < to) {
-          const std::uint32_t ahead_i = plan.crossing_row[q + kCrossingPrefetch];
-          const std::uint32_t ahead_j = v.partner[plan.crossing_pair[q + kCrossingPrefetch]];
-          prefetch_particle(v, ahead_i);
-          prefetch_particle(v, ahead_j);
-          __builtin_prefetch(v.tangential + plan.crossing_pair[q + kCrossingPrefetch], 1);
+          const std::uint32_t ahead = plan.crossing_pair[q + kCrossingPrefetch];
+          prefetch_particle(v, plan.crossing_row[q + kCrossingPrefetch]);
+          prefetch_particle(v, v.partner[ahead]);
+          __builtin_prefetch(v.tangential + ahead, 1);
         }
         const std::uint32_t i = plan.crossing_row[q], k = plan.crossing_pair[q], j = v.partner[k];
         CrossingPair& c = ws.crossing[q];
