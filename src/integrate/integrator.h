@@ -10,20 +10,23 @@
 
 namespace quarry::integrate {
 
-// v += h F/m, ω += h τ/I for every particle (h = dt/2 for a half kick).
+// Particle i: v += h F/m, ω += h τ/I (h = dt/2 for a half kick). Every kick is this one
+// expression, so a kick run inside another pass gives the same bits as the kick pass.
+inline void kick_particle(ParticleStore& p, std::size_t i, double h) {
+  p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
+  p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
+}
+
+// Every particle kicked by h.
 inline void kick(ParticleStore& p, double h) {
   const std::size_t n = p.size();
 #pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (std::size_t i = 0; i < n; ++i) {
-    p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
-    p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
-  }
+  for (std::size_t i = 0; i < n; ++i) kick_particle(p, i, h);
 }
 
 // Particle i: kick by h then drift by dt (kick_drift's body, for passes that do more per particle).
 inline void kick_drift_particle(ParticleStore& p, std::size_t i, double h, double dt) {
-  p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
-  p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
+  kick_particle(p, i, h);
   p.position[i] += p.velocity[i] * dt;
 }
 

@@ -2,7 +2,8 @@
 // half list and added straight onto both particles ("Newton's third law" accumulation), with a
 // summation order that does not depend on the thread count; body forces are added as soon as a
 // particle's pair sum is complete; then particle–surface contacts for the particles near a
-// surface, their reactions gathered onto triangles and vertices in particle order.
+// surface, their reactions gathered onto triangles and vertices in particle order; then, in
+// velocity Verlet, the closing half kick. All of it runs in one team of threads.
 //
 // Why the order is fixed. The list holds pair (i, j) only in row i, with j > i, rows ascending.
 // A serial pass (zero all, then rows in order: F_i += f, F_j −= f) adds onto particle p first
@@ -15,12 +16,26 @@
 // result for its own crossing pairs. Every particle thus receives the same terms in the same
 // order for any T: the sums are bit-identical (checked by the determinism tests). Crossing pairs
 // are few (the ranges are compact in space after the space-filling-curve sort).
+//
+// Why surface contacts are found in chunks. The threads' pair ranges are balanced by learning
+// each thread's speed, but a core of a shared host can slow down for tens of steps, and the
+// other thread then waits at the end of the pair loop (measured at 200k on 2 threads: a mean
+// gap of 0.75 ms per step of 10 ms). Finding a candidate's surface contacts reads positions
+// and velocities only and writes the contact's own record, so it can run as soon as a thread
+// is done with its rows, in any order: the chunks of candidates are taken by whichever thread
+// is free, and fill the gap. Each candidate's sum is added onto its particle after its pair
+// sum (the same order as one thread): at once if the thread owning the particle's row is done
+// with its rows, else after the next barrier. The chunks' contacts are gathered in chunk order
+// (candidate order, as one thread finds them), and the reactions on the surfaces are added in
+// that order too.
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "contact/hertz_mindlin_batch.h"
+#include "integrate/integrator.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -230,13 +245,14 @@ struct RowParticle {
   out.torque_j = {b.tjx[m], b.tjy[m], b.tjz[m]};
 }
 
-// Pair forces and body forces (gravity, coupling loads): sets p.force and p.torque.
+// Pair forces and body forces (gravity, coupling loads): sets p.force and p.torque. Called by
+// every thread of the team (compute_forces_and_kick); flags excessive overlaps in `excessive`.
 // kBatched: one material pair, plain Hertz–Mindlin — contacts are evaluated in batches by the
 // vector kernel (contact/hertz_mindlin_batch.h), except the pairs of a row too long for a
 // batch (a large particle among many small ones), which take the scalar law in every thread
 // layout alike. Otherwise every contact takes the scalar law (pair_contact).
 template <bool kBatched>
-void pair_and_body_forces(World& world) {
+void pair_and_body_forces(World& world, int& excessive) {
   ParticleStore& p = world.particles;
   PairList& list = world.pairs;
   const std::size_t n = p.size();
@@ -253,186 +269,180 @@ void pair_and_body_forces(World& world) {
   const Vec3* const external_force = p.has_external_loads() ? p.external_force.data() : nullptr;
   const Vec3* const external_torque = p.has_external_loads() ? p.external_torque.data() : nullptr;
   ForceWorkspace& ws = world.force_workspace;
-  const int thread_count = n > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
-  if (kBatched && ws.batches.size() < static_cast<std::size_t>(thread_count)) ws.batches.resize(thread_count);
   const InteractionParameters& only = world.materials.between(0, 0);
   constexpr std::uint32_t kRowLimit = HertzMindlinBatch::kCapacity;
   const auto batched_row = [offsets](std::uint32_t i) {
     return kBatched && offsets[i + 1] - offsets[i] <= kRowLimit;
   };
   ForceWorkspace::PairPlan& plan = ws.plan;
-  int excessive = 0;
-#pragma omp parallel num_threads(thread_count) reduction(| : excessive)
-  {
-    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+  const int threads = omp_get_num_threads(), t = omp_get_thread_num();
 #pragma omp single
-    {
-      if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size() || plan.threads != threads ||
-          shares_moved(ws))
-        make_plan(list, n, threads, ws.range_share, plan);
-      ws.range_time.assign(threads, 0.0);
-      ws.crossing.resize(plan.crossing_pair.size());
-    }
-    const std::uint32_t first = plan.range_start[t], end = plan.range_start[t + 1];
-    // Phase 1: the crossing pairs of all ranges (partner in a later range), shared evenly by
-    // the threads; each result goes to its own slot, whichever thread computes it.
-    if (threads > 1) {
-      constexpr std::size_t kCrossingPrefetch = 8;  // pairs
-      const std::size_t total = plan.crossing_pair.size();
-      const std::size_t from = total * t / threads, to = total * (t + 1) / threads;
-      HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
-      const auto flush = [&] {
-        if (!kBatched || batch->count == 0) return;
-        excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
-        for (int m = 0; m < batch->count; ++m) take_lane(v, *batch, m, ws.crossing[batch->slot[m]]);
-        batch->count = 0;
-      };
-      if constexpr (kBatched) batch->count = 0;
-      for (std::size_t q = from; q < to; ++q) {
-        // Crossing pairs lie on the ranges' borders, scattered through the arrays: nothing of
-        // them is in cache. Start loading both particles a few pairs ahead.
-        if (q + kCrossingPrefetch < to) {
-          const std::uint32_t ahead = plan.crossing_pair[q + kCrossingPrefetch];
-          prefetch_particle(v, plan.crossing_row[q + kCrossingPrefetch]);
-          prefetch_particle(v, v.partner[ahead]);
-          __builtin_prefetch(v.tangential + ahead, 1);
-        }
-        const std::uint32_t i = plan.crossing_row[q], k = plan.crossing_pair[q], j = v.partner[k];
-        CrossingPair& c = ws.crossing[q];
-        c.partner = j;
-        if constexpr (kBatched) {
-          if (batched_row(i)) {
-            if (!add_if_touching(v, i, j, k, *batch)) {
-              c.partner = kNotTouching;
-              continue;
-            }
-            batch->slot[batch->count - 1] = static_cast<std::uint32_t>(q);
-            if (batch->full()) flush();
+  {
+    if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size() || plan.threads != threads ||
+        shares_moved(ws))
+      make_plan(list, n, threads, ws.range_share, plan);
+    ws.range_time.assign(threads, 0.0);
+    ws.crossing.resize(plan.crossing_pair.size());
+  }
+  const std::uint32_t first = plan.range_start[t], end = plan.range_start[t + 1];
+  // Phase 1: the crossing pairs of all ranges (partner in a later range), shared evenly by
+  // the threads; each result goes to its own slot, whichever thread computes it.
+  if (threads > 1) {
+    constexpr std::size_t kCrossingPrefetch = 8;  // pairs
+    const std::size_t total = plan.crossing_pair.size();
+    const std::size_t from = total * t / threads, to = total * (t + 1) / threads;
+    HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
+    const auto flush = [&] {
+      if (!kBatched || batch->count == 0) return;
+      excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
+      for (int m = 0; m < batch->count; ++m) take_lane(v, *batch, m, ws.crossing[batch->slot[m]]);
+      batch->count = 0;
+    };
+    if constexpr (kBatched) batch->count = 0;
+    for (std::size_t q = from; q < to; ++q) {
+      // Crossing pairs lie on the ranges' borders, scattered through the arrays: nothing of
+      // them is in cache. Start loading both particles a few pairs ahead.
+      if (q + kCrossingPrefetch < to) {
+        const std::uint32_t ahead = plan.crossing_pair[q + kCrossingPrefetch];
+        prefetch_particle(v, plan.crossing_row[q + kCrossingPrefetch]);
+        prefetch_particle(v, v.partner[ahead]);
+        __builtin_prefetch(v.tangential + ahead, 1);
+      }
+      const std::uint32_t i = plan.crossing_row[q], k = plan.crossing_pair[q], j = v.partner[k];
+      CrossingPair& c = ws.crossing[q];
+      c.partner = j;
+      if constexpr (kBatched) {
+        if (batched_row(i)) {
+          if (!add_if_touching(v, i, j, k, *batch)) {
+            c.partner = kNotTouching;
             continue;
           }
-        }
-        if (!pair_contact(v, i, j, k, c, excessive)) c.partner = kNotTouching;
-      }
-      flush();
-    }
-#pragma omp barrier
-    const double phase2_start = omp_get_wtime();  // s
-    // Phase 2: start from the earlier ranges' crossing contributions (ascending source row),
-    // then the rows in order.
-    for (std::uint32_t i = first; i < end; ++i) force[i] = torque[i] = Vec3{};
-    for (std::uint32_t q = 0; q < plan.crossing_begin[t]; ++q) {
-      const CrossingPair& c = ws.crossing[q];
-      if (c.partner >= first && c.partner < end) {
-        force[c.partner] -= c.force;
-        torque[c.partner] += c.torque_j;
-      }
-    }
-    HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
-    std::size_t next_crossing = plan.crossing_begin[t];
-    // Adds this range's crossing pair k of row i (computed in phase 1) onto particle i.
-    const auto add_crossing = [&](Vec3& force_i, Vec3& torque_i) {
-      const CrossingPair& c = ws.crossing[next_crossing++];
-      if (c.partner == kNotTouching) return;
-      force_i += c.force;
-      torque_i += c.torque_i;
-    };
-    // Row i was the last to touch particle i: its pair sum is complete.
-    const auto finish_row = [&](std::uint32_t i, Vec3 force_i, Vec3 torque_i) {
-      force_i += gravity / inv_mass[i];
-      if (external_force) {
-        force_i += external_force[i];
-        torque_i += external_torque[i];
-      }
-      force[i] = force_i;
-      torque[i] = torque_i;
-    };
-    // Row i in list order by the scalar law.
-    const auto scalar_row = [&](std::uint32_t i) {
-      Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
-      for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-        const std::uint32_t j = v.partner[k];
-        if (j >= end) {
-          add_crossing(force_i, torque_i);
+          batch->slot[batch->count - 1] = static_cast<std::uint32_t>(q);
+          if (batch->full()) flush();
           continue;
         }
-        CrossingPair c;
-        if (!pair_contact(v, i, j, k, c, excessive)) continue;
-        force_i += c.force;
-        torque_i += c.torque_i;
-        force[j] -= c.force;
-        torque[j] += c.torque_j;
       }
-      finish_row(i, force_i, torque_i);
-    };
-    if constexpr (kBatched) {
-      // Rows are taken in blocks: the touching pairs of as many whole rows as fit are collected
-      // into the batch (branch-free: every pair is written, the count advances if it touches),
-      // evaluated together, then added row by row in list order. A row's crossing pairs are
-      // its tail (partners ascend), added after its batch lanes: the pair order of one thread.
-      constexpr std::uint32_t kPrefetchDistance = 16;  // pairs
-      const std::uint32_t pair_end = offsets[end];
-      constexpr int kRows = HertzMindlinBatch::kCapacity;  // rows per block
-      std::uint16_t lanes_end[kRows];                       // per row of the block
-      std::uint32_t tail[kRows];                            // first crossing pair per row
-      for (std::uint32_t block = first; block < end;) {
-        batch->count = 0;
-        std::uint32_t stop = block;
-        while (stop < end && stop - block < static_cast<std::uint32_t>(kRows)) {
-          const std::uint32_t row_begin = offsets[stop], row_end = offsets[stop + 1];
-          if (!batched_row(stop)) {
-            if (stop == block) ++stop;  // a long row alone: scalar law below
-            break;
-          }
-          if (batch->count + static_cast<int>(row_end - row_begin) > HertzMindlinBatch::kCapacity) break;
-          const RowParticle pi = row_particle(v, stop);
-          std::uint32_t k = row_begin;
-          for (; k < row_end; ++k) {
-            // Partners a few pairs ahead: start loading what collecting and adding will read
-            // (beyond a few 10^4 particles the partners' data comes from L3 or memory).
-            if (k + kPrefetchDistance < pair_end) {
-              const std::uint32_t ahead = v.partner[k + kPrefetchDistance];
-              prefetch_particle(v, ahead);
-              __builtin_prefetch(force + ahead, 1);
-              __builtin_prefetch(torque + ahead, 1);
-            }
-            const std::uint32_t j = v.partner[k];
-            if (j >= end) break;  // the crossing tail
-            collect_pair(v, pi, j, k, *batch);
-          }
-          lanes_end[stop - block] = static_cast<std::uint16_t>(batch->count);
-          tail[stop - block] = k;
-          ++stop;
-        }
-        if (batch->count > 0) excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
-        int lane = 0;
-        for (std::uint32_t i = block; i < stop; ++i) {
-          if (!batched_row(i)) {
-            scalar_row(i);
-            continue;
-          }
-          Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
-          for (const int lanes = lanes_end[i - block]; lane < lanes; ++lane) {
-            const HertzMindlinBatch& b = *batch;
-            const std::uint32_t j = b.slot[lane];
-            v.tangential[b.pair[lane]] = {b.hx[lane], b.hy[lane], b.hz[lane]};
-            const Vec3 f{b.fx[lane], b.fy[lane], b.fz[lane]};
-            force_i += f;
-            torque_i += Vec3{b.tix[lane], b.tiy[lane], b.tiz[lane]};
-            force[j] -= f;
-            torque[j] += Vec3{b.tjx[lane], b.tjy[lane], b.tjz[lane]};
-          }
-          for (std::uint32_t k = tail[i - block]; k < offsets[i + 1]; ++k) add_crossing(force_i, torque_i);
-          finish_row(i, force_i, torque_i);
-        }
-        block = stop;
-      }
-    } else {
-      for (std::uint32_t i = first; i < end; ++i) scalar_row(i);
+      if (!pair_contact(v, i, j, k, c, excessive)) c.partner = kNotTouching;
     }
-    ws.range_time[t] = omp_get_wtime() - phase2_start;
+    flush();
   }
-  learn_shares(ws);
-  world.excessive_overlap = excessive != 0;
+#pragma omp barrier
+  const double phase2_start = omp_get_wtime();  // s
+  // Phase 2: start from the earlier ranges' crossing contributions (ascending source row),
+  // then the rows in order.
+  for (std::uint32_t i = first; i < end; ++i) force[i] = torque[i] = Vec3{};
+  for (std::uint32_t q = 0; q < plan.crossing_begin[t]; ++q) {
+    const CrossingPair& c = ws.crossing[q];
+    if (c.partner >= first && c.partner < end) {
+      force[c.partner] -= c.force;
+      torque[c.partner] += c.torque_j;
+    }
+  }
+  HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
+  std::size_t next_crossing = plan.crossing_begin[t];
+  // Adds this range's crossing pair k of row i (computed in phase 1) onto particle i.
+  const auto add_crossing = [&](Vec3& force_i, Vec3& torque_i) {
+    const CrossingPair& c = ws.crossing[next_crossing++];
+    if (c.partner == kNotTouching) return;
+    force_i += c.force;
+    torque_i += c.torque_i;
+  };
+  // Row i was the last to touch particle i: its pair sum is complete.
+  const auto finish_row = [&](std::uint32_t i, Vec3 force_i, Vec3 torque_i) {
+    force_i += gravity / inv_mass[i];
+    if (external_force) {
+      force_i += external_force[i];
+      torque_i += external_torque[i];
+    }
+    force[i] = force_i;
+    torque[i] = torque_i;
+  };
+  // Row i in list order by the scalar law.
+  const auto scalar_row = [&](std::uint32_t i) {
+    Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
+    for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const std::uint32_t j = v.partner[k];
+      if (j >= end) {
+        add_crossing(force_i, torque_i);
+        continue;
+      }
+      CrossingPair c;
+      if (!pair_contact(v, i, j, k, c, excessive)) continue;
+      force_i += c.force;
+      torque_i += c.torque_i;
+      force[j] -= c.force;
+      torque[j] += c.torque_j;
+    }
+    finish_row(i, force_i, torque_i);
+  };
+  if constexpr (kBatched) {
+    // Rows are taken in blocks: the touching pairs of as many whole rows as fit are collected
+    // into the batch (branch-free: every pair is written, the count advances if it touches),
+    // evaluated together, then added row by row in list order. A row's crossing pairs are
+    // its tail (partners ascend), added after its batch lanes: the pair order of one thread.
+    constexpr std::uint32_t kPrefetchDistance = 16;  // pairs
+    const std::uint32_t pair_end = offsets[end];
+    constexpr int kRows = HertzMindlinBatch::kCapacity;  // rows per block
+    std::uint16_t lanes_end[kRows];                       // per row of the block
+    std::uint32_t tail[kRows];                            // first crossing pair per row
+    for (std::uint32_t block = first; block < end;) {
+      batch->count = 0;
+      std::uint32_t stop = block;
+      while (stop < end && stop - block < static_cast<std::uint32_t>(kRows)) {
+        const std::uint32_t row_begin = offsets[stop], row_end = offsets[stop + 1];
+        if (!batched_row(stop)) {
+          if (stop == block) ++stop;  // a long row alone: scalar law below
+          break;
+        }
+        if (batch->count + static_cast<int>(row_end - row_begin) > HertzMindlinBatch::kCapacity) break;
+        const RowParticle pi = row_particle(v, stop);
+        std::uint32_t k = row_begin;
+        for (; k < row_end; ++k) {
+          // Partners a few pairs ahead: start loading what collecting and adding will read
+          // (beyond a few 10^4 particles the partners' data comes from L3 or memory).
+          if (k + kPrefetchDistance < pair_end) {
+            const std::uint32_t ahead = v.partner[k + kPrefetchDistance];
+            prefetch_particle(v, ahead);
+            __builtin_prefetch(force + ahead, 1);
+            __builtin_prefetch(torque + ahead, 1);
+          }
+          const std::uint32_t j = v.partner[k];
+          if (j >= end) break;  // the crossing tail
+          collect_pair(v, pi, j, k, *batch);
+        }
+        lanes_end[stop - block] = static_cast<std::uint16_t>(batch->count);
+        tail[stop - block] = k;
+        ++stop;
+      }
+      if (batch->count > 0) excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
+      int lane = 0;
+      for (std::uint32_t i = block; i < stop; ++i) {
+        if (!batched_row(i)) {
+          scalar_row(i);
+          continue;
+        }
+        Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
+        for (const int lanes = lanes_end[i - block]; lane < lanes; ++lane) {
+          const HertzMindlinBatch& b = *batch;
+          const std::uint32_t j = b.slot[lane];
+          v.tangential[b.pair[lane]] = {b.hx[lane], b.hy[lane], b.hz[lane]};
+          const Vec3 f{b.fx[lane], b.fy[lane], b.fz[lane]};
+          force_i += f;
+          torque_i += Vec3{b.tix[lane], b.tiy[lane], b.tiz[lane]};
+          force[j] -= f;
+          torque[j] += Vec3{b.tjx[lane], b.tjy[lane], b.tjz[lane]};
+        }
+        for (std::uint32_t k = tail[i - block]; k < offsets[i + 1]; ++k) add_crossing(force_i, torque_i);
+        finish_row(i, force_i, torque_i);
+      }
+      block = stop;
+    }
+  } else {
+    for (std::uint32_t i = first; i < end; ++i) scalar_row(i);
+  }
+  ws.range_time[t] = omp_get_wtime() - phase2_start;
+  // The sums of this range are final: others may now add surface contacts onto them.
+  std::atomic_ref<int>(ws.rows_done[t]).store(1, std::memory_order_release);
 }
 
 // Velocity of the surface material at a contact point: the vertices' velocities interpolated
@@ -447,11 +457,14 @@ Vec3 surface_velocity(const Surface& surface, const SurfaceContact& c) {
 }
 
 // Contacts of candidate particle i with the surfaces: appended to `out` (detection order),
-// history taken over from i's contacts of the previous step, [previous_begin, previous_end).
-void wall_contacts_of(World& world, std::uint32_t i, std::size_t candidate,
+// history taken over from i's contacts of the previous step, [previous_begin, previous_end);
+// their force and torque on the particle summed into `sum`. Reads the particles, writes none.
+// Returns whether i touches a surface.
+bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate,
                       const WallContact* previous_begin, const WallContact* previous_end,
-                      std::vector<SurfaceContact>& found, std::vector<WallContact>& out, int& excessive) {
-  ParticleStore& p = world.particles;
+                      std::vector<SurfaceContact>& found, std::vector<WallContact>& out,
+                      ForceWorkspace::WallSum& sum, int& excessive) {
+  const ParticleStore& p = world.particles;
   const SurfaceCandidates& cand = world.candidates;
   const double overlap_limit = world.spec.simulation.max_overlap_fraction.value;  // of radius
   const std::size_t first_new = out.size();
@@ -507,10 +520,10 @@ void wall_contacts_of(World& world, std::uint32_t i, std::size_t candidate,
       out.push_back(contact);
     }
   }
-  if (out.size() > first_new) {
-    p.force[i] += force;
-    p.torque[i] += torque;
-  }
+  sum.particle = i;
+  sum.force = force;
+  sum.torque = torque;
+  return out.size() > first_new;
 }
 
 // Reactions of contacts [begin, end) on the surfaces' triangles and vertices, added in order.
@@ -526,88 +539,143 @@ void add_reactions(World& world, const WallContact* begin, const WallContact* en
   }
 }
 
-// Each thread finds the contacts of a contiguous range of candidates (the first thread into
-// world.wall_contacts, the others into buffers). Then, at the same time, one thread appends
-// the buffers in thread order — candidate order, as one thread would have found them — and
-// another adds the reactions in that same order (deterministic), reading where they were found.
-void wall_forces(World& world) {
-  const SurfaceCandidates& cand = world.candidates;
-  const std::size_t m = cand.particles.size();
+// Candidates per chunk of surface-contact work: about 10 µs, fine enough to even out the threads.
+constexpr std::size_t kWallChunk = 64;
+
+// Before the team starts: the chunks laid out, the surfaces' loads of the step cleared.
+void prepare_wall_contacts(World& world) {
   ForceWorkspace& ws = world.force_workspace;
-  std::swap(ws.previous_wall_contacts, world.wall_contacts);
-  world.wall_contacts.clear();
-  const std::vector<WallContact>& previous = ws.previous_wall_contacts;
-  // A candidate costs a few hundred ns (triangles, contact law): worth a team from far fewer
-  // particles than the per-particle loops.
-  const int thread_count = m > parallel_threshold / 8 ? std::max(1, omp_get_max_threads()) : 1;
-  if (ws.wall_found.size() < static_cast<std::size_t>(thread_count)) ws.wall_found.resize(thread_count);
+  const std::size_t m = world.candidates.particles.size();
+  ws.wall_chunks.resize((m + kWallChunk - 1) / kWallChunk);
   for (auto& surface : world.surfaces) surface.clear_step_loads();
-  int excessive = 0;
-  int team = 1;  // threads that ran
-  const WallContact* own = nullptr;  // thread 0's contacts, before the others are appended
-  std::size_t own_count = 0;
-#pragma omp parallel num_threads(thread_count) reduction(| : excessive)
-  {
-    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
-    const std::size_t first = m * t / threads, end = m * (t + 1) / threads;
-    std::vector<WallContact>& out = t == 0 ? world.wall_contacts : ws.wall_found[t];
+}
+
+// Every thread of the team, as soon as it is done with its pair rows: takes chunks of
+// candidates until none is left, and finds their contacts into the chunk's own list. A
+// particle's surface sum is added onto it at once if the thread owning its row has finished
+// its rows (its pair sum is final), else kept for after the barrier (finish_forces).
+void find_wall_contacts(World& world, ForceWorkspace& ws, int& excessive) {
+  const SurfaceCandidates& cand = world.candidates;
+  ParticleStore& p = world.particles;
+  const std::vector<std::uint32_t>& range_start = ws.plan.range_start;
+  std::vector<ForceWorkspace::WallSum>& deferred = ws.wall_deferred[omp_get_thread_num()];
+  deferred.clear();
+  const std::size_t m = cand.particles.size();
+  // The previous step's contacts, for their history: replaced only after the team's barrier.
+  const std::vector<WallContact>& previous = world.wall_contacts;
+  const WallContact* const previous_end = previous.data() + previous.size();
+  std::vector<SurfaceContact> found;
+  const std::size_t chunks = ws.wall_chunks.size();
+#pragma omp for schedule(dynamic, 1) nowait
+  for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+    std::vector<WallContact>& out = ws.wall_chunks[chunk];
     out.clear();
-    if (t == 0) team = threads;
-    std::vector<SurfaceContact> found;
+    const std::size_t first = chunk * kWallChunk, end = std::min(m, first + kWallChunk);
     // Previous contacts are sorted by particle, as are the candidates: walk both together.
     const auto by_particle = [](const WallContact& c, std::uint32_t i) { return c.particle < i; };
-    const WallContact* q = previous.data();
-    if (first < end)
-      q = std::lower_bound(previous.data(), previous.data() + previous.size(), cand.particles[first], by_particle);
-    const WallContact* const q_end = previous.data() + previous.size();
+    const WallContact* q = std::lower_bound(previous.data(), previous_end, cand.particles[first], by_particle);
+    // The thread whose rows hold particle i (ranges ascend, as the candidates do).
+    std::size_t owner =
+        std::upper_bound(range_start.begin(), range_start.end(), cand.particles[first]) - range_start.begin() - 1;
     for (std::size_t c = first; c < end; ++c) {
       const std::uint32_t i = cand.particles[c];
-      while (q < q_end && q->particle < i) ++q;
+      while (q < previous_end && q->particle < i) ++q;
       const WallContact* q_stop = q;
-      while (q_stop < q_end && q_stop->particle == i) ++q_stop;
-      wall_contacts_of(world, i, c, q, q_stop, found, out, excessive);
+      while (q_stop < previous_end && q_stop->particle == i) ++q_stop;
+      ForceWorkspace::WallSum sum;
+      const bool touching = wall_contacts_of(world, i, c, q, q_stop, found, out, sum, excessive);
       q = q_stop;
-    }
-    if (threads > 1) {
-#pragma omp barrier
-#pragma omp single
-      {
-        std::size_t total = 0;
-        for (int u = 0; u < threads; ++u) total += u == 0 ? world.wall_contacts.size() : ws.wall_found[u].size();
-        world.wall_contacts.reserve(total);  // no reallocation while thread 0 reads its part
-        own = world.wall_contacts.data();
-        own_count = world.wall_contacts.size();
+      if (!touching) continue;
+      while (i >= range_start[owner + 1]) ++owner;
+      if (std::atomic_ref<int>(ws.rows_done[owner]).load(std::memory_order_acquire) == 0) {
+        deferred.push_back(sum);
+        continue;
       }
-      if (t == 1) {
-        for (int u = 1; u < threads; ++u)
-          world.wall_contacts.insert(world.wall_contacts.end(), ws.wall_found[u].begin(), ws.wall_found[u].end());
-      } else if (t == 0) {
-        add_reactions(world, own, own + own_count);
-        for (int u = 1; u < threads; ++u)
-          add_reactions(world, ws.wall_found[u].data(), ws.wall_found[u].data() + ws.wall_found[u].size());
-      }
+      p.force[i] += sum.force;
+      p.torque[i] += sum.torque;
     }
   }
-  if (team == 1) add_reactions(world, world.wall_contacts.data(), world.wall_contacts.data() + world.wall_contacts.size());
-  world.excessive_overlap = world.excessive_overlap || excessive != 0;
+}
+
+// Every thread of the team, after a barrier (all pair sums and all chunks done): the surface
+// sums kept back added (after the pair sums: the order of one thread). Then thread 0 adds the
+// reactions onto the surfaces, chunk after chunk (contact order), while the others gather the
+// chunks' contacts into world.wall_contacts and, if h is not 0, kick every particle by h;
+// thread 0 joins them when done (any thread may take any chunk).
+void finish_forces(World& world, double h) {
+  ForceWorkspace& ws = world.force_workspace;
+  ParticleStore& p = world.particles;
+  for (const ForceWorkspace::WallSum& sum : ws.wall_deferred[omp_get_thread_num()]) {
+    p.force[sum.particle] += sum.force;
+    p.torque[sum.particle] += sum.torque;
+  }
+  const std::size_t chunks = ws.wall_chunks.size();
+#pragma omp single
+  {
+    ws.wall_chunk_start.resize(chunks + 1);
+    ws.wall_chunk_start[0] = 0;
+    for (std::size_t c = 0; c < chunks; ++c)
+      ws.wall_chunk_start[c + 1] = ws.wall_chunk_start[c] + ws.wall_chunks[c].size();
+    // Not cleared first: only elements past the current size are constructed, then overwritten.
+    world.wall_contacts.resize(ws.wall_chunk_start[chunks]);
+  }  // (its barrier: every sum is added)
+  if (omp_get_thread_num() == 0)
+    for (const std::vector<WallContact>& chunk : ws.wall_chunks)
+      add_reactions(world, chunk.data(), chunk.data() + chunk.size());
+#pragma omp for schedule(dynamic, 1) nowait
+  for (std::size_t c = 0; c < chunks; ++c)
+    std::copy(ws.wall_chunks[c].begin(), ws.wall_chunks[c].end(), world.wall_contacts.begin() + ws.wall_chunk_start[c]);
+  if (h == 0.0) return;
+  const std::size_t n = p.size();
+#pragma omp for schedule(dynamic, 4096) nowait
+  for (std::size_t i = 0; i < n; ++i) integrate::kick_particle(p, i, h);
 }
 
 }  // namespace
 
-void compute_forces(World& world) {
+void compute_forces(World& world) { compute_forces_and_kick(world, 0.0); }
+
+// One team for the whole stage: pair sums (phase 1, barrier, phase 2), surface contacts in
+// chunks as threads come free, a barrier, then finish_forces: reactions onto the surfaces by
+// one thread while the others gather the contacts and finish and kick the particles.
+template <bool kBatched>
+void forces_and_kick(World& world, double h) {
+  ParticleStore& p = world.particles;
+  const std::size_t n = p.size();
+  ForceWorkspace& ws = world.force_workspace;
+  const int thread_count = n > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
+  if (kBatched && ws.batches.size() < static_cast<std::size_t>(thread_count)) ws.batches.resize(thread_count);
+  ws.wall_deferred.resize(std::max<std::size_t>(ws.wall_deferred.size(), thread_count));
+  ws.rows_done.assign(thread_count, 0);
+  prepare_wall_contacts(world);
+  // Stage times as thread 0 sees them (s).
+  double start = omp_get_wtime(), pairs_done = start, walls_done = start;
+  int excessive = 0;
+#pragma omp parallel num_threads(thread_count) reduction(| : excessive)
   {
-    ScopedStage timer(world.timers, world.timers.stage("pair forces"));
-    const auto& pairs = world.materials.pairs;
-    // The batched path keeps no rolling history (there is none with plain Hertz–Mindlin).
-    if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty())
-      pair_and_body_forces<true>(world);
-    else
-      pair_and_body_forces<false>(world);
+    pair_and_body_forces<kBatched>(world, excessive);
+    if (omp_get_thread_num() == 0) pairs_done = omp_get_wtime();
+    find_wall_contacts(world, ws, excessive);
+#pragma omp barrier
+    if (omp_get_thread_num() == 0) walls_done = omp_get_wtime();
+    finish_forces(world, h);
   }
-  {
-    ScopedStage timer(world.timers, world.timers.stage("surface forces"));
-    wall_forces(world);
-  }
+  const double end = omp_get_wtime();
+  learn_shares(ws);
+  world.excessive_overlap = excessive != 0;
+  world.timers.add(world.timers.stage("pair forces"), pairs_done - start);
+  world.timers.add(world.timers.stage("surface forces"), walls_done - pairs_done);
+  // The reactions, the gathering and the kick overlap: booked to the kick if there is one.
+  world.timers.add(world.timers.stage(h != 0.0 ? "integrate" : "surface forces"), end - walls_done);
+}
+
+void compute_forces_and_kick(World& world, double h) {
+  const auto& pairs = world.materials.pairs;
+  // The batched path keeps no rolling history (there is none with plain Hertz–Mindlin).
+  if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty())
+    forces_and_kick<true>(world, h);
+  else
+    forces_and_kick<false>(world, h);
 }
 
 }  // namespace quarry::sim

@@ -36,11 +36,9 @@ void step(World& world) {
     ScopedStage timer(world.timers, world.timers.stage("neighbor"));
     update_neighbors(world, scan);
   }
-  compute_forces(world);  // times its own stages
-  if (verlet) {
-    ScopedStage timer(world.timers, world.timers.stage("integrate"));
-    integrate::kick(world.particles, 0.5 * dt);
-  }
+  // Forces at the new configuration, then velocity Verlet's closing half kick, in one team of
+  // threads (the stages time themselves).
+  compute_forces_and_kick(world, verlet ? 0.5 * dt : 0.0);
   {
     ScopedStage timer(world.timers, world.timers.stage("guards"));
     check_overlaps(world);

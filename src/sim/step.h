@@ -26,6 +26,9 @@ void move_surfaces(World& world, double time);           // prescribed motion at
 void insert_and_remove(World& world);                    // factories; particles leaving the domain
 void update_neighbors(World& world, bool force_rebuild); // Verlet/candidate lists when needed
 void compute_forces(World& world);                        // contacts, gravity, external forces
+// compute_forces, then every particle kicked by h (s): the closing half kick of velocity
+// Verlet in the same team of threads (the same bits as compute_forces, then integrate::kick).
+void compute_forces_and_kick(World& world, double h);
 void check_finite(const World& world);                    // NaN/inf guard (after the drift)
 void check_overlaps(const World& world);                  // overlap guard (after the forces)
 // The same stages taking what the drift's scan saw instead of a pass of their own.

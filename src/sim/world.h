@@ -88,8 +88,18 @@ struct ForceWorkspace {
   std::vector<double> range_share, range_time;
   std::vector<CrossingPair> crossing;                 // results, aligned with plan.crossing_pair
   std::vector<HertzMindlinBatch> batches;             // per thread (batched contact kernel)
-  std::vector<std::vector<WallContact>> wall_found;  // per thread
-  std::vector<WallContact> previous_wall_contacts;
+  // Surface contacts are found in chunks of candidates that any thread may take (the filler
+  // that evens out the threads' pair ranges): each chunk's contacts, then gathered in order.
+  std::vector<std::vector<WallContact>> wall_chunks;
+  std::vector<std::size_t> wall_chunk_start;  // chunks + 1: first contact of each chunk, then total
+  // A particle's surface contacts' force and torque on it, found before its pair sum was final
+  // (another thread was still on its rows): added after the team's next barrier.
+  struct WallSum {
+    std::uint32_t particle = 0;
+    Vec3 force, torque;  // N, N·m
+  };
+  std::vector<std::vector<WallSum>> wall_deferred;  // per thread
+  std::vector<int> rows_done;                       // per thread: 1 once its pair rows are summed
 };
 
 struct World {
