@@ -1,11 +1,12 @@
 // quarry_settled_bed: the peer-comparison reference problem in Quarry (issue 3). Settles the
 // jittered lattice, or re-settles the peers' LAMMPS-settled bed (--from-data, a write_data file),
-// or loads a settled bed (--bed); times warm-up + timed steps of sim::step, and prints one
+// or loads a settled bed (--bed); times warm-up + timed steps (sim::advance), and prints one
 // machine-readable line "QUARRY_BENCH key=value ..." plus the per-stage time table.
 #include <omp.h>
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -100,11 +101,12 @@ int run_bench(const Options& options) {
   std::cerr << fmt::format("bed: ke/particle {:.3e} J\n", bench::kinetic_energy_per_particle(world));
   if (options.timed_steps <= 0) return 0;
 
-  for (long s = 0; s < options.warmup_steps; ++s) quarry::sim::step(world);
+  quarry::sim::advance(world, static_cast<std::uint64_t>(std::max(0L, options.warmup_steps)));
   world.timers.reset();
   const std::uint64_t rebuilds_before = world.rebuilds;
   const auto start = std::chrono::steady_clock::now();
-  for (long s = 0; s < options.timed_steps; ++s) quarry::sim::step(world);
+  // As a run does: each closing half kick done by the next step's first pass (sim::advance).
+  quarry::sim::advance(world, static_cast<std::uint64_t>(options.timed_steps));
   const double loop_seconds = seconds_since(start);  // s
   const std::uint64_t rebuilds = world.rebuilds - rebuilds_before;
 

@@ -36,9 +36,12 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
   // tells whether all nine components are finite; the first offender is found only if one is.
   int bad = 0, outside = 0, ids_changed = 0;
   double largest = 0.0;  // m²
+  const double pending = world.pending_kick;  // s: the last step's closing kick, if left to this pass
+  world.pending_kick = 0.0;
 #pragma omp parallel for schedule(static) if (n > parallel_threshold) \
     reduction(| : bad, outside, ids_changed) reduction(max : largest)
   for (std::size_t i = 0; i < n; ++i) {
+    if (pending != 0.0) integrate::kick_particle(p, i, pending);
     integrate::kick_drift_particle(p, i, h, dt);
     const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
     const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +

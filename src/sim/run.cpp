@@ -75,6 +75,7 @@ struct Session {
   }
 
   void write_frame() {
+    complete_step(world);  // the velocities written must be the step's final ones
     const std::string tag = fmt::format("{:06}", frame_index);
     const std::string particle_file = "particles_" + tag + ".vtu";
     write_file_atomically(directory / particle_file, particles_vtu(world.particles, world.type_names));
@@ -94,6 +95,7 @@ struct Session {
   }
 
   void record_monitors() {
+    complete_step(world);
     const std::vector<double> row = monitor_row(world);
     monitors.add_row(row);
   }
@@ -134,7 +136,9 @@ static RunSummary run_session(Session& session, bool fresh) {
 
   while (world.time < session.end_time - 0.5 * world.dt) {
     try {
-      step(world);
+      // The closing half kick of one step is done by the next one's first pass; monitors,
+      // frames and checkpoints complete the step before they look.
+      step(world, true);
     } catch (const PhysicsError&) {
       // Keep what was computed: the monitors so far and a last frame to look at in ParaView.
       session.monitors.flush();
@@ -168,6 +172,7 @@ static RunSummary run_session(Session& session, bool fresh) {
     const int signal_number = g_stop_signal.load();
     if ((session.checkpoint_every && n % session.checkpoint_every == 0) || signal_number) {
       session.monitors.flush();
+      complete_step(world);
       write_checkpoint(world, session.checkpoint_path, session.frame_index);
       summary.checkpoint = session.checkpoint_path;
     }
@@ -193,6 +198,7 @@ static RunSummary run_session(Session& session, bool fresh) {
                          summary.steps / std::max(wall, 1e-9), duration_text(eta));
     }
   }
+  complete_step(world);
   if (frame_pending && !summary.interrupted) session.write_frame();
   const std::size_t notes_before_finish = exporter.notes().size();
   exporter.finish(world.surfaces, world.time, summary.interrupted);

@@ -8,11 +8,13 @@
 
 namespace quarry::sim {
 
-void step(World& world) {
+void step(World& world, bool defer_closing_kick) {
   const double dt = world.dt;
   const bool verlet = world.spec.simulation.integrator.value == Integrator::velocity_verlet;
+  const bool defer = verlet && defer_closing_kick;
   DriftScan scan;  // what the drift saw: NaNs, particles outside the domain, displacements
   {
+    // The last step's closing kick first, if it was left to this pass.
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
     scan = kick_drift_scan(world, verlet ? 0.5 * dt : dt, dt);
   }
@@ -37,12 +39,26 @@ void step(World& world) {
     update_neighbors(world, scan);
   }
   // Forces at the new configuration, then velocity Verlet's closing half kick, in one team of
-  // threads (the stages time themselves).
-  compute_forces_and_kick(world, verlet ? 0.5 * dt : 0.0);
+  // threads (the stages time themselves) — or the kick is left to the next step's first pass.
+  compute_forces_and_kick(world, verlet && !defer ? 0.5 * dt : 0.0);
+  if (defer) world.pending_kick = 0.5 * dt;
   {
     ScopedStage timer(world.timers, world.timers.stage("guards"));
+    if (world.excessive_overlap) complete_step(world);  // the report shows the final velocities
     check_overlaps(world);
   }
+}
+
+void complete_step(World& world) {
+  if (world.pending_kick == 0.0) return;
+  integrate::kick(world.particles, world.pending_kick);
+  world.pending_kick = 0.0;
+}
+
+void advance(World& world, std::uint64_t steps) {
+  for (std::uint64_t s = 0; s < steps; ++s) step(world, true);
+  ScopedStage timer(world.timers, world.timers.stage("integrate"));
+  complete_step(world);
 }
 
 }  // namespace quarry::sim

@@ -6,7 +6,17 @@
 namespace quarry::sim {
 
 // Advances the world by one time step dt. Throws PhysicsError if the state becomes invalid.
-void step(World& world);
+// With defer_closing_kick, velocity Verlet's closing half kick is left pending
+// (World::pending_kick) and done by the next step's opening pass, which reads and writes every
+// particle's velocity anyway: the same operations in the same order, so the same bits, with
+// one pass over the particles less per step. Until complete_step(), the velocities are then
+// half a kick short: whoever looks at them between steps (monitors, output, checkpoints)
+// completes the step first.
+void step(World& world, bool defer_closing_kick = false);
+// Applies a pending closing kick (nothing if there is none).
+void complete_step(World& world);
+// `steps` steps, each closing kick done by the next step's opening pass; completed at the end.
+void advance(World& world, std::uint64_t steps);
 
 // What the opening kick-drift saw of the new state (kick_drift_scan). Three stages would each
 // read every position again for it — the NaN guard, the domain check, the list's displacement
@@ -21,7 +31,8 @@ struct DriftScan {
 };
 
 // Stages, in the order step() calls them; exposed for tests and the C ABI.
-DriftScan kick_drift_scan(World& world, double h, double dt);  // kick by h (s), drift by dt (s)
+// Kick by the pending closing kick (if any), then by h (s), drift by dt (s); clears the pending kick.
+DriftScan kick_drift_scan(World& world, double h, double dt);
 void move_surfaces(World& world, double time);           // prescribed motion at `time` (s)
 void insert_and_remove(World& world);                    // factories; particles leaving the domain
 void update_neighbors(World& world, bool force_rebuild); // Verlet/candidate lists when needed

@@ -130,6 +130,9 @@ struct World {
   int insertion_interval_steps = 1;
   std::uint64_t rebuilds = 0;
   bool excessive_overlap = false;     // set by the force stage for the overlap guard
+  // s: velocity Verlet's closing half kick of the last step, left for the next step's opening
+  // pass (step(world, true)); 0 when the velocities are final (complete_step).
+  double pending_kick = 0.0;
   bool lists_stale = true;            // particles were added/removed: rebuild before forces
   std::vector<std::string> warnings;  // reported once (e.g. factory shortfall)
 
