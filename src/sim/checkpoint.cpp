@@ -65,6 +65,8 @@ std::string read_deck_text(const std::string& deck_path) { return read_file(deck
 
 void write_checkpoint(const World& const_world, const std::string& path, std::uint64_t frame_index) {
   // A checkpoint holds final velocities only: a restart could not know of a pending kick.
+  if (const_world.next_opened)
+    throw std::logic_error("write_checkpoint: the next step is already opened (StepEnd::next_opened); step on first");
   if (const_world.pending_kick != 0.0)
     throw std::logic_error("write_checkpoint: the last step is not complete (call complete_step first)");
   World& world = const_cast<World&>(const_world);  // the visitors take non-const arrays

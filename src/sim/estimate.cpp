@@ -78,7 +78,7 @@ double calibrate(const SimulationSpec& deck, std::size_t type_index, int count, 
   int steps = 0;
   double elapsed = 0.0;
   while (steps < 20 || (elapsed < 1.0 && steps < 2000)) {  // at least 20 steps, about 1 s
-    step(world, true);  // as a run steps: each closing kick left to the next step's first pass
+    step(world, StepEnd::next_opened);  // as a run steps between outputs: each opening pass done by the last force stage
     ++steps;
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

@@ -28,6 +28,14 @@
 // with its rows, else after the next barrier. The chunks' contacts are gathered in chunk order
 // (candidate order, as one thread finds them), and the reactions on the surfaces are added in
 // that order too.
+//
+// Why the next step's opening pass may be done here (StepEnd::next_opened). Once row i is
+// summed, nothing in the stage reads particle i again but its surface contacts: later rows
+// hold only partners above their own index, and the crossing pairs were done before. So a
+// particle that is not a surface candidate takes its kicks and drift (sim/opening_pass.h) as
+// soon as its block of rows is summed, its data still in cache; a candidate takes them once
+// its surface sum is added. That saves the pass over every particle's state that would open
+// the next step (about 250 B per particle read or written), and a fork and join of the team.
 #include <omp.h>
 
 #include <algorithm>
@@ -36,6 +44,7 @@
 
 #include "contact/hertz_mindlin_batch.h"
 #include "integrate/integrator.h"
+#include "sim/opening_pass.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -252,7 +261,7 @@ struct RowParticle {
 // batch (a large particle among many small ones), which take the scalar law in every thread
 // layout alike. Otherwise every contact takes the scalar law (pair_contact).
 template <bool kBatched>
-void pair_and_body_forces(World& world, int& excessive) {
+void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& tally, int& excessive) {
   ParticleStore& p = world.particles;
   PairList& list = world.pairs;
   const std::size_t n = p.size();
@@ -285,6 +294,12 @@ void pair_and_body_forces(World& world, int& excessive) {
     ws.crossing.resize(plan.crossing_pair.size());
   }
   const std::uint32_t first = plan.range_start[t], end = plan.range_start[t + 1];
+  // With `next`, each particle's next opening pass is done as soon as its force is final: at
+  // the end of its row, unless it is a surface candidate (its surface sum comes later). The
+  // candidates ascend, as the rows do: one cursor walks them.
+  const std::vector<std::uint32_t>& candidates = world.candidates.particles;
+  const std::uint32_t* next_candidate = std::lower_bound(candidates.data(), candidates.data() + candidates.size(), first);
+  const std::uint32_t* const candidates_end = candidates.data() + candidates.size();
   // Phase 1: the crossing pairs of all ranges (partner in a later range), shared evenly by
   // the threads; each result goes to its own slot, whichever thread computes it.
   if (threads > 1) {
@@ -356,6 +371,17 @@ void pair_and_body_forces(World& world, int& excessive) {
     }
     force[i] = force_i;
     torque[i] = torque_i;
+  };
+  // Rows [from, to) are summed: their particles' next opening pass, but the candidates'.
+  const auto open_rows = [&](std::uint32_t from, std::uint32_t to) {
+    if (!next) return;
+    for (std::uint32_t i = from; i < to; ++i) {
+      if (next_candidate != candidates_end && *next_candidate == i) {
+        ++next_candidate;
+        continue;
+      }
+      next->run(p, i, tally);
+    }
   };
   // Row i in list order by the scalar law.
   const auto scalar_row = [&](std::uint32_t i) {
@@ -435,10 +461,14 @@ void pair_and_body_forces(World& world, int& excessive) {
         for (std::uint32_t k = tail[i - block]; k < offsets[i + 1]; ++k) add_crossing(force_i, torque_i);
         finish_row(i, force_i, torque_i);
       }
+      open_rows(block, stop);
       block = stop;
     }
   } else {
-    for (std::uint32_t i = first; i < end; ++i) scalar_row(i);
+    for (std::uint32_t i = first; i < end; ++i) {
+      scalar_row(i);
+      open_rows(i, i + 1);
+    }
   }
   ws.range_time[t] = omp_get_wtime() - phase2_start;
   // The sums of this range are final: others may now add surface contacts onto them.
@@ -554,7 +584,8 @@ void prepare_wall_contacts(World& world) {
 // candidates until none is left, and finds their contacts into the chunk's own list. A
 // particle's surface sum is added onto it at once if the thread owning its row has finished
 // its rows (its pair sum is final), else kept for after the barrier (finish_forces).
-void find_wall_contacts(World& world, ForceWorkspace& ws, int& excessive) {
+void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* next, OpeningTally& tally,
+                        int& excessive) {
   const SurfaceCandidates& cand = world.candidates;
   ParticleStore& p = world.particles;
   const std::vector<std::uint32_t>& range_start = ws.plan.range_start;
@@ -585,14 +616,19 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, int& excessive) {
       ForceWorkspace::WallSum sum;
       const bool touching = wall_contacts_of(world, i, c, q, q_stop, found, out, sum, excessive);
       q = q_stop;
-      if (!touching) continue;
+      if (!touching && !next) continue;
       while (i >= range_start[owner + 1]) ++owner;
       if (std::atomic_ref<int>(ws.rows_done[owner]).load(std::memory_order_acquire) == 0) {
+        sum.touching = touching;
         deferred.push_back(sum);
         continue;
       }
-      p.force[i] += sum.force;
-      p.torque[i] += sum.torque;
+      if (touching) {
+        p.force[i] += sum.force;
+        p.torque[i] += sum.torque;
+      }
+      // Its force is final: the next opening pass while its data is in cache.
+      if (next) next->run(p, i, tally);
     }
   }
 }
@@ -602,12 +638,15 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, int& excessive) {
 // reactions onto the surfaces, chunk after chunk (contact order), while the others gather the
 // chunks' contacts into world.wall_contacts and, if h is not 0, kick every particle by h;
 // thread 0 joins them when done (any thread may take any chunk).
-void finish_forces(World& world, double h) {
+void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally& tally) {
   ForceWorkspace& ws = world.force_workspace;
   ParticleStore& p = world.particles;
   for (const ForceWorkspace::WallSum& sum : ws.wall_deferred[omp_get_thread_num()]) {
-    p.force[sum.particle] += sum.force;
-    p.torque[sum.particle] += sum.torque;
+    if (sum.touching) {
+      p.force[sum.particle] += sum.force;
+      p.torque[sum.particle] += sum.torque;
+    }
+    if (next) next->run(p, sum.particle, tally);
   }
   const std::size_t chunks = ws.wall_chunks.size();
 #pragma omp single
@@ -633,13 +672,13 @@ void finish_forces(World& world, double h) {
 
 }  // namespace
 
-void compute_forces(World& world) { compute_forces_and_kick(world, 0.0); }
+void compute_forces(World& world) { compute_forces_and_kick(world, 0.0, nullptr); }
 
 // One team for the whole stage: pair sums (phase 1, barrier, phase 2), surface contacts in
 // chunks as threads come free, a barrier, then finish_forces: reactions onto the surfaces by
 // one thread while the others gather the contacts and finish and kick the particles.
 template <bool kBatched>
-void forces_and_kick(World& world, double h) {
+void forces_and_kick(World& world, double h, const OpeningPass* next) {
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   ForceWorkspace& ws = world.force_workspace;
@@ -647,35 +686,47 @@ void forces_and_kick(World& world, double h) {
   if (kBatched && ws.batches.size() < static_cast<std::size_t>(thread_count)) ws.batches.resize(thread_count);
   ws.wall_deferred.resize(std::max<std::size_t>(ws.wall_deferred.size(), thread_count));
   ws.rows_done.assign(thread_count, 0);
+  ws.opening.assign(thread_count, OpeningTally{});
   prepare_wall_contacts(world);
   // Stage times as thread 0 sees them (s).
   double start = omp_get_wtime(), pairs_done = start, walls_done = start;
   int excessive = 0;
 #pragma omp parallel num_threads(thread_count) reduction(| : excessive)
   {
-    pair_and_body_forces<kBatched>(world, excessive);
+    OpeningTally tally;  // this thread's (on its own stack: no line shared with the others)
+    pair_and_body_forces<kBatched>(world, next, tally, excessive);
     if (omp_get_thread_num() == 0) pairs_done = omp_get_wtime();
-    find_wall_contacts(world, ws, excessive);
+    find_wall_contacts(world, ws, next, tally, excessive);
 #pragma omp barrier
     if (omp_get_thread_num() == 0) walls_done = omp_get_wtime();
-    finish_forces(world, h);
+    finish_forces(world, h, next, tally);
+    ws.opening[omp_get_thread_num()] = tally;
   }
   const double end = omp_get_wtime();
   learn_shares(ws);
   world.excessive_overlap = excessive != 0;
+  if (next && world.excessive_overlap) {
+    // The run stops at this step (check_overlaps): back to its state for the report.
+#pragma omp parallel for schedule(static) num_threads(thread_count)
+    for (std::size_t i = 0; i < n; ++i) next->undo(p, i);
+  } else if (next) {
+    world.opening = OpeningTally{};
+    for (const OpeningTally& one : ws.opening) world.opening.merge(one);
+    world.next_opened = true;
+  }
   world.timers.add(world.timers.stage("pair forces"), pairs_done - start);
   world.timers.add(world.timers.stage("surface forces"), walls_done - pairs_done);
   // The reactions, the gathering and the kick overlap: booked to the kick if there is one.
   world.timers.add(world.timers.stage(h != 0.0 ? "integrate" : "surface forces"), end - walls_done);
 }
 
-void compute_forces_and_kick(World& world, double h) {
+void compute_forces_and_kick(World& world, double h, const OpeningPass* next) {
   const auto& pairs = world.materials.pairs;
   // The batched path keeps no rolling history (there is none with plain Hertz–Mindlin).
   if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty())
-    forces_and_kick<true>(world, h);
+    forces_and_kick<true>(world, h, next);
   else
-    forces_and_kick<false>(world, h);
+    forces_and_kick<false>(world, h, next);
 }
 
 }  // namespace quarry::sim

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "integrate/integrator.h"
+#include "sim/opening_pass.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -25,47 +26,39 @@ std::string show(const Vec3& v) {
 
 DriftScan kick_drift_scan(World& world, double h, double dt) {
   ParticleStore& p = world.particles;
-  const PairList& list = world.pairs;
   const std::size_t n = p.size();
-  const Aabb& domain = world.spec.simulation.domain.value;
-  const bool check_domain = !domain.empty();
-  const bool compare = list.reference_positions.size() == n && list.ids_at_build.size() == n;
-  const Vec3* const reference = compare ? list.reference_positions.data() : nullptr;
-  const ParticleId* const id_at_build = compare ? list.ids_at_build.data() : nullptr;
-  // Branch-free per particle: x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum
-  // tells whether all nine components are finite; the first offender is found only if one is.
-  int bad = 0, outside = 0, ids_changed = 0;
-  double largest = 0.0;  // m²
-  const double pending = world.pending_kick;  // s: the last step's closing kick, if left to this pass
-  world.pending_kick = 0.0;
+  OpeningTally tally;
+  if (world.next_opened) {
+    // Done by the last step's force stage, particle by particle.
+    tally = world.opening;
+    world.next_opened = false;
+  } else {
+    const OpeningPass pass = OpeningPass::of(world, world.pending_kick, h, dt);
+    int bad = 0, outside = 0, ids_changed = 0;
+    double largest = 0.0;  // m²
 #pragma omp parallel for schedule(static) if (n > parallel_threshold) \
     reduction(| : bad, outside, ids_changed) reduction(max : largest)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (pending != 0.0) integrate::kick_particle(p, i, pending);
-    integrate::kick_drift_particle(p, i, h, dt);
-    const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
-    const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
-                        (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
-    bad |= !(zero == 0.0);
-    if (check_domain) outside |= !domain.contains(x);  // (predictable: almost always inside)
-    if (compare) {
-      // NaN compares false: a non-finite particle is reported through `bad`, not here.
-      const double d2 = norm2(x - reference[i]);  // m²
-      largest = d2 > largest ? d2 : largest;
-      ids_changed |= p.id[i] != id_at_build[i];
+    for (std::size_t i = 0; i < n; ++i) {
+      OpeningTally one;
+      pass.run(p, i, one);
+      bad |= one.bad, outside |= one.outside, ids_changed |= one.ids_changed;
+      largest = one.largest > largest ? one.largest : largest;
     }
+    tally = {bad, outside, ids_changed, largest};
   }
+  world.pending_kick = 0.0;
+  const bool compare = world.pairs.reference_positions.size() == n && world.pairs.ids_at_build.size() == n;
   std::size_t first_bad = n;
-  if (bad)
+  if (tally.bad)
     for (std::size_t i = 0; i < n && first_bad == n; ++i)
       if (!finite_state(p, i)) first_bad = i;
   DriftScan scan;
   scan.particles = n;
   scan.first_non_finite = first_bad;
-  scan.any_outside = outside != 0;
+  scan.any_outside = tally.outside != 0;
   scan.list_compared = compare;
-  scan.ids_changed = ids_changed != 0;
-  scan.largest_displacement_squared = largest;
+  scan.ids_changed = tally.ids_changed != 0;
+  scan.largest_displacement_squared = tally.largest;
   return scan;
 }
 

@@ -94,6 +94,20 @@ struct Session {
     ++frame_index;
   }
 
+  // How the next step is to end. If something looks at the state after it (a monitor row, a
+  // frame, a checkpoint, a stop signal, the end of the run), with its closing half kick left
+  // pending: they complete the step first. Otherwise its force stage also does the opening
+  // pass of the step after it, one pass over the particles less (sim/step.h).
+  StepEnd step_end() const {
+    const std::uint64_t n = world.step_count + 1;
+    const auto due = [n](std::uint64_t every) { return every != 0 && n % every == 0; };
+    const double time_after = world.time + world.dt;  // s: as step() advances it
+    const bool last = !(time_after < end_time - 0.5 * world.dt);
+    if (last || due(monitor_every) || due(output_every) || due(checkpoint_every) || g_stop_signal.load() != 0)
+      return StepEnd::kick_pending;
+    return StepEnd::next_opened;
+  }
+
   void record_monitors() {
     complete_step(world);
     const std::vector<double> row = monitor_row(world);
@@ -135,10 +149,9 @@ static RunSummary run_session(Session& session, bool fresh) {
   std::vector<char> reported_shortfall(world.factories.size(), 0);
 
   while (world.time < session.end_time - 0.5 * world.dt) {
+    const StepEnd ending = session.step_end();
     try {
-      // The closing half kick of one step is done by the next one's first pass; monitors,
-      // frames and checkpoints complete the step before they look.
-      step(world, true);
+      step(world, ending);
     } catch (const PhysicsError&) {
       // Keep what was computed: the monitors so far and a last frame to look at in ParaView.
       session.monitors.flush();
@@ -149,6 +162,7 @@ static RunSummary run_session(Session& session, bool fresh) {
       throw;
     }
     summary.steps += 1;
+    summary.steps_opened_ahead += ending == StepEnd::next_opened;
     for (auto& surface : world.surfaces) surface.accumulate_window(world.dt);
     exporter.after_step(world.surfaces, world.time, world.step_count, world.dt);
     const std::uint64_t n = world.step_count;
@@ -169,7 +183,9 @@ static RunSummary run_session(Session& session, bool fresh) {
       world.warnings.push_back(text);
       log << "quarry: warning: " << text << "\n";
     }
-    const int signal_number = g_stop_signal.load();
+    // A step that opened the next one cannot be checkpointed: a stop signal is taken after
+    // the next step, which sees it and ends complete.
+    const int signal_number = world.next_opened ? 0 : g_stop_signal.load();
     if ((session.checkpoint_every && n % session.checkpoint_every == 0) || signal_number) {
       session.monitors.flush();
       complete_step(world);

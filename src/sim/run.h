@@ -21,6 +21,7 @@ struct RunOptions {
 
 struct RunSummary {
   std::uint64_t steps = 0;           // steps taken in this call
+  std::uint64_t steps_opened_ahead = 0;  // of those, steps whose force stage also opened the next
   double simulated_time = 0.0;       // s, world time at the end
   double wall_seconds = 0.0;         // s
   std::size_t particles = 0;

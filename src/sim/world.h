@@ -60,6 +60,18 @@ struct SurfaceCandidates {
   std::vector<std::vector<Vec3>> vertices_at_build;  // per surface (m)
 };
 
+// What a step's opening pass saw of the new state, over all particles (sim/opening_pass.h).
+struct OpeningTally {
+  int bad = 0;          // some x, v or ω is not finite
+  int outside = 0;      // some particle is outside the domain
+  int ids_changed = 0;  // some id differs from the pair list's at its build
+  double largest = 0.0;  // m², the largest displacement² since the list's build
+  void merge(const OpeningTally& o) {
+    bad |= o.bad, outside |= o.outside, ids_changed |= o.ids_changed;
+    largest = o.largest > largest ? o.largest : largest;
+  }
+};
+
 // Scratch of the force stage, kept between steps so that it does not allocate.
 struct ForceWorkspace {
   // A pair whose partner belongs to a later thread's particle range: its result, computed
@@ -96,10 +108,12 @@ struct ForceWorkspace {
   // (another thread was still on its rows): added after the team's next barrier.
   struct WallSum {
     std::uint32_t particle = 0;
+    bool touching = true;  // false: no contact, nothing to add (kept for the next opening pass)
     Vec3 force, torque;  // N, N·m
   };
   std::vector<std::vector<WallSum>> wall_deferred;  // per thread
   std::vector<int> rows_done;                       // per thread: 1 once its pair rows are summed
+  std::vector<OpeningTally> opening;                // per thread: the next step's opening pass
 };
 
 struct World {
@@ -131,8 +145,13 @@ struct World {
   std::uint64_t rebuilds = 0;
   bool excessive_overlap = false;     // set by the force stage for the overlap guard
   // s: velocity Verlet's closing half kick of the last step, left for the next step's opening
-  // pass (step(world, true)); 0 when the velocities are final (complete_step).
+  // pass (step(world, StepEnd::kick_pending)); 0 when the velocities are final (complete_step).
   double pending_kick = 0.0;
+  // The last step's force stage already did this step's opening pass (StepEnd::next_opened),
+  // and `opening` is what it saw: the state is between a step's opening pass and the rest of
+  // it, and only step() may follow.
+  bool next_opened = false;
+  OpeningTally opening;
   bool lists_stale = true;            // particles were added/removed: rebuild before forces
   std::vector<std::string> warnings;  // reported once (e.g. factory shortfall)
 

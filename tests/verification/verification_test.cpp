@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 
 #include "geometry/stl_reader.h"
@@ -113,9 +114,12 @@ TEST(Verification, SymplecticEulerStateIsBitIdenticalForOneToThreeThreads) {
   EXPECT_EQ(hashes[0], hashes[2]) << "3 threads";
 }
 
-// 05 — The closing half kick left to the next step's first pass (sim::advance; runs do the
-// same) gives the state of plain steps to the bit, on 1 and 2 threads. A step left pending
-// shows in World::pending_kick, cannot be checkpointed, and completes to the same state.
+// 05 — The closing half kick left to the next step's first pass, or the whole opening pass of
+// the next step done by the force stage (sim::advance; runs do the same) gives the state of
+// plain steps to the bit, on 1 and 2 threads. A step left pending shows in
+// World::pending_kick, cannot be checkpointed, and completes to the same state; a step that
+// opened the next one can be neither completed nor checkpointed, and the next step gives the
+// same state.
 TEST(Verification, ClosingKickDoneByTheNextStepGivesTheSameState) {
   const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
   parallel_threshold = 0;
@@ -125,9 +129,21 @@ TEST(Verification, ClosingKickDoneByTheNextStepGivesTheSameState) {
     for (int n = 0; n < 500; ++n) sim::step(plain);
     sim::advance(fused, 500);
     EXPECT_EQ(fused.pending_kick, 0.0);
+    EXPECT_FALSE(fused.next_opened);
     EXPECT_EQ(sim::state_hash(plain), sim::state_hash(fused)) << threads << " threads";
     sim::step(plain);
-    sim::step(fused, true);
+    sim::step(fused, sim::StepEnd::next_opened);
+    ASSERT_TRUE(fused.next_opened);
+    EXPECT_NE(sim::state_hash(plain), sim::state_hash(fused)) << "the next step is half done";
+    const std::string opened = (std::filesystem::path(testing::TempDir()) / "quarry_opened.qck").string();
+    EXPECT_THROW(sim::write_checkpoint(fused, opened, 0), std::logic_error);
+    EXPECT_THROW(sim::complete_step(fused), std::logic_error);
+    sim::step(plain);
+    sim::step(fused);
+    EXPECT_FALSE(fused.next_opened);
+    EXPECT_EQ(sim::state_hash(plain), sim::state_hash(fused)) << threads << " threads";
+    sim::step(plain);
+    sim::step(fused, sim::StepEnd::kick_pending);
     EXPECT_GT(fused.pending_kick, 0.0);
     EXPECT_NE(sim::state_hash(plain), sim::state_hash(fused)) << "the velocities are half a kick short";
     const std::string path = (std::filesystem::path(testing::TempDir()) / "quarry_pending.qck").string();
@@ -150,7 +166,10 @@ TEST(Verification, StateIsBitIdenticalWhenTheThreadRangesMoveEveryStep) {
   const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
   parallel_threshold = 0;
   std::size_t deferred = 0;  // surface sums added after the barrier, over all steps
-  const auto run = [&spec, &deferred](int threads, bool swing) {
+  // opened_ahead: every step but the last also does the next step's opening pass
+  // (StepEnd::next_opened): a particle's pass then waits for its surface sum, also when that
+  // is added after the barrier.
+  const auto run = [&spec, &deferred](int threads, bool swing, bool opened_ahead) {
     omp_set_num_threads(threads);
     World world = start_world(spec);
     std::uint64_t plans = 0, last_start = 0;
@@ -163,7 +182,7 @@ TEST(Verification, StateIsBitIdenticalWhenTheThreadRangesMoveEveryStep) {
         for (double x : share) sum += x;
         for (double& x : share) x /= sum;
       }
-      sim::step(world);
+      sim::step(world, opened_ahead && n + 1 < 800 ? sim::StepEnd::next_opened : sim::StepEnd::complete);
       for (const auto& kept : world.force_workspace.wall_deferred) deferred += kept.size();
       const auto& plan = world.force_workspace.plan;
       if (threads > 1 && plan.range_start.size() > 1 && plan.range_start[1] != last_start)
@@ -174,9 +193,13 @@ TEST(Verification, StateIsBitIdenticalWhenTheThreadRangesMoveEveryStep) {
     }
     return sim::state_hash(world);
   };
-  const std::uint64_t one = run(1, false);
-  EXPECT_EQ(one, run(2, true)) << "2 threads";
-  EXPECT_EQ(one, run(3, true)) << "3 threads";
+  const std::uint64_t one = run(1, false, false);
+  EXPECT_EQ(one, run(2, true, false)) << "2 threads";
+  EXPECT_EQ(one, run(3, true, false)) << "3 threads";
+  EXPECT_GT(deferred, 0u) << "no surface sum was kept for after the barrier: that path went untested";
+  deferred = 0;
+  EXPECT_EQ(one, run(2, true, true)) << "2 threads, each step opening the next";
+  EXPECT_EQ(one, run(3, true, true)) << "3 threads, each step opening the next";
   EXPECT_GT(deferred, 0u) << "no surface sum was kept for after the barrier: that path went untested";
   omp_set_num_threads(2);
   parallel_threshold = 2048;
@@ -211,6 +234,66 @@ TEST(Verification, RestartContinuesBitIdentically) {
   EXPECT_NEAR(second.simulated_time, through.time, 1e-12);
   EXPECT_EQ(second.particles, through.particles.size());
   EXPECT_EQ(second.final_state_hash, sim::state_hash(through));
+}
+
+// 05 — The run loop lets a step's force stage open the next step wherever nothing looks at the
+// state in between (sim::run; sim/step.h): its final state is that of plain steps to the bit.
+TEST(Verification, RunEndsInTheStateOfPlainSteps) {
+  const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
+  const std::filesystem::path directory = std::filesystem::path(testing::TempDir()) / "quarry_run_plain";
+  std::filesystem::remove_all(directory);
+  sim::RunOptions options;
+  options.quiet = true;
+  std::ostringstream sink;
+  options.log = &sink;
+  options.output_directory = directory.string();
+  World ran = build_world(spec);
+  const sim::RunSummary summary = sim::run(ran, options);
+  World stepped = start_world(spec);
+  std::uint64_t steps = 0;
+  while (stepped.time < spec.simulation.end_time.value - 0.5 * stepped.dt) sim::step(stepped), ++steps;
+  EXPECT_EQ(summary.steps, steps);
+  // Monitor rows every 0.01 s, checkpoints every 0.015 s: the rest open the next step.
+  EXPECT_GT(summary.steps_opened_ahead, steps * 9 / 10);
+  EXPECT_LT(summary.steps_opened_ahead, steps);
+  EXPECT_EQ(summary.final_state_hash, sim::state_hash(stepped));
+}
+
+// 05 — An excessive overlap found by a step that had already opened the next one: the run
+// stops at that step with the report a plain step gives, and the state is that step's state,
+// the opening taken back to within rounding (OpeningPass::undo: x − v·dt and v − F·h/m, a few
+// units in the last place of x and v), not half a step further on.
+TEST(Verification, OverlapFoundByAStepThatOpenedTheNextIsReportedAtThatStep) {
+  const SimulationSpec spec = parse_deck(deck_path("tests/decks/unstable.yaml"));
+  World plain = start_world(spec), opened = start_world(spec);
+  std::string plain_report;
+  int steps = 0;
+  for (; steps < 20000 && plain_report.empty(); ++steps) {
+    try {
+      sim::step(plain);
+    } catch (const PhysicsError& e) {
+      plain_report = e.what();
+    }
+  }
+  ASSERT_FALSE(plain_report.empty()) << "the head-on collision should pass the overlap limit";
+  ASSERT_GT(steps, 10);
+  for (int n = 0; n + 1 < steps; ++n) sim::step(opened, sim::StepEnd::next_opened);
+  try {
+    sim::step(opened, sim::StepEnd::next_opened);
+    FAIL() << "expected a PhysicsError";
+  } catch (const PhysicsError& e) {
+    EXPECT_EQ(std::string(e.what()), plain_report);
+  }
+  EXPECT_FALSE(opened.next_opened);
+  EXPECT_EQ(opened.step_count, plain.step_count);
+  ASSERT_EQ(opened.particles.size(), plain.particles.size());
+  // Half a step further on, the particles would be v·dt ≈ 5e-6 m away; taken back, within a
+  // few units in the last place: positions ~1 cm (ulp ~2e-18 m), speeds ~5 m/s (ulp ~1e-15 m/s).
+  for (std::size_t i = 0; i < plain.particles.size(); ++i) {
+    EXPECT_LT(norm(opened.particles.position[i] - plain.particles.position[i]), 1e-16);
+    EXPECT_LT(norm(opened.particles.velocity[i] - plain.particles.velocity[i]), 1e-13);
+    EXPECT_LT(norm(opened.particles.angular_velocity[i] - plain.particles.angular_velocity[i]), 1e-10);
+  }
 }
 
 }  // namespace
