@@ -100,8 +100,7 @@ void write_checkpoint(const World& const_world, const std::string& path, std::ui
   w.vector(world.candidates.triangle);
   w.value<std::uint64_t>(world.candidates.vertices_at_build.size());
   for (const auto& v : world.candidates.vertices_at_build) w.vector(v);
-  std::vector<WallContact> wall_contacts = world.wall_contacts.flat();
-  w.vector(wall_contacts);
+  w.vector(world.wall_contacts);
   w.value<std::uint64_t>(world.surfaces.size());
   for (auto& surface : world.surfaces) {
     each_surface_array(w, surface, put);
@@ -165,7 +164,7 @@ std::uint64_t read_checkpoint(World& world, const std::string& path) {
     const auto surfaces_at_build = r.value<std::uint64_t>();
     if (surfaces_at_build != world.surfaces.size()) throw std::runtime_error("surface count differs");
     for (auto& v : world.candidates.vertices_at_build) r.vector(v);
-    r.vector(world.wall_contacts.as_one_list());
+    r.vector(world.wall_contacts);
     if (r.value<std::uint64_t>() != world.surfaces.size()) throw std::runtime_error("surface count differs");
     for (auto& surface : world.surfaces) {
       each_surface_array(r, surface, get);

@@ -572,21 +572,11 @@ void add_reactions(World& world, const WallContact* begin, const WallContact* en
 // Candidates per chunk of surface-contact work: about 10 µs, fine enough to even out the threads.
 constexpr std::size_t kWallChunk = 64;
 
-// True if the previous step's contacts are in chunks of this step's candidates: chunk c then
-// holds the previous contacts of chunk c's particles.
-bool previous_chunks_match(const World& world) {
-  return world.wall_contacts.candidate_builds == world.candidates.builds &&
-         world.wall_contacts.chunks.size() == world.force_workspace.wall_chunks.size();
-}
-
-// Before the team starts: the chunks laid out, the surfaces' loads of the step cleared. The
-// previous step's contacts are made one list if they were found for other candidates (after
-// a list build): each chunk then searches it.
+// Before the team starts: the chunks laid out, the surfaces' loads of the step cleared.
 void prepare_wall_contacts(World& world) {
   ForceWorkspace& ws = world.force_workspace;
   const std::size_t m = world.candidates.particles.size();
   ws.wall_chunks.resize((m + kWallChunk - 1) / kWallChunk);
-  if (!previous_chunks_match(world)) world.wall_contacts.as_one_list();
   for (auto& surface : world.surfaces) surface.clear_step_loads();
 }
 
@@ -602,9 +592,9 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
   std::vector<ForceWorkspace::WallSum>& deferred = ws.wall_deferred[omp_get_thread_num()];
   deferred.clear();
   const std::size_t m = cand.particles.size();
-  // The previous step's contacts, for their history: replaced only after the team.
-  const bool chunks_match = previous_chunks_match(world);
-  const std::vector<std::vector<WallContact>>& previous_lists = world.wall_contacts.chunks;
+  // The previous step's contacts, for their history: replaced only after the team's barrier.
+  const std::vector<WallContact>& previous = world.wall_contacts;
+  const WallContact* const previous_end = previous.data() + previous.size();
   std::vector<SurfaceContact> found;
   const std::size_t chunks = ws.wall_chunks.size();
 #pragma omp for schedule(dynamic, 1) nowait
@@ -613,12 +603,8 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
     out.clear();
     const std::size_t first = chunk * kWallChunk, end = std::min(m, first + kWallChunk);
     // Previous contacts are sorted by particle, as are the candidates: walk both together.
-    const std::vector<WallContact>* previous_list =
-        chunks_match ? &previous_lists[chunk] : previous_lists.empty() ? nullptr : &previous_lists[0];
-    const WallContact* const previous = previous_list ? previous_list->data() : nullptr;
-    const WallContact* const previous_end = previous_list ? previous + previous_list->size() : nullptr;
     const auto by_particle = [](const WallContact& c, std::uint32_t i) { return c.particle < i; };
-    const WallContact* q = std::lower_bound(previous, previous_end, cand.particles[first], by_particle);
+    const WallContact* q = std::lower_bound(previous.data(), previous_end, cand.particles[first], by_particle);
     // The thread whose rows hold particle i (ranges ascend, as the candidates do).
     std::size_t owner =
         std::upper_bound(range_start.begin(), range_start.end(), cand.particles[first]) - range_start.begin() - 1;
@@ -648,10 +634,10 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
 }
 
 // Every thread of the team, after a barrier (all pair sums and all chunks done): the surface
-// sums kept back added (after the pair sums: the order of one thread), and those particles'
-// next opening pass. Then thread 0 adds the reactions onto the surfaces, chunk after chunk
-// (contact order), while the others, if h is not 0, kick every particle by h once every sum
-// is in; thread 0 joins them when done (any thread may take any chunk of particles).
+// sums kept back added (after the pair sums: the order of one thread). Then thread 0 adds the
+// reactions onto the surfaces, chunk after chunk (contact order), while the others gather the
+// chunks' contacts into world.wall_contacts and, if h is not 0, kick every particle by h;
+// thread 0 joins them when done (any thread may take any chunk).
 void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally& tally) {
   ForceWorkspace& ws = world.force_workspace;
   ParticleStore& p = world.particles;
@@ -662,12 +648,22 @@ void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally
     }
     if (next) next->run(p, sum.particle, tally);
   }
-  if (h != 0.0) {
-#pragma omp barrier
-  }
+  const std::size_t chunks = ws.wall_chunks.size();
+#pragma omp single
+  {
+    ws.wall_chunk_start.resize(chunks + 1);
+    ws.wall_chunk_start[0] = 0;
+    for (std::size_t c = 0; c < chunks; ++c)
+      ws.wall_chunk_start[c + 1] = ws.wall_chunk_start[c] + ws.wall_chunks[c].size();
+    // Not cleared first: only elements past the current size are constructed, then overwritten.
+    world.wall_contacts.resize(ws.wall_chunk_start[chunks]);
+  }  // (its barrier: every sum is added)
   if (omp_get_thread_num() == 0)
     for (const std::vector<WallContact>& chunk : ws.wall_chunks)
       add_reactions(world, chunk.data(), chunk.data() + chunk.size());
+#pragma omp for schedule(dynamic, 1) nowait
+  for (std::size_t c = 0; c < chunks; ++c)
+    std::copy(ws.wall_chunks[c].begin(), ws.wall_chunks[c].end(), world.wall_contacts.begin() + ws.wall_chunk_start[c]);
   if (h == 0.0) return;
   const std::size_t n = p.size();
 #pragma omp for schedule(dynamic, 4096) nowait
@@ -680,7 +676,7 @@ void compute_forces(World& world) { compute_forces_and_kick(world, 0.0, nullptr)
 
 // One team for the whole stage: pair sums (phase 1, barrier, phase 2), surface contacts in
 // chunks as threads come free, a barrier, then finish_forces: reactions onto the surfaces by
-// one thread while the others finish and kick the particles.
+// one thread while the others gather the contacts and finish and kick the particles.
 template <bool kBatched>
 void forces_and_kick(World& world, double h, const OpeningPass* next) {
   ParticleStore& p = world.particles;
@@ -708,9 +704,6 @@ void forces_and_kick(World& world, double h, const OpeningPass* next) {
   }
   const double end = omp_get_wtime();
   learn_shares(ws);
-  // This step's contacts become the world's; the previous step's lists are reused next step.
-  std::swap(world.wall_contacts.chunks, ws.wall_chunks);
-  world.wall_contacts.candidate_builds = world.candidates.builds;
   world.excessive_overlap = excessive != 0;
   if (next && world.excessive_overlap) {
     // The run stops at this step (check_overlaps): back to its state for the report.

@@ -115,20 +115,19 @@ void check_overlaps(const World& world) {
           smaller, 100.0 * limit, norm(p.velocity[i] - p.velocity[j]), world.dt));
     }
   }
-  for (const std::vector<WallContact>& chunk : world.wall_contacts.chunks)
-    for (const WallContact& contact : chunk) {
-      const std::size_t i = contact.particle;
-      const double overlap = p.radius[i] - norm(p.position[i] - contact.point);
-      if (overlap <= limit * p.radius[i]) continue;
-      throw PhysicsError(fmt::format(
-          "step {} (t = {:.6g} s): particle id {} penetrates surface '{}' (element {}) by {:.4g} m "
-          "= {:.1f} % of its radius {:.4g} m (limit {:.0f} %); speed {:.4g} m/s\n"
-          "  hint: reduce simulation.time_step (now {:.4g} s) or raise the Young's modulus; a "
-          "surface moving faster than particles can follow also causes this",
-          world.step_count, world.time, p.id[i], world.surfaces[contact.surface].name,
-          contact.triangle, overlap, 100.0 * overlap / p.radius[i], p.radius[i], 100.0 * limit,
-          norm(p.velocity[i]), world.dt));
-    }
+  for (const WallContact& contact : world.wall_contacts) {
+    const std::size_t i = contact.particle;
+    const double overlap = p.radius[i] - norm(p.position[i] - contact.point);
+    if (overlap <= limit * p.radius[i]) continue;
+    throw PhysicsError(fmt::format(
+        "step {} (t = {:.6g} s): particle id {} penetrates surface '{}' (element {}) by {:.4g} m "
+        "= {:.1f} % of its radius {:.4g} m (limit {:.0f} %); speed {:.4g} m/s\n"
+        "  hint: reduce simulation.time_step (now {:.4g} s) or raise the Young's modulus; a "
+        "surface moving faster than particles can follow also causes this",
+        world.step_count, world.time, p.id[i], world.surfaces[contact.surface].name,
+        contact.triangle, overlap, 100.0 * overlap / p.radius[i], p.radius[i], 100.0 * limit,
+        norm(p.velocity[i]), world.dt));
+  }
 }
 
 }  // namespace quarry::sim

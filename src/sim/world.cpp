@@ -102,9 +102,8 @@ std::size_t World::wall_contact_count() const { return wall_contacts.size(); }
 void reindex_wall_contacts(World& world, const std::vector<std::size_t>& order) {
   std::vector<std::uint32_t> new_index(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) new_index[order[k]] = static_cast<std::uint32_t>(k);
-  std::vector<WallContact>& contacts = world.wall_contacts.as_one_list();
-  for (WallContact& c : contacts) c.particle = new_index[c.particle];
-  std::stable_sort(contacts.begin(), contacts.end(),
+  for (WallContact& c : world.wall_contacts) c.particle = new_index[c.particle];
+  std::stable_sort(world.wall_contacts.begin(), world.wall_contacts.end(),
                    [](const WallContact& a, const WallContact& b) { return a.particle < b.particle; });
 }
 
@@ -115,9 +114,8 @@ void drop_wall_contacts_of_removed(World& world, const std::vector<char>& remove
     new_index[i] = kept;
     kept += removed[i] ? 0 : 1;
   }
-  std::vector<WallContact>& contacts = world.wall_contacts.as_one_list();
-  std::erase_if(contacts, [&](const WallContact& c) { return removed[c.particle] != 0; });
-  for (WallContact& c : contacts) c.particle = new_index[c.particle];
+  std::erase_if(world.wall_contacts, [&](const WallContact& c) { return removed[c.particle] != 0; });
+  for (WallContact& c : world.wall_contacts) c.particle = new_index[c.particle];
 }
 
 World build_world(const SimulationSpec& spec) {

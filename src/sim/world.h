@@ -49,47 +49,6 @@ struct WallContact {
   Vec3 force_on_particle;      // N
 };
 
-// A step's wall contacts, ascending particle index, in the lists the force stage found them
-// in: one per chunk of surface candidates (sim/forces.cpp). The stage swaps its new lists in
-// instead of gathering them into one array — that copy cost about 0.3 ms a step at 200k
-// particles (160 B per contact, some 17,000 contacts). Reindexing, removal and restarts make
-// it one list.
-struct WallContactList {
-  std::vector<std::vector<WallContact>> chunks;
-  // SurfaceCandidates::builds of the candidates the chunks were found for (chunk c: the
-  // contacts of candidates [64 c, 64 c + 64)); kNotChunked if it is one list.
-  static constexpr std::uint64_t kNotChunked = ~std::uint64_t{0};
-  std::uint64_t candidate_builds = kNotChunked;
-
-  std::size_t size() const {
-    std::size_t n = 0;
-    for (const auto& chunk : chunks) n += chunk.size();
-    return n;
-  }
-  bool empty() const { return size() == 0; }
-  // Every contact, in order.
-  template <class F>
-  void for_each(F&& f) const {
-    for (const auto& chunk : chunks)
-      for (const WallContact& c : chunk) f(c);
-  }
-  std::vector<WallContact> flat() const {
-    std::vector<WallContact> all;
-    all.reserve(size());
-    for (const auto& chunk : chunks) all.insert(all.end(), chunk.begin(), chunk.end());
-    return all;
-  }
-  // Makes it one list (chunks[0]), in the same order.
-  std::vector<WallContact>& as_one_list() {
-    if (chunks.size() != 1) {
-      std::vector<WallContact> all = flat();
-      chunks.assign(1, std::move(all));
-    }
-    candidate_builds = kNotChunked;
-    return chunks[0];
-  }
-};
-
 // Candidate triangles for particle–surface contacts, rebuilt with the pair list (triangles
 // whose bounding box comes within skin of the particle). CSR over the particles that have
 // any (most of a bed has none).
@@ -99,7 +58,6 @@ struct SurfaceCandidates {
   std::vector<std::uint16_t> surface;         // per entry
   std::vector<std::uint32_t> triangle;        // per entry
   std::vector<std::vector<Vec3>> vertices_at_build;  // per surface (m)
-  std::uint64_t builds = 0;                          // times built (WallContactList's chunks)
 };
 
 // What a step's opening pass saw of the new state, over all particles (sim/opening_pass.h).
@@ -144,8 +102,8 @@ struct ForceWorkspace {
   std::vector<HertzMindlinBatch> batches;             // per thread (batched contact kernel)
   // Surface contacts are found in chunks of candidates that any thread may take (the filler
   // that evens out the threads' pair ranges): each chunk's contacts, then gathered in order.
-  // Swapped with World::wall_contacts' chunks after the stage: the previous step's lists.
   std::vector<std::vector<WallContact>> wall_chunks;
+  std::vector<std::size_t> wall_chunk_start;  // chunks + 1: first contact of each chunk, then total
   // A particle's surface contacts' force and torque on it, found before its pair sum was final
   // (another thread was still on its rows): added after the team's next barrier.
   struct WallSum {
@@ -172,7 +130,7 @@ struct World {
 
   PairList pairs;
   SurfaceCandidates candidates;
-  WallContactList wall_contacts;  // this step's, ascending particle index
+  std::vector<WallContact> wall_contacts;  // this step's, ascending particle index
   ForceWorkspace force_workspace;
 
   double time = 0.0;                  // s

@@ -34,7 +34,6 @@ void build_surface_candidates(World& world) {
   const ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   SurfaceCandidates& c = world.candidates;
-  c.builds += 1;
   const double cell = 2.0 * world.max_radius + world.skin;
   for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
     const bool moving = world.motions[s].kind.value != MotionKind::none;
