@@ -43,7 +43,9 @@ void step(World& world, StepEnd end) {
     update_neighbors(world, scan);
   }
   // Forces at the new configuration, then velocity Verlet's closing half kick, in one team of
-  // threads (the stages time themselves) — or the kick is left to the next step's first pass.
+  // threads (the stages time themselves) — or the kick is left to the next step's first pass,
+  // or that whole first pass is done here as well, each particle once its force is final
+  // (then booked under "pair forces" and "surface forces").
   if (end == StepEnd::next_opened) {
     const OpeningPass next = OpeningPass::of(world, verlet ? 0.5 * dt : 0.0, opening_kick, dt);
     compute_forces_and_kick(world, 0.0, &next);

@@ -108,10 +108,15 @@ TEST(Verification, SymplecticEulerStateIsBitIdenticalForOneToThreeThreads) {
     EXPECT_FALSE(world.wall_contacts.empty());
     hashes[threads - 1] = sim::state_hash(world);
   }
+  // The same steps, each opening the next in its force stage (a full kick by the forces just
+  // computed, then the drift): the same state.
+  World opened = start_world(spec);
+  sim::advance(opened, 600);
   omp_set_num_threads(2);
   parallel_threshold = 2048;
   EXPECT_EQ(hashes[0], hashes[1]) << "2 threads";
   EXPECT_EQ(hashes[0], hashes[2]) << "3 threads";
+  EXPECT_EQ(hashes[0], sim::state_hash(opened)) << "3 threads, each step opening the next";
 }
 
 // 05 — The closing half kick left to the next step's first pass, or the whole opening pass of
