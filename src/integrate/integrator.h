@@ -10,11 +10,18 @@
 
 namespace quarry::integrate {
 
-// Particle i: v += h F/m, ω += h τ/I (h = dt/2 for a half kick). Every kick is this one
-// expression, so a kick run inside another pass gives the same bits as the kick pass.
+// v += h F/m, ω += h τ/I (h = dt/2 for a half kick), on values a pass holds in registers.
+// Every kick is this one expression, so a kick run inside another pass gives the same bits
+// as the kick pass.
+inline void kick_values(Vec3& velocity, Vec3& angular_velocity, const Vec3& force, const Vec3& torque,
+                        double inv_mass, double inv_inertia, double h) {
+  velocity += force * (h * inv_mass);
+  angular_velocity += torque * (h * inv_inertia);
+}
+
+// Particle i kicked by h.
 inline void kick_particle(ParticleStore& p, std::size_t i, double h) {
-  p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
-  p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
+  kick_values(p.velocity[i], p.angular_velocity[i], p.force[i], p.torque[i], p.inv_mass[i], p.inv_inertia(i), h);
 }
 
 // Every particle kicked by h.

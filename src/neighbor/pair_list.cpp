@@ -266,8 +266,7 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
 bool pair_list_needs_rebuild(const ParticleStore& particles, const PairList& list,
                              double extra_displacement) {
   const std::size_t n = particles.size();
-  if (list.builds == 0 || list.reference_positions.size() != n || list.ids_at_build.size() != n)
-    return true;
+  if (list.builds == 0 || !list.built_for(n)) return true;
   const Vec3* const position = particles.position.data();
   const Vec3* const reference = list.reference_positions.data();
   const ParticleId* const id = particles.id.data();

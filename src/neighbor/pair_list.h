@@ -47,6 +47,9 @@ struct PairList {
   PairListWorkspace workspace;
 
   std::size_t size() const { return partner.size(); }
+  // True if the last build was for these n particles: its reference positions and ids can be
+  // compared with theirs, index by index.
+  bool built_for(std::size_t n) const { return reference_positions.size() == n && ids_at_build.size() == n; }
 };
 
 // Rebuilds the list: pairs i < j with |xj − xi|² < ((Ri + Rj) + skin)² (evaluated in exactly

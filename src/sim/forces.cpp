@@ -686,21 +686,19 @@ void forces_and_kick(World& world, double h, const OpeningPass* next) {
   if (kBatched && ws.batches.size() < static_cast<std::size_t>(thread_count)) ws.batches.resize(thread_count);
   ws.wall_deferred.resize(std::max<std::size_t>(ws.wall_deferred.size(), thread_count));
   ws.rows_done.assign(thread_count, 0);
-  ws.opening.assign(thread_count, OpeningTally{});
   prepare_wall_contacts(world);
   // Stage times as thread 0 sees them (s).
   double start = omp_get_wtime(), pairs_done = start, walls_done = start;
   int excessive = 0;
-#pragma omp parallel num_threads(thread_count) reduction(| : excessive)
+  OpeningTally tally;  // of the next step's opening pass, if done here
+#pragma omp parallel num_threads(thread_count) reduction(| : excessive) reduction(merge : tally)
   {
-    OpeningTally tally;  // this thread's (on its own stack: no line shared with the others)
     pair_and_body_forces<kBatched>(world, next, tally, excessive);
     if (omp_get_thread_num() == 0) pairs_done = omp_get_wtime();
     find_wall_contacts(world, ws, next, tally, excessive);
 #pragma omp barrier
     if (omp_get_thread_num() == 0) walls_done = omp_get_wtime();
     finish_forces(world, h, next, tally);
-    ws.opening[omp_get_thread_num()] = tally;
   }
   const double end = omp_get_wtime();
   learn_shares(ws);
@@ -710,8 +708,7 @@ void forces_and_kick(World& world, double h, const OpeningPass* next) {
 #pragma omp parallel for schedule(static) num_threads(thread_count)
     for (std::size_t i = 0; i < n; ++i) next->undo(p, i);
   } else if (next) {
-    world.opening = OpeningTally{};
-    for (const OpeningTally& one : ws.opening) world.opening.merge(one);
+    world.opening = tally;
     world.next_opened = true;
   }
   world.timers.add(world.timers.stage("pair forces"), pairs_done - start);

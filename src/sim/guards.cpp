@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "integrate/integrator.h"
 #include "sim/opening_pass.h"
 #include "sim/step.h"
 
@@ -34,20 +33,11 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
     world.next_opened = false;
   } else {
     const OpeningPass pass = OpeningPass::of(world, world.pending_kick, h, dt);
-    int bad = 0, outside = 0, ids_changed = 0;
-    double largest = 0.0;  // m²
-#pragma omp parallel for schedule(static) if (n > parallel_threshold) \
-    reduction(| : bad, outside, ids_changed) reduction(max : largest)
-    for (std::size_t i = 0; i < n; ++i) {
-      OpeningTally one;
-      pass.run(p, i, one);
-      bad |= one.bad, outside |= one.outside, ids_changed |= one.ids_changed;
-      largest = one.largest > largest ? one.largest : largest;
-    }
-    tally = {bad, outside, ids_changed, largest};
+#pragma omp parallel for schedule(static) if (n > parallel_threshold) reduction(merge : tally)
+    for (std::size_t i = 0; i < n; ++i) pass.run(p, i, tally);
   }
   world.pending_kick = 0.0;
-  const bool compare = world.pairs.reference_positions.size() == n && world.pairs.ids_at_build.size() == n;
+  const bool compare = world.pairs.built_for(n);
   std::size_t first_bad = n;
   if (tally.bad)
     for (std::size_t i = 0; i < n && first_bad == n; ++i)

@@ -6,9 +6,14 @@
 // for each particle as soon as its force is final, while its data is still in cache.
 #pragma once
 
+#include "integrate/integrator.h"
 #include "sim/world.h"
 
 namespace quarry::sim {
+
+// Per-thread tallies of a parallel opening pass, merged (exact: flags and a maximum, so any
+// merge order gives the same result).
+#pragma omp declare reduction(merge : OpeningTally : omp_out.merge(omp_in)) initializer(omp_priv = OpeningTally{})
 
 struct OpeningPass {
   double pending = 0.0;  // s: closing half kick of the last step (0: none)
@@ -24,8 +29,7 @@ struct OpeningPass {
     const Aabb& box = world.spec.simulation.domain.value;
     if (!box.empty()) pass.domain = &box;
     const PairList& list = world.pairs;
-    const std::size_t n = world.particles.size();
-    if (list.reference_positions.size() == n && list.ids_at_build.size() == n) {
+    if (list.built_for(world.particles.size())) {
       pass.reference = list.reference_positions.data();
       pass.id_at_build = list.ids_at_build.data();
     }
@@ -42,12 +46,8 @@ struct OpeningPass {
     const double inv_mass = p.inv_mass[i], inv_inertia = p.inv_inertia(i);  // 1/kg, 1/(kg m²)
     const Vec3 f = p.force[i], torque = p.torque[i];                         // N, N·m
     Vec3 v = p.velocity[i], w = p.angular_velocity[i];                       // m/s, rad/s
-    if (pending != 0.0) {
-      v += f * (pending * inv_mass);
-      w += torque * (pending * inv_inertia);
-    }
-    v += f * (h * inv_mass);
-    w += torque * (h * inv_inertia);
+    if (pending != 0.0) integrate::kick_values(v, w, f, torque, inv_mass, inv_inertia, pending);
+    integrate::kick_values(v, w, f, torque, inv_mass, inv_inertia, h);
     const Vec3 x = p.position[i] + v * dt;  // m
     p.velocity[i] = v;
     p.angular_velocity[i] = w;

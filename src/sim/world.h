@@ -113,7 +113,6 @@ struct ForceWorkspace {
   };
   std::vector<std::vector<WallSum>> wall_deferred;  // per thread
   std::vector<int> rows_done;                       // per thread: 1 once its pair rows are summed
-  std::vector<OpeningTally> opening;                // per thread: the next step's opening pass
 };
 
 struct World {
