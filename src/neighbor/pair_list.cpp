@@ -33,6 +33,17 @@ void release(std::vector<T>& v) {
   std::vector<T>().swap(v);
 }
 
+// Sizes v to `count` elements that the caller then overwrites, in the memory v already has:
+// it is mapped, so the refill takes no page faults and only the elements beyond the old size
+// are zeroed first (at 200k particles a fresh 20 MB list cost 8 ms a build, serial). A fresh
+// array of exactly `count` if v is too small or more than a quarter too large (the list
+// shrank: give the memory back).
+template <class T>
+void resize_for_refill(std::vector<T>& v, std::size_t count) {
+  if (count > v.capacity() || v.capacity() - count > count / 4) release(v);
+  v.resize(count);
+}
+
 // Index at the last build of each current particle (kNoIndex if it is new), matched by id.
 // Identity when the ids did not change (the common case: no re-sort, insertion or removal).
 // Returns false for that identity case without filling old_index_of. Ids are usually compact
@@ -112,9 +123,10 @@ inline void for_each_partner(std::uint32_t i, const Vec3* position, const double
     }
 }
 
-// Keeps of the list being replaced only the pairs that carry history (the contacts), in
-// workspace.previous_*, and frees the rest: the new list is then built next to about two
-// thirds of the old one's size instead of all of it.
+// Copies of the list being replaced the pairs that carry history (the contacts) into
+// workspace.previous_*: about two thirds of the pairs in a settled bed. The list's own arrays
+// are then refilled with the new list (resize_for_refill), so the build holds one list and
+// the contacts, never two lists.
 void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   PairListWorkspace& w = list.workspace;
   const bool rolling = !list.rolling_torque.empty();
@@ -144,9 +156,6 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
       ++out;
     }
   }
-  release(list.partner);
-  release(list.tangential_displacement);
-  release(list.rolling_torque);
 }
 
 // History of pair (i, j) from the previous contacts if both particles and the contact existed
@@ -220,9 +229,9 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   release(workspace.previous_ids);
 
   list.offsets = std::move(offsets);
-  list.partner.resize(pair_count);
-  list.tangential_displacement.resize(pair_count);
-  list.rolling_torque.resize(list.keep_rolling_history ? pair_count : 0);
+  resize_for_refill(list.partner, pair_count);
+  resize_for_refill(list.tangential_displacement, pair_count);
+  resize_for_refill(list.rolling_torque, list.keep_rolling_history ? pair_count : 0);
   const std::uint32_t* const row = list.offsets.data();
   std::uint32_t* const partner = list.partner.data();
   Vec3* const tangential = list.tangential_displacement.data();
