@@ -15,7 +15,9 @@
 // ranges (ascending source row), then runs its rows exactly as the serial pass, taking the kept
 // result for its own crossing pairs. Every particle thus receives the same terms in the same
 // order for any T: the sums are bit-identical (checked by the determinism tests). Crossing pairs
-// are few (the ranges are compact in space after the space-filling-curve sort).
+// are few (the ranges are compact in space after the space-filling-curve sort). The "zero all"
+// is not a pass of its own: the pair that brings a particle's first term zeroes its sum just
+// before (PairPlan::first_reach), the same bits without streaming every sum through memory.
 //
 // Why surface contacts are found in chunks. The threads' pair ranges are balanced by learning
 // each thread's speed, but a core of a shared host can slow down for tens of steps, and the
@@ -40,6 +42,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
+#include <utility>
 #include <cmath>
 
 #include "contact/hertz_mindlin_batch.h"
@@ -166,11 +170,34 @@ bool shares_moved(const ForceWorkspace& ws) {
   return false;
 }
 
+[[gnu::always_inline]] inline bool bit(const std::vector<std::uint64_t>& bits, std::uint32_t k) {
+  return (bits[k >> 6] >> (k & 63)) & 1u;
+}
+
+// PairPlan::first_reach and ::reached. Pairs in list order are the rows in order, and that is
+// the order in which terms reach a particle's sum on any thread count (see the top of this
+// file), so the pair that first names a particle as partner brings its first term. One pass
+// over the partners, O(pairs), per list build.
+void mark_first_reach(const PairList& list, std::size_t n, ForceWorkspace::PairPlan& plan) {
+  const std::size_t pairs = list.size();
+  plan.first_reach.assign((pairs + 63) / 64, 0);
+  plan.reached.assign((n + 63) / 64, 0);
+  const std::uint32_t* const partner = list.partner.data();
+  for (std::size_t k = 0; k < pairs; ++k) {
+    const std::uint32_t j = partner[k];
+    std::uint64_t& word = plan.reached[j >> 6];
+    const std::uint64_t mask = std::uint64_t{1} << (j & 63);
+    plan.first_reach[k >> 6] |= std::uint64_t{(word & mask) == 0} << (k & 63);
+    word |= mask;
+  }
+}
+
 // The thread layout for this list: ranges, and the crossing pairs listed once (partners are
 // ascending within a row, so a row's crossing pairs are its tail). Cost O(n + crossing), once
 // per list build (or when the shares move) rather than a scan of every pair every step.
 void make_plan(const PairList& list, std::size_t n, int threads, std::vector<double>& shares,
                ForceWorkspace::PairPlan& plan) {
+  if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size()) mark_first_reach(list, n, plan);
   plan.builds = list.builds, plan.rows = n, plan.pairs = list.size(), plan.threads = threads;
   if (shares.size() != static_cast<std::size_t>(threads)) shares.assign(threads, 1.0 / threads);
   plan.share = shares;
@@ -344,15 +371,37 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
 #pragma omp barrier
   const double phase2_start = omp_get_wtime();  // s
   // Phase 2: start from the earlier ranges' crossing contributions (ascending source row),
-  // then the rows in order.
-  for (std::uint32_t i = first; i < end; ++i) force[i] = torque[i] = Vec3{};
+  // then the rows in order. A particle's sum is zeroed by the pair that reaches it first.
+  const auto start_sum = [&](std::uint32_t k) {
+    if (bit(plan.first_reach, k)) force[v.partner[k]] = torque[v.partner[k]] = Vec3{};
+  };
   for (std::uint32_t q = 0; q < plan.crossing_begin[t]; ++q) {
+    const std::uint32_t k = plan.crossing_pair[q], j = v.partner[k];
+    if (j < first || j >= end) continue;
+    start_sum(k);
     const CrossingPair& c = ws.crossing[q];
-    if (c.partner >= first && c.partner < end) {
-      force[c.partner] -= c.force;
-      torque[c.partner] += c.torque_j;
-    }
+    if (c.partner == kNotTouching) continue;
+    force[j] -= c.force;
+    torque[j] += c.torque_j;
   }
+  // Zeroes the sums that pairs [from, to) reach first, of this range's particles (the crossing
+  // tails' partners were started by their own range's thread). A few set bits per block.
+  const std::uint64_t* const first_reach = plan.first_reach.data();
+  const auto start_sums = [&](std::uint32_t from, std::uint32_t to) {
+    for (std::uint32_t word = from >> 6; word <= (to - 1) >> 6 && from < to; ++word) {
+      std::uint64_t bits = first_reach[word];
+      if (word == from >> 6) bits &= ~std::uint64_t{0} << (from & 63);
+      if (word == (to - 1) >> 6 && (to & 63) != 0) bits &= ~(~std::uint64_t{0} << (to & 63));
+      for (; bits != 0; bits &= bits - 1) {
+        const std::uint32_t j = v.partner[word * 64 + static_cast<std::uint32_t>(std::countr_zero(bits))];
+        if (j < end) force[j] = torque[j] = Vec3{};
+      }
+    }
+  };
+  // What the rows before i added onto particle i (N, N·m): zero if no pair reaches it.
+  const auto sum_so_far = [&](std::uint32_t i) {
+    return bit(plan.reached, i) ? std::pair{force[i], torque[i]} : std::pair{Vec3{}, Vec3{}};
+  };
   HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
   std::size_t next_crossing = plan.crossing_begin[t];
   // Adds this range's crossing pair k of row i (computed in phase 1) onto particle i.
@@ -385,7 +434,7 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
   };
   // Row i in list order by the scalar law.
   const auto scalar_row = [&](std::uint32_t i) {
-    Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
+    auto [force_i, torque_i] = sum_so_far(i);  // N, N·m: the rows before i are done
     for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
       const std::uint32_t j = v.partner[k];
       if (j >= end) {
@@ -441,13 +490,14 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
         ++stop;
       }
       if (batch->count > 0) excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
+      start_sums(offsets[block], offsets[stop]);
       int lane = 0;
       for (std::uint32_t i = block; i < stop; ++i) {
         if (!batched_row(i)) {
           scalar_row(i);
           continue;
         }
-        Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: the rows before i are done
+        auto [force_i, torque_i] = sum_so_far(i);  // N, N·m: the rows before i are done
         for (const int lanes = lanes_end[i - block]; lane < lanes; ++lane) {
           const HertzMindlinBatch& b = *batch;
           const std::uint32_t j = b.slot[lane];
@@ -466,6 +516,7 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
     }
   } else {
     for (std::uint32_t i = first; i < end; ++i) {
+      start_sums(offsets[i], offsets[i + 1]);
       scalar_row(i);
       open_rows(i, i + 1);
     }

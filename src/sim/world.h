@@ -91,6 +91,13 @@ struct ForceWorkspace {
     std::vector<std::uint32_t> crossing_row, crossing_pair;
     std::vector<std::uint32_t> crossing_begin;  // threads + 1: range t's are [begin[t], begin[t+1])
     std::vector<double> share;                  // threads: the fraction of rows + pairs in each range
+    // Where each particle's sum starts, so that no pass zeroes every sum first (at 200k on 2
+    // threads such a pass took 3 % of the step, bound by memory bandwidth): bit k of
+    // first_reach is set if pair k is the first in list order whose partner is partner[k];
+    // that pair zeroes the partner's sum just before its own term. Bit i of reached is set if
+    // some pair has partner i; else row i starts from zero. Remade with each list, whatever
+    // the threads.
+    std::vector<std::uint64_t> first_reach, reached;
   };
   PairPlan plan;
   // Balance of the ranges, learnt from the time each thread spent on its rows: the fraction of
