@@ -628,7 +628,32 @@ void prepare_wall_contacts(World& world) {
   ForceWorkspace& ws = world.force_workspace;
   const std::size_t m = world.candidates.particles.size();
   ws.wall_chunks.resize((m + kWallChunk - 1) / kWallChunk);
+  ws.chunk_found.assign(ws.wall_chunks.size(), 0);
+  ws.reactions_next = 0;
+  ws.reactions_busy = 0;
   for (auto& surface : world.surfaces) surface.clear_step_loads();
+}
+
+// Adds the reactions of the chunks that are found, in chunk order from the first not added,
+// unless another thread is adding them: then that thread takes the ones that are ready. So
+// the reactions go onto the surfaces in one fixed order (chunks, then contacts) on any thread
+// count, while the other chunks are still being found, instead of on one thread after the
+// barrier (measured at 200k on 2 threads: 0.17 ms a step, the other thread waiting 0.13 ms).
+// Why nothing is left behind: a thread marks its chunk found before it tries to take the
+// adding over, and the adding thread looks at the next chunk again after it hands over; in the
+// single order of these sequentially consistent operations one of the two sees the other's.
+void add_ready_reactions(World& world, ForceWorkspace& ws) {
+  const std::size_t chunks = ws.wall_chunks.size();
+  std::atomic_ref<int> busy(ws.reactions_busy);
+  const auto found = [&](std::size_t c) { return c < chunks && std::atomic_ref<int>(ws.chunk_found[c]).load() != 0; };
+  for (;;) {
+    if (busy.exchange(1) != 0) return;  // the thread adding will see this chunk found
+    std::size_t c = ws.reactions_next;  // read and written only while busy
+    for (; found(c); ++c) add_reactions(world, ws.wall_chunks[c].data(), ws.wall_chunks[c].data() + ws.wall_chunks[c].size());
+    ws.reactions_next = c;
+    busy.store(0);
+    if (!found(c)) return;
+  }
 }
 
 // Every thread of the team, as soon as it is done with its pair rows: takes chunks of
@@ -681,13 +706,15 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
       // Its force is final: the next opening pass while its data is in cache.
       if (next) next->run(p, i, tally);
     }
+    std::atomic_ref<int>(ws.chunk_found[chunk]).store(1);
+    add_ready_reactions(world, ws);
   }
 }
 
-// Every thread of the team, after a barrier (all pair sums and all chunks done): the surface
-// sums kept back added (after the pair sums: the order of one thread). Then thread 0 adds the
-// reactions onto the surfaces, chunk after chunk (contact order), while the others gather the
-// chunks' contacts into world.wall_contacts and, if h is not 0, kick every particle by h;
+// Every thread of the team, after a barrier (all pair sums and all chunks done, and so all
+// reactions added): the surface sums kept back added (after the pair sums: the order of one
+// thread). Then the chunks' contacts are gathered into world.wall_contacts and, if h is not 0,
+// every particle is kicked by h;
 // thread 0 joins them when done (any thread may take any chunk).
 void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally& tally) {
   ForceWorkspace& ws = world.force_workspace;
@@ -709,9 +736,6 @@ void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally
     // Not cleared first: only elements past the current size are constructed, then overwritten.
     world.wall_contacts.resize(ws.wall_chunk_start[chunks]);
   }  // (its barrier: every sum is added)
-  if (omp_get_thread_num() == 0)
-    for (const std::vector<WallContact>& chunk : ws.wall_chunks)
-      add_reactions(world, chunk.data(), chunk.data() + chunk.size());
 #pragma omp for schedule(dynamic, 1) nowait
   for (std::size_t c = 0; c < chunks; ++c)
     std::copy(ws.wall_chunks[c].begin(), ws.wall_chunks[c].end(), world.wall_contacts.begin() + ws.wall_chunk_start[c]);
@@ -726,8 +750,9 @@ void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally
 void compute_forces(World& world) { compute_forces_and_kick(world, 0.0, nullptr); }
 
 // One team for the whole stage: pair sums (phase 1, barrier, phase 2), surface contacts in
-// chunks as threads come free, a barrier, then finish_forces: reactions onto the surfaces by
-// one thread while the others gather the contacts and finish and kick the particles.
+// chunks as threads come free (their reactions onto the surfaces added in chunk order as the
+// chunks are found), a barrier, then finish_forces: the contacts gathered, the particles
+// finished and kicked.
 template <bool kBatched>
 void forces_and_kick(World& world, double h, const OpeningPass* next) {
   ParticleStore& p = world.particles;
@@ -764,7 +789,7 @@ void forces_and_kick(World& world, double h, const OpeningPass* next) {
   }
   world.timers.add(world.timers.stage("pair forces"), pairs_done - start);
   world.timers.add(world.timers.stage("surface forces"), walls_done - pairs_done);
-  // The reactions, the gathering and the kick overlap: booked to the kick if there is one.
+  // The gathering and the kick overlap: booked to the kick if there is one.
   world.timers.add(world.timers.stage(h != 0.0 ? "integrate" : "surface forces"), end - walls_done);
 }
 

@@ -119,6 +119,13 @@ struct ForceWorkspace {
     Vec3 force, torque;  // N, N·m
   };
   std::vector<std::vector<WallSum>> wall_deferred;  // per thread
+  // The chunks' reactions onto the surfaces are added in chunk order by whichever thread
+  // finishes the next chunk in that order (sim/forces.cpp, add_ready_reactions): chunk_found
+  // (per chunk, 1 once its contacts are found), reactions_next (the first chunk whose reactions
+  // are not added yet) and reactions_busy (1 while a thread adds them).
+  std::vector<int> chunk_found;
+  std::size_t reactions_next = 0;
+  int reactions_busy = 0;
   std::vector<int> rows_done;                       // per thread: 1 once its pair rows are summed
 };
 
