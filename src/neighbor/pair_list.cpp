@@ -200,8 +200,18 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   build_cell_grid(particles.position, cell_edge, workspace.grid, particles.id);
   const CellGrid& grid = workspace.grid;
   const Vec3* const position = particles.position.data();
-  // Refilled at the end; not needed meanwhile (a lower peak while two lists coexist).
+  // Refilled at the end; not needed meanwhile (a lower peak while the contacts are kept).
   release(list.reference_positions);
+
+  // Where each particle was at the last build, by id. Done first, while the least memory is
+  // held: the id table is freed before the previous contacts are copied.
+  const bool has_previous = list.builds > 0 && list.offsets.size() == list.ids_at_build.size() + 1;
+  const std::size_t previous_count = has_previous ? list.ids_at_build.size() : 0;
+  std::swap(workspace.previous_ids, list.ids_at_build);
+  const bool remapped = has_previous && map_to_previous_indices(particles.id, workspace.previous_ids, workspace);
+  const std::uint32_t* const old_index_of = remapped ? workspace.old_index_of.data() : nullptr;
+  const bool same_particles = has_previous && !remapped;
+  release(workspace.previous_ids);
 
   // Pass 1: partners per particle (each row on its own: any schedule gives the same counts).
   std::vector<std::uint32_t> offsets(n + 1, 0);
@@ -218,16 +228,8 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   }
   const std::size_t pair_count = offsets[n];
 
-  // The previous list's contacts, for their history; then the new arrays at their exact size.
-  const bool has_previous = list.builds > 0 && list.offsets.size() == list.ids_at_build.size() + 1;
-  const std::size_t previous_count = has_previous ? list.ids_at_build.size() : 0;
+  // The previous list's contacts, for their history; then the list's arrays refilled.
   keep_previous_contacts(list, previous_count);
-  std::swap(workspace.previous_ids, list.ids_at_build);
-  const bool remapped = has_previous && map_to_previous_indices(particles.id, workspace.previous_ids, workspace);
-  const std::uint32_t* const old_index_of = remapped ? workspace.old_index_of.data() : nullptr;
-  const bool same_particles = has_previous && !remapped;
-  release(workspace.previous_ids);
-
   list.offsets = std::move(offsets);
   resize_for_refill(list.partner, pair_count);
   resize_for_refill(list.tangential_displacement, pair_count);
