@@ -43,8 +43,8 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <utility>
 #include <cmath>
+#include <utility>
 
 #include "contact/hertz_mindlin_batch.h"
 #include "integrate/integrator.h"
