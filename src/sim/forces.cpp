@@ -192,12 +192,18 @@ void mark_first_reach(const PairList& list, std::size_t n, ForceWorkspace::PairP
   }
 }
 
+// True if `plan` was made for this list of n particles (its ranges may still be for other
+// threads or shares).
+bool made_for_list(const ForceWorkspace::PairPlan& plan, const PairList& list, std::size_t n) {
+  return plan.builds == list.builds && plan.rows == n && plan.pairs == list.size();
+}
+
 // The thread layout for this list: ranges, and the crossing pairs listed once (partners are
 // ascending within a row, so a row's crossing pairs are its tail). Cost O(n + crossing), once
 // per list build (or when the shares move) rather than a scan of every pair every step.
 void make_plan(const PairList& list, std::size_t n, int threads, std::vector<double>& shares,
                ForceWorkspace::PairPlan& plan) {
-  if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size()) mark_first_reach(list, n, plan);
+  if (!made_for_list(plan, list, n)) mark_first_reach(list, n, plan);
   plan.builds = list.builds, plan.rows = n, plan.pairs = list.size(), plan.threads = threads;
   if (shares.size() != static_cast<std::size_t>(threads)) shares.assign(threads, 1.0 / threads);
   plan.share = shares;
@@ -314,7 +320,7 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
   const int threads = omp_get_num_threads(), t = omp_get_thread_num();
 #pragma omp single
   {
-    if (plan.builds != list.builds || plan.rows != n || plan.pairs != list.size() || plan.threads != threads ||
+    if (!made_for_list(plan, list, n) || plan.threads != threads ||
         shares_moved(ws))
       make_plan(list, n, threads, ws.range_share, plan);
     ws.range_time.assign(threads, 0.0);
@@ -372,13 +378,10 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
   const double phase2_start = omp_get_wtime();  // s
   // Phase 2: start from the earlier ranges' crossing contributions (ascending source row),
   // then the rows in order. A particle's sum is zeroed by the pair that reaches it first.
-  const auto start_sum = [&](std::uint32_t k) {
-    if (bit(plan.first_reach, k)) force[v.partner[k]] = torque[v.partner[k]] = Vec3{};
-  };
   for (std::uint32_t q = 0; q < plan.crossing_begin[t]; ++q) {
     const std::uint32_t k = plan.crossing_pair[q], j = v.partner[k];
     if (j < first || j >= end) continue;
-    start_sum(k);
+    if (bit(plan.first_reach, k)) force[j] = torque[j] = Vec3{};
     const CrossingPair& c = ws.crossing[q];
     if (c.partner == kNotTouching) continue;
     force[j] -= c.force;
@@ -656,6 +659,17 @@ void add_ready_reactions(World& world, ForceWorkspace& ws) {
   }
 }
 
+// A candidate's surface sum onto its particle, after its pair sum; its force is then final,
+// so the next opening pass, if this stage does it, while the data is in cache.
+void add_surface_sum(ParticleStore& p, const ForceWorkspace::WallSum& sum, const OpeningPass* next,
+                     OpeningTally& tally) {
+  if (sum.touching) {
+    p.force[sum.particle] += sum.force;
+    p.torque[sum.particle] += sum.torque;
+  }
+  if (next) next->run(p, sum.particle, tally);
+}
+
 // Every thread of the team, as soon as it is done with its pair rows: takes chunks of
 // candidates until none is left, and finds their contacts into the chunk's own list. A
 // particle's surface sum is added onto it at once if the thread owning its row has finished
@@ -693,18 +707,12 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
       const bool touching = wall_contacts_of(world, i, c, q, q_stop, found, out, sum, excessive);
       q = q_stop;
       if (!touching && !next) continue;
+      sum.touching = touching;
       while (i >= range_start[owner + 1]) ++owner;
-      if (std::atomic_ref<int>(ws.rows_done[owner]).load(std::memory_order_acquire) == 0) {
-        sum.touching = touching;
+      if (std::atomic_ref<int>(ws.rows_done[owner]).load(std::memory_order_acquire) == 0)
         deferred.push_back(sum);
-        continue;
-      }
-      if (touching) {
-        p.force[i] += sum.force;
-        p.torque[i] += sum.torque;
-      }
-      // Its force is final: the next opening pass while its data is in cache.
-      if (next) next->run(p, i, tally);
+      else
+        add_surface_sum(p, sum, next, tally);
     }
     std::atomic_ref<int>(ws.chunk_found[chunk]).store(1);
     add_ready_reactions(world, ws);
@@ -719,13 +727,7 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
 void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally& tally) {
   ForceWorkspace& ws = world.force_workspace;
   ParticleStore& p = world.particles;
-  for (const ForceWorkspace::WallSum& sum : ws.wall_deferred[omp_get_thread_num()]) {
-    if (sum.touching) {
-      p.force[sum.particle] += sum.force;
-      p.torque[sum.particle] += sum.torque;
-    }
-    if (next) next->run(p, sum.particle, tally);
-  }
+  for (const ForceWorkspace::WallSum& sum : ws.wall_deferred[omp_get_thread_num()]) add_surface_sum(p, sum, next, tally);
   const std::size_t chunks = ws.wall_chunks.size();
 #pragma omp single
   {
