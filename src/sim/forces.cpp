@@ -24,8 +24,10 @@
 // other thread then waits at the end of the pair loop (measured at 200k on 2 threads: a mean
 // gap of 0.75 ms per step of 10 ms). Finding a candidate's surface contacts reads positions
 // and velocities only and writes the contact's own record, so it can run as soon as a thread
-// is done with its rows, in any order: the chunks of candidates are taken by whichever thread
-// is free, and fill the gap. Each candidate's sum is added onto its particle after its pair
+// is done with its rows, in any order, by any thread, and fill the gap. A thread takes the chunks
+// of its own particles first (their data is in its cache; the host may place the two cores on
+// different L3 caches, and then every line one thread writes and the other reads costs a
+// transfer), then helps with the others'. Each candidate's sum is added onto its particle after its pair
 // sum (the same order as one thread): at once if the thread owning the particle's row is done
 // with its rows, else after the next barrier. The chunks' contacts are gathered in chunk order
 // (candidate order, as one thread finds them), and the reactions on the surfaces are added in
@@ -632,6 +634,7 @@ void prepare_wall_contacts(World& world) {
   const std::size_t m = world.candidates.particles.size();
   ws.wall_chunks.resize((m + kWallChunk - 1) / kWallChunk);
   ws.chunk_found.assign(ws.wall_chunks.size(), 0);
+  ws.chunk_taken.assign(ws.wall_chunks.size(), 0);
   ws.reactions_next = 0;
   ws.reactions_busy = 0;
   for (auto& surface : world.surfaces) surface.clear_step_loads();
@@ -686,9 +689,7 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
   const std::vector<WallContact>& previous = world.wall_contacts;
   const WallContact* const previous_end = previous.data() + previous.size();
   std::vector<SurfaceContact> found;
-  const std::size_t chunks = ws.wall_chunks.size();
-#pragma omp for schedule(dynamic, 1) nowait
-  for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+  const auto find_chunk = [&](std::size_t chunk) {
     std::vector<WallContact>& out = ws.wall_chunks[chunk];
     out.clear();
     const std::size_t first = chunk * kWallChunk, end = std::min(m, first + kWallChunk);
@@ -716,14 +717,35 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
     }
     std::atomic_ref<int>(ws.chunk_found[chunk]).store(1);
     add_ready_reactions(world, ws);
+  };
+  // Chunk c belongs to the thread whose rows hold its first candidate: that thread's particles
+  // are in its own cache (it has just summed them, and it opens them for the next step), and
+  // they stay there if it finds their surface contacts too. A thread takes its own chunks
+  // first, in order, then helps the others from the back of theirs. Whoever takes a chunk,
+  // its results are the same: only the speed depends on it.
+  const int threads = omp_get_num_threads(), me = omp_get_thread_num();
+  const auto first_chunk_of = [&](int t) -> std::size_t {  // t = threads: the end
+    const auto c = std::lower_bound(cand.particles.begin(), cand.particles.end(), range_start[t]);
+    return (static_cast<std::size_t>(c - cand.particles.begin()) + kWallChunk - 1) / kWallChunk;
+  };
+  // The taker is recorded (thread + 1): it also copies the chunk's contacts out (finish_forces).
+  const auto take = [&](std::size_t c) { return std::atomic_ref<int>(ws.chunk_taken[c]).exchange(me + 1) == 0; };
+  // A thread's own chunks are taken from the front, a helper's from the back: each side takes a
+  // contiguous run and stops at the first chunk the other side took, so none is left behind
+  // (of several helpers, only the first to take the last chunk goes on).
+  for (std::size_t c = first_chunk_of(me), own_end = first_chunk_of(me + 1); c < own_end && take(c); ++c)
+    find_chunk(c);
+  for (int k = 1; k < threads; ++k) {
+    const int other = (me + k) % threads;
+    const std::size_t other_begin = first_chunk_of(other);
+    for (std::size_t c = first_chunk_of(other + 1); c-- > other_begin && take(c);) find_chunk(c);
   }
 }
 
 // Every thread of the team, after a barrier (all pair sums and all chunks done, and so all
 // reactions added): the surface sums kept back added (after the pair sums: the order of one
 // thread). Then the chunks' contacts are gathered into world.wall_contacts and, if h is not 0,
-// every particle is kicked by h;
-// thread 0 joins them when done (any thread may take any chunk).
+// every particle is kicked by h.
 void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally& tally) {
   ForceWorkspace& ws = world.force_workspace;
   ParticleStore& p = world.particles;
@@ -738,9 +760,11 @@ void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally
     // Not cleared first: only elements past the current size are constructed, then overwritten.
     world.wall_contacts.resize(ws.wall_chunk_start[chunks]);
   }  // (its barrier: every sum is added)
-#pragma omp for schedule(dynamic, 1) nowait
+  // Each chunk by the thread that found its contacts: they are in its cache.
+  const int me = omp_get_thread_num() + 1;
   for (std::size_t c = 0; c < chunks; ++c)
-    std::copy(ws.wall_chunks[c].begin(), ws.wall_chunks[c].end(), world.wall_contacts.begin() + ws.wall_chunk_start[c]);
+    if (ws.chunk_taken[c] == me)
+      std::copy(ws.wall_chunks[c].begin(), ws.wall_chunks[c].end(), world.wall_contacts.begin() + ws.wall_chunk_start[c]);
   if (h == 0.0) return;
   const std::size_t n = p.size();
 #pragma omp for schedule(dynamic, 4096) nowait

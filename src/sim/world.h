@@ -124,6 +124,7 @@ struct ForceWorkspace {
   // (per chunk, 1 once its contacts are found), reactions_next (the first chunk whose reactions
   // are not added yet) and reactions_busy (1 while a thread adds them).
   std::vector<int> chunk_found;
+  std::vector<int> chunk_taken;  // per chunk: the thread that took it + 1 (0: not taken yet)
   std::size_t reactions_next = 0;
   int reactions_busy = 0;
   std::vector<int> rows_done;                       // per thread: 1 once its pair rows are summed
