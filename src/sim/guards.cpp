@@ -39,16 +39,14 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
   world.pending_kick = 0.0;
   const bool compare = world.pairs.built_for(n);
   std::size_t first_bad = n;
-  if (tally.bad)
+  if (tally.non_finite)
     for (std::size_t i = 0; i < n && first_bad == n; ++i)
       if (!finite_state(p, i)) first_bad = i;
   DriftScan scan;
+  static_cast<OpeningTally&>(scan) = tally;
   scan.particles = n;
   scan.first_non_finite = first_bad;
-  scan.any_outside = tally.outside != 0;
   scan.list_compared = compare;
-  scan.ids_changed = tally.ids_changed != 0;
-  scan.largest_displacement_squared = tally.largest;
   return scan;
 }
 

@@ -54,12 +54,13 @@ struct OpeningPass {
     p.position[i] = x;
     const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
                         (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
-    tally.bad |= !(zero == 0.0);
-    if (domain) tally.outside |= !domain->contains(x);  // (predictable: almost always inside)
+    tally.non_finite |= !(zero == 0.0);
+    if (domain) tally.any_outside |= !domain->contains(x);  // (predictable: almost always inside)
     if (reference) {
-      // NaN compares false: a non-finite particle is reported through `bad`, not here.
+      // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
       const double d2 = norm2(x - reference[i]);  // m²
-      tally.largest = d2 > tally.largest ? d2 : tally.largest;
+      double& largest = tally.largest_displacement_squared;  // m²
+      largest = d2 > largest ? d2 : largest;
       tally.ids_changed |= p.id[i] != id_at_build[i];
     }
   }

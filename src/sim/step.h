@@ -38,16 +38,15 @@ void complete_step(World& world);
 // which ends complete.
 void advance(World& world, std::uint64_t steps);
 
-// What the opening kick-drift saw of the new state (kick_drift_scan). Three stages would each
-// read every position again for it — the NaN guard, the domain check, the list's displacement
-// check — so the step takes it from the drift's own pass over the particles instead.
-struct DriftScan {
+// What the opening kick-drift saw of the new state (kick_drift_scan): the pass's tally, and
+// where it stands. Three stages would each read every position again for it — the NaN guard,
+// the domain check, the list's displacement check — so the step takes it from the drift's own
+// pass over the particles instead.
+struct DriftScan : OpeningTally {
   std::size_t particles = 0;         // n at the scan
   std::size_t first_non_finite = 0;  // first index with a non-finite x, v or ω; n if none
-  bool any_outside = false;          // some particle is outside the domain
-  bool list_compared = false;        // the list was built for these n particles: the two below hold
-  bool ids_changed = false;          // some id differs from the list's ids at build
-  double largest_displacement_squared = 0.0;  // m², max |xi − xi(build)|² over finite particles
+  bool list_compared = false;        // the list was built for these n particles: the tally's
+                                     // ids_changed and largest displacement hold
 };
 
 // Stages, in the order step() calls them; exposed for tests and the C ABI.

@@ -60,15 +60,19 @@ struct SurfaceCandidates {
   std::vector<std::vector<Vec3>> vertices_at_build;  // per surface (m)
 };
 
-// What a step's opening pass saw of the new state, over all particles (sim/opening_pass.h).
+// What a step's opening pass saw of the new state, over all particles (sim/opening_pass.h);
+// sim::DriftScan adds where it stands. The last two hold only if the pass compared with the
+// pair list (it was built for these particles).
 struct OpeningTally {
-  int bad = 0;          // some x, v or ω is not finite
-  int outside = 0;      // some particle is outside the domain
-  int ids_changed = 0;  // some id differs from the pair list's at its build
-  double largest = 0.0;  // m², the largest displacement² since the list's build
+  bool non_finite = false;   // some x, v or ω is not finite
+  bool any_outside = false;  // some particle is outside the domain
+  bool ids_changed = false;  // some id differs from the pair list's at its build
+  double largest_displacement_squared = 0.0;  // m², max |xi − xi(build)|² over finite particles
   void merge(const OpeningTally& o) {
-    bad |= o.bad, outside |= o.outside, ids_changed |= o.ids_changed;
-    largest = o.largest > largest ? o.largest : largest;
+    non_finite |= o.non_finite, any_outside |= o.any_outside, ids_changed |= o.ids_changed;
+    largest_displacement_squared = o.largest_displacement_squared > largest_displacement_squared
+                                       ? o.largest_displacement_squared
+                                       : largest_displacement_squared;
   }
 };
 
