@@ -24,12 +24,12 @@
 // other thread then waits at the end of the pair loop (measured at 200k on 2 threads: a mean
 // gap of 0.75 ms per step of 10 ms). Finding a candidate's surface contacts reads positions
 // and velocities only and writes the contact's own record, so it can run as soon as a thread
-// is done with its rows, in any order, by any thread, and fill the gap. A thread takes the chunks
-// of its own particles first (their data is in its cache; the host may place the two cores on
-// different L3 caches, and then every line one thread writes and the other reads costs a
-// transfer), then helps with the others'. Each candidate's sum is added onto its particle after its pair
-// sum (the same order as one thread): at once if the thread owning the particle's row is done
-// with its rows, else after the next barrier. The chunks' contacts are gathered in chunk order
+// is done with its rows, in any order, by any thread, and fill the gap. A thread takes the
+// chunks of its own particles first (their data is in its cache; the host may place the two
+// cores on different L3 caches, and then every line one thread writes and the other reads
+// costs a transfer), then helps with the others'. Each candidate's sum is added onto its
+// particle after its pair sum (the same order as one thread): at once if the thread owning
+// the particle's row is done with its rows, else after the next barrier. The chunks' contacts are gathered in chunk order
 // (candidate order, as one thread finds them), and the reactions on the surfaces are added in
 // that order too.
 //
@@ -674,7 +674,8 @@ void add_surface_sum(ParticleStore& p, const ForceWorkspace::WallSum& sum, const
 }
 
 // Every thread of the team, as soon as it is done with its pair rows: takes chunks of
-// candidates until none is left, and finds their contacts into the chunk's own list. A
+// candidates (its own first, below) until none is left, and finds their contacts into the
+// chunk's own list. A
 // particle's surface sum is added onto it at once if the thread owning its row has finished
 // its rows (its pair sum is final), else kept for after the barrier (finish_forces).
 void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* next, OpeningTally& tally,
@@ -682,7 +683,8 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
   const SurfaceCandidates& cand = world.candidates;
   ParticleStore& p = world.particles;
   const std::vector<std::uint32_t>& range_start = ws.plan.range_start;
-  std::vector<ForceWorkspace::WallSum>& deferred = ws.wall_deferred[omp_get_thread_num()];
+  const int threads = omp_get_num_threads(), me = omp_get_thread_num();
+  std::vector<ForceWorkspace::WallSum>& deferred = ws.wall_deferred[me];
   deferred.clear();
   const std::size_t m = cand.particles.size();
   // The previous step's contacts, for their history: replaced only after the team's barrier.
@@ -723,7 +725,6 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
   // they stay there if it finds their surface contacts too. A thread takes its own chunks
   // first, in order, then helps the others from the back of theirs. Whoever takes a chunk,
   // its results are the same: only the speed depends on it.
-  const int threads = omp_get_num_threads(), me = omp_get_thread_num();
   const auto first_chunk_of = [&](int t) -> std::size_t {  // t = threads: the end
     const auto c = std::lower_bound(cand.particles.begin(), cand.particles.end(), range_start[t]);
     return (static_cast<std::size_t>(c - cand.particles.begin()) + kWallChunk - 1) / kWallChunk;

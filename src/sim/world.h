@@ -114,6 +114,7 @@ struct ForceWorkspace {
   // Surface contacts are found in chunks of candidates that any thread may take (the filler
   // that evens out the threads' pair ranges): each chunk's contacts, then gathered in order.
   std::vector<std::vector<WallContact>> wall_chunks;
+  std::vector<int> chunk_taken;  // per chunk: the thread that took it + 1 (0: not taken yet)
   std::vector<std::size_t> wall_chunk_start;  // chunks + 1: first contact of each chunk, then total
   // A particle's surface contacts' force and torque on it, found before its pair sum was final
   // (another thread was still on its rows): added after the team's next barrier.
@@ -128,7 +129,6 @@ struct ForceWorkspace {
   // (per chunk, 1 once its contacts are found), reactions_next (the first chunk whose reactions
   // are not added yet) and reactions_busy (1 while a thread adds them).
   std::vector<int> chunk_found;
-  std::vector<int> chunk_taken;  // per chunk: the thread that took it + 1 (0: not taken yet)
   std::size_t reactions_next = 0;
   int reactions_busy = 0;
   std::vector<int> rows_done;                       // per thread: 1 once its pair rows are summed
