@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/particle_store.h"
+#include "core/scratch_array.h"
 #include "core/vec3.h"
 #include "neighbor/cell_grid.h"
 #include "neighbor/counting_sort.h"
@@ -25,9 +26,10 @@ struct PairListWorkspace {
   std::vector<ParticleId> id_table_keys;       //   dense by id when ids are compact, else hashed
   // The previous build's pairs that carry history, kept while the new list is made.
   std::vector<std::uint32_t> previous_offsets;   // n_previous + 1
-  std::vector<std::uint32_t> previous_partner;
-  std::vector<Vec3> previous_tangential_displacement;  // m
-  std::vector<Vec3> previous_rolling_torque;           // N·m (empty unless rolling history)
+  // Written in parallel before they are read: no serial zeroing pass (core/scratch_array.h).
+  ScratchArray<std::uint32_t> previous_partner;
+  ScratchArray<Vec3> previous_tangential_displacement;  // m
+  ScratchArray<Vec3> previous_rolling_torque;           // N·m (empty unless rolling history)
   std::vector<ParticleId> previous_ids;
 };
 
