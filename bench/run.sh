@@ -208,7 +208,12 @@ done
   echo
   echo "## Machine and run"
   echo
-  echo "- CPU: $(lscpu | sed -n 's/^Model name: *//p' | head -1), $(nproc --all) logical CPUs; memory $(free -g | awk '/^Mem:/{print $2}') GiB"
+  # Hosts of one model name differ (a "AMD EPYC" guest may be Zen 3 or Zen 4): family, model,
+  # widest vector unit and caches say which one the figures are from.
+  cpu_field() { lscpu | sed -n "s/^$1: *//p" | head -1; }
+  vector=AVX2; grep -qw avx512f /proc/cpuinfo && vector=AVX-512
+  grep -qw avx2 /proc/cpuinfo || vector=SSE
+  echo "- CPU: $(cpu_field 'Model name'), family $(cpu_field 'CPU family') model $(cpu_field 'Model'), $vector, L2 $(cpu_field 'L2 cache'), L3 $(cpu_field 'L3 cache'), hypervisor $(cpu_field 'Hypervisor vendor'); $(nproc --all) logical CPUs; memory $(free -g | awk '/^Mem:/{print $2}') GiB"
   echo "- Invocation: \`SIZES=\"$SIZES\" REPEATS=$REPEATS CODES=\"$CODES\" THREADS=\"$THREADS\" bash bench/run.sh\`; Quarry commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown) (plus uncommitted changes, if any)"
   echo "- Beds: every code starts from the same LAMMPS-settled bed (bench/peers); LIGGGHTS and Quarry read its data file and re-settle it $NRESETTLE steps with their own model (a data file has no tangential contact history), LAMMPS continues from its restart."
   for s in $SIZES; do
