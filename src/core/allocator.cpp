@@ -10,6 +10,7 @@
 // run time 13.00 -> 11.88 s on one thread and 7.25 -> 6.79 s on two, the same peak RSS.
 #include "core/allocator.h"
 
+#include <malloc.h>
 #include <sys/mman.h>
 
 #include <cstdlib>

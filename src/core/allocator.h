@@ -1,8 +1,6 @@
 // Allocator settings for long runs with large arrays (core/allocator.cpp).
 #pragma once
 
-#include <malloc.h>
-
 #include <cstddef>
 
 namespace quarry {
