@@ -14,7 +14,8 @@
 # Options (environment): SIZES, REPEATS, CODES (quarry liggghts lmp_granular lmp_ghh),
 #   THREADS ("1 2"), QUIET_WAIT (s to wait for an idle machine before each run), MACHINE (name
 #   in the result files), BUILD_DIR (default build/release = `cmake --preset release`),
-#   SKIP_BUILD=1, SKIP_INSTALL=1, BEDS_ONLY=1 (prepare the settled beds, time nothing). Beds and
+#   SKIP_BUILD=1, SKIP_INSTALL=1, BEDS_ONLY=1 (prepare the settled beds, time nothing), APPEND=1
+#   (add the runs to the day's latest results file rather than start the next one). Beds and
 #   logs go to bench/_work/ (large; not committed); beds are reused by later invocations (delete
 #   bench/_work/runs/<code>_<size>.* to rebuild one; a Quarry bed is built from the LAMMPS one,
 #   bed_<size>.rst.data, whichever codes are timed).
@@ -39,6 +40,18 @@ DATE=$(date +%F)
 cpu_slug() { lscpu | sed -n 's/^Model name: *//p' | head -1 | tr 'A-Z' 'a-z' | sed 's/[^a-z0-9]\+/-/g; s/^-//; s/-$//' | cut -c1-32; }
 MACHINE=${MACHINE:-"$(nproc)cpu-$(cpu_slug)"}
 RESULTS="$BENCH/results/$DATE-$MACHINE"
+# An earlier invocation of the same day and machine keeps its files: this one takes the next free
+# suffix (-b, -c, ...). APPEND=1 adds this invocation's runs to the day's latest file instead
+# (e.g. SIZES="1m" after a run of the smaller sizes, one report for both).
+if [ "${BEDS_ONLY:-0}" != 1 ]; then
+  latest=$RESULTS
+  for suffix in b c d e f g h i j k l m n o p q r s t u v w x y z; do
+    [ -e "$RESULTS.csv" ] || break
+    latest=$RESULTS; RESULTS="$BENCH/results/$DATE-$MACHINE-$suffix"
+  done
+  [ "${APPEND:-0}" = 1 ] && RESULTS=$latest
+  [ -e "$RESULTS.csv" ] && [ "${APPEND:-0}" != 1 ] && { echo "bench/run.sh: no free name for the results of $DATE-$MACHINE; set MACHINE" >&2; exit 2; }
+fi
 
 # ---- build Quarry (Release) ------------------------------------------------------------------
 if [ "${SKIP_BUILD:-0}" != 1 ]; then
@@ -217,8 +230,9 @@ done
   echo "- Invocation: \`SIZES=\"$SIZES\" REPEATS=$REPEATS CODES=\"$CODES\" THREADS=\"$THREADS\" bash bench/run.sh\`; Quarry commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown) (plus uncommitted changes, if any)"
   echo "- Beds: every code starts from the same LAMMPS-settled bed (bench/peers); LIGGGHTS and Quarry read its data file and re-settle it $NRESETTLE steps with their own model (a data file has no tangential contact history), LAMMPS continues from its restart."
   for s in $SIZES; do
-    last=$(ls "$LOGS/${s}_quarry_np1_r"*.log 2>/dev/null | tail -1 || true)
-    [ -n "$last" ] || continue
+    # This invocation's last repeat (logs of an earlier one with more repeats may lie beside it).
+    last="$LOGS/${s}_quarry_np1_r$REPEATS.log"
+    [ -f "$last" ] || continue
     echo
     echo "### Quarry per-stage time, $s, 1 thread ($(basename "$last"))"
     echo
