@@ -4,7 +4,6 @@
 // Inputs are the settled bed's: 2 mm glass-like spheres, overlaps of about 1 µm (bench/).
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -125,16 +124,11 @@ void surface_contacts_in_drum(benchmark::State& state) {
     const Vec3 point = (drum.vertices[tri[0]] * w[0] + drum.vertices[tri[1]] * w[1] + drum.vertices[tri[2]] * w[2]) / sum;
     p.centre = point + drum.triangle_normals[f] * (radius - 0.5e-6);  // normals point inwards
     for (std::uint32_t t = 0; t < drum.triangles.size(); ++t) {
-      Vec3 lo = drum.vertices[drum.triangles[t][0]], hi = lo;
-      for (int k = 1; k < 3; ++k) {
-        const Vec3& v = drum.vertices[drum.triangles[t][k]];
-        lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
-        hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-      }
-      const bool near = lo.x <= p.centre.x + radius && hi.x >= p.centre.x - radius &&
-                        lo.y <= p.centre.y + radius && hi.y >= p.centre.y - radius &&
-                        lo.z <= p.centre.z + radius && hi.z >= p.centre.z - radius;
-      if (near) p.candidates.push_back(t);
+      Aabb box;  // the triangle's, widened by the radius: near if it holds the centre
+      for (int k = 0; k < 3; ++k) box.expand(drum.vertices[drum.triangles[t][k]]);
+      box.lo = box.lo - Vec3{radius, radius, radius};
+      box.hi = box.hi + Vec3{radius, radius, radius};
+      if (box.contains(p.centre)) p.candidates.push_back(t);
     }
   }
   std::vector<SurfaceContact> contacts;
