@@ -181,7 +181,7 @@ Diagnostics in_file_order(const Diagnostics& diagnostics) {
 }
 
 SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& display_name,
-                          const std::string& base_directory) {
+                          const DeckParseOptions& options) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -208,7 +208,7 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
     deck_detail::read_materials_section(top, spec.materials);
     deck_detail::read_interactions_section(top, spec.interactions);
     deck_detail::read_particle_types_section(top, spec.particle_types);
-    deck_detail::read_surfaces_section(top, base_directory, spec.surfaces);
+    deck_detail::read_surfaces_section(top, options, spec.surfaces);
     deck_detail::read_factories_section(top, spec.factories);
     deck_detail::read_monitors_section(top, spec.monitors);
     deck_detail::read_output_section(top, spec.output);
@@ -228,11 +228,18 @@ SimulationSpec parse_deck(const std::string& path) {
                     "check the path; it is relative to the current directory");
   std::ostringstream text;
   text << in.rdbuf();
-  return parse_yaml(text.str(), path, std::filesystem::path(path).parent_path().string());
+  DeckParseOptions options;
+  options.base_directory = std::filesystem::path(path).parent_path().string();
+  return parse_yaml(text.str(), path, options);
 }
 
 SimulationSpec parse_deck_string(const std::string& yaml_text, const std::string& display_name) {
-  return parse_yaml(yaml_text, display_name, std::string());
+  return parse_yaml(yaml_text, display_name, DeckParseOptions{});
+}
+
+SimulationSpec parse_deck_string(const std::string& yaml_text, const std::string& display_name,
+                                 const DeckParseOptions& options) {
+  return parse_yaml(yaml_text, display_name, options);
 }
 
 }  // namespace quarry

@@ -22,4 +22,18 @@ SimulationSpec parse_deck(const std::string& path);
 // STL files are resolved relative to the current working directory.
 SimulationSpec parse_deck_string(const std::string& yaml_text, const std::string& display_name);
 
+// How a deck held in memory finds its STL files, e.g. when a checkpoint's deck text is read
+// back far from where the deck once was.
+struct DeckParseOptions {
+  // Folder that relative STL paths start at; empty = the current working directory.
+  std::string base_directory;
+  // false: an STL file that does not exist is not an error (the caller supplies the meshes);
+  // its path is still resolved and stored absolute.
+  bool require_files = true;
+};
+
+// As parse_deck_string, with STL paths resolved and checked as `options` say.
+SimulationSpec parse_deck_string(const std::string& yaml_text, const std::string& display_name,
+                                 const DeckParseOptions& options);
+
 }  // namespace quarry

@@ -128,15 +128,16 @@ void read_motion(MapReader& surface, MotionSpec& motion) {
   read_time_window(map, motion.start_time, motion.stop_time);
 }
 
-// Resolves an STL path against the deck's folder, stores it absolute, and checks it exists.
-void read_stl_file(MapReader& map, const std::string& base_directory, Located<std::string>& file) {
+// Resolves an STL path against the deck's folder, stores it absolute, and checks it exists
+// unless the caller supplies the meshes itself (options.require_files false).
+void read_stl_file(MapReader& map, const DeckParseOptions& options, Located<std::string>& file) {
   if (!map.read("file", file, Presence::required)) return;
   namespace fs = std::filesystem;
   fs::path path(file.value);
-  if (path.is_relative()) path = fs::path(base_directory) / path;
+  if (path.is_relative()) path = fs::path(options.base_directory) / path;
   std::error_code ignored;
   const fs::path resolved = fs::absolute(path, ignored).lexically_normal();
-  if (!fs::is_regular_file(resolved, ignored)) {
+  if (options.require_files && !fs::is_regular_file(resolved, ignored)) {
     map.context().error(file.where, fmt::format("STL file \"{}\" not found", file.value),
                         fmt::format("looked for \"{}\"; relative paths start at the deck's folder",
                                     resolved.string()));
@@ -147,7 +148,7 @@ void read_stl_file(MapReader& map, const std::string& base_directory, Located<st
 
 }  // namespace
 
-void read_surfaces_section(MapReader& root, const std::string& base_directory,
+void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
                            std::vector<SurfaceSpec>& surfaces) {
   const std::vector<std::string> common_keys = {
       "name", "type", "material", "motion", "conveyor_velocity", "export"};
@@ -172,7 +173,7 @@ void read_surfaces_section(MapReader& root, const std::string& base_directory,
       switch (surface.kind.value) {
         case SurfaceKind::stl:
           map.reject_unknown_keys(joined(common_keys, stl_keys), all_keys, variant);
-          read_stl_file(map, base_directory, surface.file);
+          read_stl_file(map, options, surface.file);
           map.read("scale", surface.scale, positive(), "1");
           map.read("offset", surface.offset);
           break;

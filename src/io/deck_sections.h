@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/simulation_spec.h"
+#include "io/deck.h"
 #include "io/deck_reader.h"
 
 namespace quarry::deck_detail {
@@ -20,8 +21,9 @@ void read_particle_types_section(MapReader& root, std::vector<ParticleTypeSpec>&
 // The optional `export:` section (FEM load export, issue 4).
 void read_export_section(MapReader& root, ExportSpec& fem_export);
 
-// deck_geometry.cpp; STL files are resolved against `base_directory` ("" = current folder).
-void read_surfaces_section(MapReader& root, const std::string& base_directory,
+// deck_geometry.cpp; STL files are resolved against options.base_directory ("" = current
+// folder) and must exist when options.require_files.
+void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
                            std::vector<SurfaceSpec>& surfaces);
 void read_factories_section(MapReader& root, std::vector<FactorySpec>& factories);
 void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors);

@@ -432,6 +432,34 @@ TEST(Deck, StringDeckUsesDisplayNameAndCurrentDirectory) {
   }
 }
 
+// DeckParseOptions: relative STL paths start at base_directory, and with require_files false
+// a missing file is accepted (the caller supplies the mesh) and still stored absolute.
+TEST(Deck, StringDeckOptionsResolveAndWaiveFiles) {
+  const fs::path folder = fs::path(testing::TempDir()) / "quarry_deck_options";
+  fs::create_directories(folder / "parts");
+  std::ofstream(folder / "parts" / "bed.stl") << "solid bed\nendsolid bed\n";
+  const std::string head =
+      "simulation: {end_time: 1, domain: {min: [0, 0, 0], max: [1, 1, 1]}}\n"
+      "materials: [{name: m, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0.3}]\n";
+  DeckParseOptions options;
+  options.base_directory = folder.string();
+  const SimulationSpec found = parse_deck_string(
+      head + "surfaces: [{name: s, type: stl, file: parts/bed.stl, material: m}]\n", "inline.yaml",
+      options);
+  ASSERT_EQ(found.surfaces.size(), 1u);
+  EXPECT_TRUE(fs::path(found.surfaces[0].file.value).is_absolute());
+  EXPECT_TRUE(fs::equivalent(found.surfaces[0].file.value, folder / "parts" / "bed.stl"));
+
+  const std::string missing_deck =
+      head + "surfaces: [{name: s, type: stl, file: parts/gone.stl, material: m}]\n";
+  EXPECT_THROW(parse_deck_string(missing_deck, "inline.yaml", options), UserError);
+  options.require_files = false;
+  const SimulationSpec waived = parse_deck_string(missing_deck, "inline.yaml", options);
+  ASSERT_EQ(waived.surfaces.size(), 1u);
+  EXPECT_EQ(waived.surfaces[0].file.value, (folder / "parts" / "gone.stl").string());
+  fs::remove_all(folder);
+}
+
 // The error the style guide quotes, with its location on the offending value.
 TEST(Deck, UnknownEnumPointsAtValueWithSuggestion) {
   const std::string deck =
