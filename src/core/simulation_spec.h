@@ -109,6 +109,9 @@ struct SurfaceSpec {
   MotionSpec motion;
   Located<Vec3> conveyor_velocity;      // tangential surface velocity (m/s), no geometric motion
   Located<bool> export_loads{false};    // flagged for FEM load export (issue 4)
+  // The vertices are set from outside by a coupling partner; a surface has one driver, so
+  // the parser rejects coupled together with motion.
+  Located<bool> coupled{false};
 };
 
 enum class RegionKind { box, cylinder };

@@ -151,7 +151,7 @@ void read_stl_file(MapReader& map, const DeckParseOptions& options, Located<std:
 void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
                            std::vector<SurfaceSpec>& surfaces) {
   const std::vector<std::string> common_keys = {
-      "name", "type", "material", "motion", "conveyor_velocity", "export"};
+      "name", "type", "material", "motion", "conveyor_velocity", "export", "coupled"};
   const std::vector<std::string> stl_keys = {"file", "scale", "offset"};
   const std::vector<std::string> plane_keys = {"point", "normal", "size"};
   const std::vector<std::string> box_keys = {"min", "max"};
@@ -205,6 +205,12 @@ void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
     read_motion(map, surface.motion);
     map.read("conveyor_velocity", surface.conveyor_velocity);
     map.read("export", surface.export_loads);
+    // One driver per surface: fixed, a prescribed motion, or the coupling partner.
+    if (map.read("coupled", surface.coupled) && surface.coupled.value && map.has("motion"))
+      context.error(context.where(*map.find_key("coupled")),
+                    "a coupled surface cannot also have a motion",
+                    "a surface has one driver (fixed, a prescribed motion or a coupling "
+                    "partner); remove motion: or coupled: true");
     surfaces.push_back(std::move(surface));
   }
 }

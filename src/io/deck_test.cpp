@@ -460,6 +460,59 @@ TEST(Deck, StringDeckOptionsResolveAndWaiveFiles) {
   fs::remove_all(folder);
 }
 
+// The head of the small inline decks below: one material that every surface may use.
+const char* const kSurfaceDeckHead =
+    "simulation: {end_time: 1, domain: {min: [0, 0, 0], max: [1, 1, 1]}}\n"
+    "materials: [{name: m, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0.3}]\n";
+
+// The errors of a deck held in memory that must fail; empty (and a test failure) if it parses.
+std::vector<Diagnostic> string_deck_errors(const std::string& deck) {
+  try {
+    parse_deck_string(deck, "deck.yaml");
+  } catch (const UserError& error) {
+    return error.diagnostics().all();
+  }
+  ADD_FAILURE() << "parsed without error:\n" << deck;
+  return {};
+}
+
+// coupled: on any surface type, false by default; with a motion it is an error at the key.
+TEST(Deck, CoupledSurfaces) {
+  const SimulationSpec spec = parse_deck_string(
+      std::string(kSurfaceDeckHead) +
+          "surfaces:\n"
+          "  - {name: lid, type: plane, point: [0, 0, 1], normal: [0, 0, -1], material: m,\n"
+          "     coupled: true}\n"
+          "  - {name: wall, type: box, min: [0, 0, 0], max: [1, 1, 1], material: m,\n"
+          "     coupled: false, motion: {type: translation, velocity: [1, 0, 0]}}\n"
+          "  - {name: drum, type: cylinder, base: [0, 0, 0], axis: [0, 0, 1], radius: 1,\n"
+          "     length: 1, material: m}\n",
+      "deck.yaml");
+  ASSERT_EQ(spec.surfaces.size(), 3u);
+  EXPECT_TRUE(spec.surfaces[0].coupled.value);
+  EXPECT_EQ(spec.surfaces[0].coupled.where.line, 5);
+  EXPECT_EQ(spec.surfaces[0].coupled.where.column, 15);
+  EXPECT_FALSE(spec.surfaces[1].coupled.value);
+  EXPECT_EQ(spec.surfaces[1].motion.kind.value, MotionKind::translation);
+  EXPECT_FALSE(spec.surfaces[2].coupled.value);
+
+  const std::vector<Diagnostic> errors = string_deck_errors(
+      std::string(kSurfaceDeckHead) +
+      "surfaces:\n"
+      "  - {name: lid, type: plane, point: [0, 0, 1], normal: [0, 0, -1], material: m,\n"
+      "     motion: {type: rotation, axis_point: [0, 0, 0], axis_direction: [0, 0, 1],\n"
+      "              angular_velocity: 1}, coupled: true}\n"
+      "  - {name: gate, type: plane, point: [0, 0, 1], normal: [0, 0, -1], material: m,\n"
+      "     coupled: maybe}\n");
+  ASSERT_EQ(errors.size(), 2u);
+  EXPECT_EQ(errors[0].message, "a coupled surface cannot also have a motion");
+  EXPECT_EQ(errors[0].where.line, 6);
+  EXPECT_EQ(errors[0].where.column, 37);  // the key, not its value
+  EXPECT_NE(errors[0].hint.find("one driver"), std::string::npos) << errors[0].hint;
+  EXPECT_EQ(errors[1].message, "expected true or false for \"coupled\", got \"maybe\"");
+  EXPECT_EQ(errors[1].where.line, 8);
+}
+
 // The error the style guide quotes, with its location on the offending value.
 TEST(Deck, UnknownEnumPointsAtValueWithSuggestion) {
   const std::string deck =
