@@ -3,6 +3,7 @@
 // World from it; the C ABI and tests can fill it directly without any deck. SI units.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -87,7 +88,7 @@ struct MotionSpec {
   Located<double> start_time{0.0}, stop_time{1e300};  // s
 };
 
-enum class SurfaceKind { stl, plane, box, cylinder };
+enum class SurfaceKind { stl, plane, box, cylinder, mesh };
 
 struct SurfaceSpec {
   Located<std::string> name;
@@ -105,6 +106,12 @@ struct SurfaceSpec {
   Located<double> radius{0.0}, length{0.0};
   Located<bool> capped{false};
   Located<int> resolution{32};           // cylinder: segments around
+  // mesh: an inline mesh, vertices (m) and elements of 0-based indices into them; the parser
+  // checks that every index is in range and that no element repeats a vertex.
+  std::vector<Vec3> mesh_vertices;
+  std::vector<std::array<std::uint32_t, 3>> mesh_triangles;
+  std::vector<std::array<std::uint32_t, 4>> mesh_quads;  // corners in order around the edge
+  SourceLocation mesh_where;             // mesh: the vertices: list, for later messages
   Located<std::string> material;
   MotionSpec motion;
   Located<Vec3> conveyor_velocity;      // tangential surface velocity (m/s), no geometric motion

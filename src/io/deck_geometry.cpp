@@ -1,8 +1,11 @@
-// Deck sections with geometry: surfaces (STL or primitives, prescribed motion), factories with
-// their insertion regions, and monitors. STL paths are resolved against the deck's folder here
-// so that the world builder never depends on the current directory.
+// Deck sections with geometry: surfaces (STL, primitives or inline meshes, prescribed motion),
+// factories with their insertion regions, and monitors. STL paths are resolved against the
+// deck's folder here so that the world builder never depends on the current directory.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
+#include <cstdint>
 #include <filesystem>
 
 #include "io/deck_sections.h"
@@ -15,7 +18,8 @@ const EnumChoices<SurfaceKind> kSurfaceKinds{"surface type",
                                              {{"stl", SurfaceKind::stl},
                                               {"plane", SurfaceKind::plane},
                                               {"box", SurfaceKind::box},
-                                              {"cylinder", SurfaceKind::cylinder}}};
+                                              {"cylinder", SurfaceKind::cylinder},
+                                              {"mesh", SurfaceKind::mesh}}};
 
 const EnumChoices<MotionKind> kMotionKinds{"motion type",
                                            {{"rotation", MotionKind::rotation},
@@ -146,6 +150,137 @@ void read_stl_file(MapReader& map, const DeckParseOptions& options, Located<std:
   file.value = resolved.string();
 }
 
+// The points of an inline mesh, `vertices: [[x, y, z], …]` (m), into surface.mesh_vertices.
+// Returns how many the deck lists (bad entries included, so that indices are checked against
+// what the user wrote); 0 when the list is absent or not a list.
+std::size_t read_mesh_vertices(MapReader& map, SurfaceSpec& surface) {
+  if (!map.require("vertices", "vertices: [[x, y, z], …] lists the mesh's points in m")) return 0;
+  DeckContext& context = map.context();
+  const YAML::Node& list = *map.find("vertices");
+  surface.mesh_where = map.where_value("vertices");
+  if (!list.IsSequence() || list.size() == 0) {
+    context.error(surface.mesh_where,
+                  fmt::format("expected a non-empty list of points for \"vertices\", got {}",
+                              describe_node(list)),
+                  "write it as vertices: [[x, y, z], …] in m");
+    return 0;
+  }
+  std::size_t index = 0;
+  for (const YAML::Node& element : list) {
+    const std::string name = fmt::format("vertices[{}]", index++);
+    if (!element.IsSequence() || element.size() != 3) {
+      context.error(context.where(element, list),
+                    fmt::format("expected a list of 3 numbers for \"{}\", got {}", name,
+                                describe_node(element)),
+                    "write each vertex as [x, y, z] in m");
+      continue;
+    }
+    Vec3 point;
+    bool valid = true;
+    for (int component = 0; component < 3; ++component) {
+      const std::optional<double> number = read_number(
+          context, element[component], element, fmt::format("{}[{}]", name, component));
+      if (number)
+        point[component] = *number;
+      else
+        valid = false;
+    }
+    if (valid) surface.mesh_vertices.push_back(point);
+  }
+  return list.size();
+}
+
+// The elements of an inline mesh under `key` (triangles: [[a, b, c], …], quads:
+// [[a, b, c, d], …]): 0-based indices below vertex_count, no vertex twice in one element.
+// Returns how many elements the deck lists (0 when the key is absent or empty), or -1 when
+// the value is not a list (reported).
+template <std::size_t Corners>
+long read_mesh_elements(MapReader& map, const std::string& key, const std::string& noun,
+                        std::size_t vertex_count,
+                        std::vector<std::array<std::uint32_t, Corners>>& elements) {
+  const YAML::Node* list = map.find(key);
+  if (!list || list->IsNull()) return 0;
+  DeckContext& context = map.context();
+  const std::string shape = Corners == 3 ? "[a, b, c]" : "[a, b, c, d]";
+  if (!list->IsSequence()) {
+    context.error(map.where_value(key),
+                  fmt::format("expected a list of {}s for \"{}\", got {}", noun, key,
+                              describe_node(*list)),
+                  fmt::format("write it as {}: [{}, …], 0-based indices into vertices", key, shape));
+    return -1;
+  }
+  // Indices are stored as 32-bit; a deck cannot list more vertices than that in practice.
+  const std::uint64_t addressable = std::min<std::uint64_t>(vertex_count, std::uint64_t{1} << 32);
+  std::size_t index = 0;
+  for (const YAML::Node& element : *list) {
+    const std::string name = fmt::format("{}[{}]", key, index++);
+    if (!element.IsSequence() || element.size() != Corners) {
+      context.error(context.where(element, *list),
+                    fmt::format("expected a list of {} vertex indices for \"{}\", got {}", Corners,
+                                name, describe_node(element)),
+                    fmt::format("write each {} as {}, 0-based indices into vertices", noun, shape));
+      continue;
+    }
+    std::array<std::uint32_t, Corners> corners{};
+    bool valid = true;
+    for (std::size_t corner = 0; corner < Corners; ++corner) {
+      const YAML::Node value = element[corner];
+      const std::string corner_name = fmt::format("{}[{}]", name, corner);
+      const std::optional<std::int64_t> vertex =
+          read_integer(context, value, element, corner_name);
+      if (!vertex) {
+        valid = false;
+        continue;
+      }
+      if (*vertex < 0 || static_cast<std::uint64_t>(*vertex) >= addressable) {
+        // Without a vertex list (reported there) there is no range to check against.
+        if (addressable > 0)
+          context.error(context.where(value, element),
+                        fmt::format("{} = {} is out of range: the mesh has {} vertices",
+                                    corner_name, *vertex, vertex_count),
+                        fmt::format("indices are 0-based, from 0 to {}", addressable - 1));
+        valid = false;
+        continue;
+      }
+      corners[corner] = static_cast<std::uint32_t>(*vertex);
+    }
+    if (!valid) continue;
+    // A repeated vertex leaves a triangle without area, or a quad that is a triangle at best.
+    bool degenerate = false;
+    for (std::size_t first = 0; first < Corners && !degenerate; ++first)
+      for (std::size_t second = first + 1; second < Corners && !degenerate; ++second)
+        if (corners[first] == corners[second]) {
+          context.error(context.where(element, *list),
+                        fmt::format("degenerate {} \"{}\": vertex {} appears twice", noun, name,
+                                    corners[first]),
+                        fmt::format("the corners of a {} must be distinct vertices; correct the "
+                                    "index or remove the {}",
+                                    noun, noun));
+          degenerate = true;
+        }
+    if (!degenerate) elements.push_back(corners);
+  }
+  return static_cast<long>(list->size());
+}
+
+// An inline mesh surface: vertices plus at least one triangle or quad.
+void read_mesh(MapReader& map, SurfaceSpec& surface) {
+  const std::size_t vertex_count = read_mesh_vertices(map, surface);
+  const long triangles =
+      read_mesh_elements<3>(map, "triangles", "triangle", vertex_count, surface.mesh_triangles);
+  const long quads = read_mesh_elements<4>(map, "quads", "quad", vertex_count, surface.mesh_quads);
+  if (triangles != 0 || quads != 0) return;
+  const std::string hint =
+      "a mesh needs triangles: [[a, b, c], …] or quads: [[a, b, c, d], …] (0-based indices "
+      "into vertices)";
+  if (!map.has("triangles") && !map.has("quads")) {
+    map.require("triangles", hint);
+    return;
+  }
+  map.context().error(map.where_value(map.has("triangles") ? "triangles" : "quads"),
+                      "a mesh surface needs at least one triangle or quad", hint);
+}
+
 }  // namespace
 
 void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
@@ -157,8 +292,9 @@ void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
   const std::vector<std::string> box_keys = {"min", "max"};
   const std::vector<std::string> cylinder_keys = {"base",   "axis",   "radius",
                                                   "length", "capped", "resolution"};
+  const std::vector<std::string> mesh_keys = {"vertices", "triangles", "quads"};
   const std::vector<std::string> all_keys =
-      union_of({common_keys, stl_keys, plane_keys, box_keys, cylinder_keys});
+      union_of({common_keys, stl_keys, plane_keys, box_keys, cylinder_keys, mesh_keys});
   for (MapReader& map : list_of_maps(root, "surfaces", "surface")) {
     DeckContext& context = map.context();
     SurfaceSpec surface;
@@ -197,6 +333,10 @@ void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
           map.read("length", surface.length, positive(), "m", Presence::required);
           map.read("capped", surface.capped);
           map.read("resolution", surface.resolution, at_least(kMinimumCylinderResolution));
+          break;
+        case SurfaceKind::mesh:
+          map.reject_unknown_keys(joined(common_keys, mesh_keys), all_keys, variant);
+          read_mesh(map, surface);
           break;
       }
     }

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -511,6 +513,110 @@ TEST(Deck, CoupledSurfaces) {
   EXPECT_NE(errors[0].hint.find("one driver"), std::string::npos) << errors[0].hint;
   EXPECT_EQ(errors[1].message, "expected true or false for \"coupled\", got \"maybe\"");
   EXPECT_EQ(errors[1].where.line, 8);
+}
+
+// type: mesh: vertices (m) and 0-based triangles and quads land in SurfaceSpec as written.
+TEST(Deck, MeshSurfaces) {
+  const SimulationSpec spec = parse_deck_string(
+      std::string(kSurfaceDeckHead) +
+          "surfaces:\n"
+          "  - name: chute\n"
+          "    type: mesh\n"
+          "    vertices: [[0, 0, 0], [1, 0, 0], [1, 1, 0.5], [0, 1, 0.5], [0.5, 2, 1]]\n"
+          "    triangles:\n"
+          "      - [2, 3, 4]\n"
+          "    quads: [[0, 1, 2, 3]]\n"
+          "    material: m\n"
+          "  - {name: plate, type: mesh, vertices: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]],\n"
+          "     quads: [[0, 1, 2, 3]], triangles: [], material: m, coupled: true}\n",
+      "deck.yaml");
+  ASSERT_EQ(spec.surfaces.size(), 2u);
+  const SurfaceSpec& chute = spec.surfaces[0];
+  EXPECT_EQ(chute.kind.value, SurfaceKind::mesh);
+  ASSERT_EQ(chute.mesh_vertices.size(), 5u);
+  EXPECT_EQ(chute.mesh_vertices[2], (Vec3{1, 1, 0.5}));
+  EXPECT_EQ(chute.mesh_vertices[4], (Vec3{0.5, 2, 1}));
+  ASSERT_EQ(chute.mesh_triangles.size(), 1u);
+  EXPECT_EQ(chute.mesh_triangles[0], (std::array<std::uint32_t, 3>{2, 3, 4}));
+  ASSERT_EQ(chute.mesh_quads.size(), 1u);
+  EXPECT_EQ(chute.mesh_quads[0], (std::array<std::uint32_t, 4>{0, 1, 2, 3}));
+  EXPECT_EQ(chute.mesh_where.line, 6);
+  EXPECT_EQ(chute.mesh_where.column, 15);
+  const SurfaceSpec& plate = spec.surfaces[1];
+  EXPECT_TRUE(plate.mesh_triangles.empty());
+  EXPECT_EQ(plate.mesh_quads.size(), 1u);
+  EXPECT_TRUE(plate.coupled.value);
+}
+
+// Every bad entry of a mesh is reported at once, each at the offending vertex, index or
+// element, in file order.
+TEST(Deck, MeshErrorsPointAtTheEntry) {
+  const std::vector<Diagnostic> errors = string_deck_errors(
+      std::string(kSurfaceDeckHead) +
+      "surfaces:\n"
+      "  - name: bad\n"
+      "    type: mesh\n"
+      "    vertices: [[0, 0, 0], [1, 0, 0], [1, 1], [0, 1, x]]\n"
+      "    triangles:\n"
+      "      - [0, 1, 4]\n"
+      "      - [0, 2, 0]\n"
+      "      - [0, 1]\n"
+      "      - [-1, 1.5, 2]\n"
+      "    quads: [[0, 1, 2, 1]]\n"
+      "    radius: 1\n"
+      "    material: m\n");
+  ASSERT_EQ(errors.size(), 9u);
+  const auto expect_error = [&](std::size_t index, int line, int column,
+                                const std::string& message) {
+    SCOPED_TRACE(index);
+    EXPECT_EQ(errors[index].where.line, line);
+    EXPECT_EQ(errors[index].where.column, column);
+    EXPECT_EQ(errors[index].message, message);
+  };
+  expect_error(0, 6, 38, "expected a list of 3 numbers for \"vertices[2]\", got a list of 2");
+  expect_error(1, 6, 53, "expected a number for \"vertices[3][2]\", got \"x\"");
+  expect_error(2, 8, 16, "triangles[0][2] = 4 is out of range: the mesh has 4 vertices");
+  EXPECT_EQ(errors[2].hint, "indices are 0-based, from 0 to 3");
+  expect_error(3, 9, 9, "degenerate triangle \"triangles[1]\": vertex 0 appears twice");
+  expect_error(4, 10, 9, "expected a list of 3 vertex indices for \"triangles[2]\", got a list of 2");
+  expect_error(5, 11, 10, "triangles[3][0] = -1 is out of range: the mesh has 4 vertices");
+  expect_error(6, 11, 14, "expected an integer for \"triangles[3][1]\", got \"1.5\"");
+  expect_error(7, 12, 13, "degenerate quad \"quads[0]\": vertex 1 appears twice");
+  expect_error(8, 13, 5, "key \"radius\" does not apply to surface type \"mesh\"");
+}
+
+// A mesh needs its vertices and at least one element; its keys belong to type: mesh only.
+TEST(Deck, MeshNeedsVerticesAndElements) {
+  const std::string head = std::string(kSurfaceDeckHead) + "surfaces:\n";
+  struct Case {
+    std::string surface;
+    std::string first_message;
+    int line = 4;  // of the error
+  };
+  const std::vector<Case> cases = {
+      {"  - {name: s, type: mesh, triangles: [[0, 1, 2]], material: m}\n",
+       "missing required key \"vertices\" in surface"},
+      {"  - {name: s, type: mesh, vertices: [[0, 0, 0], [1, 0, 0], [0, 1, 0]], material: m}\n",
+       "missing required key \"triangles\" in surface"},
+      {"  - {name: s, type: mesh, vertices: [[0, 0, 0], [1, 0, 0], [0, 1, 0]], triangles: [],\n"
+       "     quads: [], material: m}\n",
+       "a mesh surface needs at least one triangle or quad"},
+      {"  - {name: s, type: mesh, vertices: [], triangles: [[0, 1, 2]], material: m}\n",
+       "expected a non-empty list of points for \"vertices\", got a list of 0"},
+      {"  - {name: s, type: mesh, vertices: [[0, 0, 0], [1, 0, 0], [0, 1, 0]], triangles: 3,\n"
+       "     material: m}\n",
+       "expected a list of triangles for \"triangles\", got \"3\""},
+      {"  - {name: s, type: plane, point: [0, 0, 0], normal: [0, 0, 1], material: m,\n"
+       "     quads: [[0, 1, 2, 3]]}\n",
+       "key \"quads\" does not apply to surface type \"plane\"", 5},
+  };
+  for (const Case& item : cases) {
+    SCOPED_TRACE(item.surface);
+    const std::vector<Diagnostic> errors = string_deck_errors(head + item.surface);
+    ASSERT_EQ(errors.size(), 1u);
+    EXPECT_EQ(errors[0].message, item.first_message);
+    EXPECT_EQ(errors[0].where.line, item.line);
+  }
 }
 
 // The error the style guide quotes, with its location on the offending value.
