@@ -68,16 +68,16 @@ void settle(World& world, const Options& options) {
 }
 
 int run_bench(const Options& options) {
-  omp_set_num_threads(options.threads);
   World world = bench::make_lattice_world(options.bed);
+  world.threading.threads = options.threads;
   const std::size_t n = world.particles.size();
   const bool have_bed = !options.bed_file.empty() && std::filesystem::exists(options.bed_file);
   if (have_bed) {
-    quarry::sim::read_checkpoint(world, options.bed_file);
+    world = std::move(quarry::sim::read_checkpoint(options.bed_file).world);
+    world.threading.threads = options.threads;
     if (world.particles.size() != n)
       throw std::runtime_error(fmt::format("{} holds {} particles, the lattice {}: other --nx/--ny/--nz?",
                                            options.bed_file, world.particles.size(), n));
-    if (world.lists_stale) bench::prepare_first_step(world);
     std::cerr << fmt::format("bed: loaded {} ({} particles, t = {:.4f} s)\n", options.bed_file, n, world.time);
   } else {
     if (!options.data_file.empty()) {
@@ -105,7 +105,6 @@ int run_bench(const Options& options) {
   world.timers.reset();
   const std::uint64_t rebuilds_before = world.rebuilds;
   const auto start = std::chrono::steady_clock::now();
-  // As a run does: each closing half kick done by the next step's first pass (sim::advance).
   quarry::sim::advance(world, static_cast<std::uint64_t>(options.timed_steps));
   const double loop_seconds = seconds_since(start);  // s
   const std::uint64_t rebuilds = world.rebuilds - rebuilds_before;

@@ -160,11 +160,7 @@ void replace_particles(World& world, const SettledBedParameters& parameters, con
   world.lists_stale = true;
 }
 
-void prepare_first_step(World& world) {
-  sim::insert_and_remove(world);  // no factories: removes particles outside the domain, if any
-  sim::update_neighbors(world, true);
-  sim::compute_forces(world);
-}
+void prepare_first_step(World& world) { sim::initialize(world); }
 
 double kinetic_energy_per_particle(const World& world) {
   const ParticleStore& p = world.particles;
@@ -186,8 +182,8 @@ BedState measure_bed(const World& world) {
   }
   state.mean_height = p.size() > 0 ? sum_height / static_cast<double>(p.size()) : 0.0;
   // total_force is the force the particles exert on a surface; down is −z.
-  state.floor_force = -world.surfaces[floor_wall].total_force.z;
-  for (const Surface& s : world.surfaces) state.all_walls_force_z -= s.total_force.z;
+  state.floor_force = -world.surfaces[floor_wall].mesh.total_force.z;
+  for (const WorldSurface& s : world.surfaces) state.all_walls_force_z -= s.mesh.total_force.z;
   state.contact_pairs = static_cast<double>(world.pair_contact_count());
   state.neighbor_pairs = static_cast<double>(world.pairs.size());
   return state;

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <atomic>
+#include <csignal>
 #include <iostream>
 
 #include "core/allocator.h"
@@ -18,6 +20,11 @@
 namespace {
 
 using namespace quarry;
+
+// The signal that asked the run to stop (0: none). A signal handler can only write to a
+// variable of the process; the library takes it as RunOptions::stop and has no globals itself.
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_stop_signal(int signal_number) { g_stop_signal.store(signal_number); }
 
 struct Common {
   int threads = 0;
@@ -35,14 +42,15 @@ sim::RunOptions run_options(const Common& c) {
   o.output_directory = c.output_dir;
   if (c.end_time > 0) o.end_time = c.end_time;
   o.quiet = c.quiet;
+  o.stop = &g_stop_signal;
+  o.threads = c.threads;
   return o;
 }
 
-int exit_code(const sim::RunSummary& s) { return s.interrupted ? 130 : 0; }
+int exit_code(const sim::RunSummary& s) { return s.interrupted() ? 130 : 0; }
 
 int command_run(const std::string& deck, const Common& c) {
   SimulationSpec spec = parse_deck(deck);
-  if (c.threads <= 0 && spec.simulation.threads.value > 0) apply_threads(spec.simulation.threads.value);
   World world = build_world(spec);
   return exit_code(sim::run(world, run_options(c)));
 }
@@ -59,7 +67,7 @@ int command_check(const std::string& deck) {
   std::cerr << d.format();
   World world = build_world(spec);
   std::size_t triangles = 0;
-  for (const auto& s : world.surfaces) triangles += s.triangle_count();
+  for (const auto& s : world.surfaces) triangles += s.mesh.triangle_count();
   std::cout << fmt::format(
       "{}: ok — {} materials, {} particle types, {} surfaces ({} triangles), {} factories; "
       "dt = {:.4g} s ({} steps to {:.4g} s)\n",
@@ -79,6 +87,10 @@ int command_estimate(const std::string& deck) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // First of all, so that a stop asked for at any time is taken (and a checkpoint written once
+  // the run is under way) rather than killing the process.
+  std::signal(SIGINT, on_stop_signal);
+  std::signal(SIGTERM, on_stop_signal);
   quarry::use_mapped_large_allocations();
   CLI::App app{"Quarry — discrete element method engine for bulk materials"};
   app.require_subcommand(1);

@@ -3,18 +3,23 @@
 
 #include <cassert>
 #include <numbers>
+#include <stdexcept>
 
 namespace quarry {
 
 namespace {
-// Every per-particle array; the optional external loads only once they are enabled.
+// Every per-particle array with its values per particle; the optional external loads only
+// once they are enabled.
 template <class F>
 void for_each_array(ParticleStore& s, F&& f) {
-  f(s.position); f(s.velocity); f(s.angular_velocity); f(s.force); f(s.torque);
-  f(s.radius); f(s.inv_mass); f(s.material);
-  f(s.id); f(s.type); f(s.creation_time);
-  if (s.has_external_loads()) { f(s.external_force); f(s.external_torque); }
-  for (auto& c : s.custom_values) f(c);
+  f(s.position, 1); f(s.velocity, 1); f(s.angular_velocity, 1); f(s.force, 1); f(s.torque, 1);
+  f(s.radius, 1); f(s.inv_mass, 1); f(s.material, 1);
+  f(s.id, 1); f(s.type, 1); f(s.creation_time, 1);
+  if (s.has_external_loads()) {
+    f(s.external_force, 1); f(s.external_torque, 1);
+    f(s.external_force_once, 1); f(s.external_torque_once, 1);
+  }
+  for (auto& c : s.custom) f(c.values, c.components);
 }
 }  // namespace
 
@@ -36,49 +41,74 @@ std::size_t ParticleStore::add(ParticleId pid, std::uint16_t type_index,
   if (has_external_loads()) {
     external_force.push_back({});
     external_torque.push_back({});
+    external_force_once.push_back({});
+    external_torque_once.push_back({});
   }
-  for (auto& c : custom_values) c.push_back(0.0);
+  for (auto& c : custom) c.values.insert(c.values.end(), c.components, c.initial);
+  layout_epoch += 1;
   return position.size() - 1;
 }
 
 void ParticleStore::remove_flagged(const std::vector<char>& remove) {
   assert(remove.size() == size());
-  for_each_array(*this, [&](auto& array) {
-    std::size_t out = 0;
-    for (std::size_t i = 0; i < array.size(); ++i)
-      if (!remove[i]) array[out++] = array[i];
-    array.resize(out);
+  for_each_array(*this, [&](auto& array, std::size_t stride) {
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < remove.size(); ++i) {
+      if (remove[i]) continue;
+      for (std::size_t c = 0; c < stride; ++c) array[stride * kept + c] = array[stride * i + c];
+      ++kept;
+    }
+    array.resize(stride * kept);
   });
+  layout_epoch += 1;
 }
 
 void ParticleStore::permute(const std::vector<std::size_t>& order) {
   assert(order.size() == size());
-  for_each_array(*this, [&](auto& array) {
+  for_each_array(*this, [&](auto& array, std::size_t stride) {
     auto copy = array;
-    for (std::size_t k = 0; k < order.size(); ++k) array[k] = copy[order[k]];
+    for (std::size_t k = 0; k < order.size(); ++k)
+      for (std::size_t c = 0; c < stride; ++c) array[stride * k + c] = copy[stride * order[k] + c];
   });
+  layout_epoch += 1;
 }
 
-std::size_t ParticleStore::register_custom(const std::string& name, double initial) {
-  for (std::size_t k = 0; k < custom_names.size(); ++k)
-    if (custom_names[k] == name) return k;
-  custom_names.push_back(name);
-  custom_values.emplace_back(size(), initial);
-  return custom_names.size() - 1;
+std::size_t ParticleStore::register_custom(const std::string& name, std::uint32_t components,
+                                           double initial, const std::string& unit) {
+  if (components == 0) throw std::invalid_argument("custom property '" + name + "' needs at least one component");
+  const std::size_t existing = find_custom(name);
+  if (existing < custom.size()) {
+    if (custom[existing].components != components)
+      throw std::invalid_argument("custom property '" + name + "' is registered with " +
+                                  std::to_string(custom[existing].components) + " components, not " +
+                                  std::to_string(components));
+    return existing;
+  }
+  custom.push_back({name, unit, components, initial, std::vector<double>(size() * components, initial)});
+  return custom.size() - 1;
+}
+
+std::size_t ParticleStore::find_custom(const std::string& name) const {
+  for (std::size_t k = 0; k < custom.size(); ++k)
+    if (custom[k].name == name) return k;
+  return custom.size();
 }
 
 void ParticleStore::reserve(std::size_t n) {
-  for_each_array(*this, [&](auto& array) { array.reserve(n); });
+  for_each_array(*this, [&](auto& array, std::size_t stride) { array.reserve(n * stride); });
 }
 
 void ParticleStore::enable_external_loads() {
   external_loads_enabled = true;
   external_force.resize(size());
   external_torque.resize(size());
+  external_force_once.resize(size());
+  external_torque_once.resize(size());
 }
 
 void ParticleStore::clear() {
-  for_each_array(*this, [&](auto& array) { array.clear(); });
+  for_each_array(*this, [&](auto& array, std::size_t) { array.clear(); });
+  layout_epoch += 1;
 }
 
 }  // namespace quarry

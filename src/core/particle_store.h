@@ -14,11 +14,6 @@ namespace quarry {
 
 using ParticleId = std::uint64_t;
 
-// Loops over fewer particles than this run on one thread: below it, starting an OpenMP team
-// costs more than the work. Results are bit-identical either way; the determinism tests set it
-// to 0 so that small scenes do run on several threads.
-inline std::size_t parallel_threshold = 2048;
-
 struct ParticleStore {
   // ---- hot: the time step reads/writes these ----
   std::vector<Vec3> position;          // m
@@ -33,13 +28,27 @@ struct ParticleStore {
   std::vector<ParticleId> id;          // persistent
   std::vector<std::uint16_t> type;     // index into the particle-type table
   std::vector<double> creation_time;   // s
-  // Coupling loads (N, N·m), kept until changed. Empty until enable_external_loads(): most
-  // runs have none, and 48 bytes per particle of zeros would be read every step.
+  // External loads set by a coupling partner (N, N·m): `held` act until changed, `once` for
+  // the next step only. They are part of `force`/`torque` (the body-force stage adds them).
+  // Empty until enable_external_loads(): most runs have none, and 96 bytes per particle of
+  // zeros would be read every step.
   std::vector<Vec3> external_force;
   std::vector<Vec3> external_torque;
-  // Custom per-particle properties (coupling/user data): name -> one double per particle.
-  std::vector<std::string> custom_names;
-  std::vector<std::vector<double>> custom_values;
+  std::vector<Vec3> external_force_once;
+  std::vector<Vec3> external_torque_once;
+  // Custom per-particle properties (coupling or user data), stored in particle order,
+  // `components` values per particle; they follow their particle through removal and re-sorts.
+  struct CustomProperty {
+    std::string name;
+    std::string unit;               // SI unit as text ("K", "m/s"; "" dimensionless)
+    std::uint32_t components = 1;
+    double initial = 0.0;           // value of every component of a new particle
+    std::vector<double> values;     // size() · components
+  };
+  std::vector<CustomProperty> custom;
+  // Bumped whenever particle indices change (insertion, removal, re-sort): an index or a
+  // pointer into the arrays taken at another epoch is stale (the C ABI's views carry it).
+  std::uint64_t layout_epoch = 0;
 
   std::size_t size() const { return position.size(); }
 
@@ -50,10 +59,15 @@ struct ParticleStore {
   void remove_flagged(const std::vector<char>& remove);
   // Reorders every array so that new index k holds old index order[k].
   void permute(const std::vector<std::size_t>& order);
-  // Adds a custom property initialised to `initial`; returns its index (existing: same index).
-  std::size_t register_custom(const std::string& name, double initial);
+  // Adds a custom property of `components` values per particle, every particle's set to
+  // `initial`; returns its index. A name already registered returns the existing index
+  // (throws std::invalid_argument if its components differ). Pre: components ≥ 1.
+  std::size_t register_custom(const std::string& name, std::uint32_t components = 1,
+                              double initial = 0.0, const std::string& unit = "");
+  // Index of the custom property `name`, or custom.size() if there is none.
+  std::size_t find_custom(const std::string& name) const;
   void reserve(std::size_t n);
-  // Sizes external_force/external_torque to the particles (zeros); no-op if already done.
+  // Sizes the external-load arrays to the particles (zeros); no-op if already done.
   void enable_external_loads();
   bool has_external_loads() const { return external_loads_enabled; }
   bool external_loads_enabled = false;

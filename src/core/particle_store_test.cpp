@@ -18,18 +18,38 @@ TEST(ParticleStore, AddComputesSphereMassAndInertia) {
 
 TEST(ParticleStore, RemoveFlaggedKeepsOrderAndCustomProperties) {
   ParticleStore s;
-  const auto k = s.register_custom("charge", 0.0);
+  const auto k = s.register_custom("charge", 1, 0.0, "C");
+  const auto flow = s.register_custom("flow", 2, -1.0, "m/s");  // two components per particle
   for (int i = 0; i < 5; ++i) {
     s.add(static_cast<ParticleId>(i), 0, 0, {double(i), 0, 0}, {}, 0.001, 1000.0, 0.0);
-    s.custom_values[k][i] = 10.0 * i;
+    s.custom[k].values[i] = 10.0 * i;
+    s.custom[flow].values[2 * i + 1] = 100.0 * i;
   }
+  EXPECT_EQ(s.custom[flow].values[2], -1.0);  // a new particle's components start at `initial`
+  const std::uint64_t epoch = s.layout_epoch;
   s.remove_flagged({0, 1, 0, 1, 0});
+  EXPECT_GT(s.layout_epoch, epoch);
   ASSERT_EQ(s.size(), 3u);
   EXPECT_EQ(s.id[1], 2u);
-  EXPECT_EQ(s.custom_values[k][2], 40.0);
+  EXPECT_EQ(s.custom[k].values[2], 40.0);
+  EXPECT_EQ(s.custom[flow].values.size(), 6u);
+  EXPECT_EQ(s.custom[flow].values[5], 400.0);
   s.permute({2, 0, 1});
   EXPECT_EQ(s.id[0], 4u);
   EXPECT_EQ(s.position[1].x, 0.0);
+  EXPECT_EQ(s.custom[flow].values[1], 400.0);  // particle id 4's second component moved with it
+  EXPECT_EQ(s.custom[flow].values[3], 0.0);
+  EXPECT_EQ(s.custom[k].values[0], 40.0);
+}
+
+TEST(ParticleStore, RegisteringTwiceReturnsTheSameIndex) {
+  ParticleStore s;
+  s.add(1, 0, 0, {}, {}, 0.001, 1000.0, 0.0);
+  const auto a = s.register_custom("heat", 1, 300.0, "K");
+  EXPECT_EQ(s.register_custom("heat", 1, 0.0, "K"), a);
+  EXPECT_EQ(s.custom[a].values[0], 300.0);  // the second call does not reset the values
+  EXPECT_THROW(s.register_custom("heat", 3), std::invalid_argument);
+  EXPECT_THROW(s.register_custom("none", 0), std::invalid_argument);
 }
 
 }  // namespace quarry

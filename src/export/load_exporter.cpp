@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "export/calculix_deck.h"
-#include "export/load_window.h"
+#include "geometry/load_window.h"
 #include "export/med_file.h"
 #include "export/nodal_history.h"
 #include "io/atomic_file.h"
@@ -31,7 +31,6 @@ struct LoadExporter::SurfaceOutput {
   std::unique_ptr<MedLoadWriter> med;
   std::unique_ptr<PvdSeries> vtu_series;
   std::ofstream csv;
-  Surface scratch;                       // copy for the VTU writer, vertex_force = record means
 
   SurfaceOutput(std::size_t index, const Surface& surface)
       : surface_index(index), name(surface.name), window(surface) {}
@@ -66,23 +65,23 @@ void truncate_csv(const fs::path& path, double resume_time) {
 
 }  // namespace
 
-LoadExporter::LoadExporter(const ExportSpec& spec, const std::vector<Surface>& surfaces,
+LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* const> surfaces,
                            const fs::path& output_directory, double dt,
                            std::optional<double> resume_time)
     : spec_(spec), directory_(output_directory / spec.directory.value) {
   if (!spec.enabled) {
-    for (const Surface& surface : surfaces)
-      if (surface.export_loads)
+    for (const Surface* surface : surfaces)
+      if (surface->export_loads)
         notes_.push_back(fmt::format("warning: surface '{}' has export: true but the deck has no "
                                      "export: section; nothing is exported (docs/deck.md)",
-                                     surface.name));
+                                     surface->name));
     return;
   }
   every_steps_ = std::max<std::uint64_t>(
       1, static_cast<std::uint64_t>(std::llround(spec.interval.value / dt)));
   fs::create_directories(directory_);
   for (std::size_t s = 0; s < surfaces.size(); ++s) {
-    const Surface& surface = surfaces[s];
+    const Surface& surface = *surfaces[s];
     if (!surface.export_loads) continue;
     auto output = std::make_unique<SurfaceOutput>(s, surface);
     output->mesh_vertices =
@@ -145,31 +144,29 @@ void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, d
     if (!output.csv) throw std::runtime_error("write failed for the loads CSV of " + output.name);
   }
   if (output.vtu_series) {
-    output.scratch = surface;
-    output.scratch.vertex_force = frame.nodal_force;
     const std::string file = fmt::format("{}_loads_{:06}.vtu", output.name, record - 1);
     write_file_atomically(directory_ / file,
-                          surface_vtu(output.scratch, frame.pressure, frame.shear_stress, frame.force));
+                          surface_vtu(surface, frame.pressure, frame.shear_stress, frame.force, frame.nodal_force));
     output.vtu_series->add(time, file);
   }
 }
 
-void LoadExporter::after_step(const std::vector<Surface>& surfaces, double time,
+void LoadExporter::after_step(std::span<const Surface* const> surfaces, double time,
                               std::uint64_t step_count, double dt) {
   if (finished_) return;
   for (auto& output : outputs_) {
-    const Surface& surface = surfaces[output->surface_index];
+    const Surface& surface = *surfaces[output->surface_index];
     output->window.accumulate(surface, dt);
     if (step_count % every_steps_ == 0) write_record(surface, *output, time);
   }
 }
 
-void LoadExporter::finish(const std::vector<Surface>& surfaces, double time, bool interrupted) {
+void LoadExporter::finish(std::span<const Surface* const> surfaces, double time, bool interrupted) {
   if (finished_) return;
   finished_ = true;
   for (auto& output : outputs_) {
-    const Surface& surface = surfaces[output->surface_index];
-    if (!interrupted && !output->window.empty()) write_record(surface, *output, time);
+    const Surface& surface = *surfaces[output->surface_index];
+    if (!interrupted && output->window.duration > 0.0) write_record(surface, *output, time);
     output->history->flush();
     if (output->csv.is_open()) output->csv.close();
     if (!wants(spec_, ExportFormat::calculix) || !spec_.calculix) continue;

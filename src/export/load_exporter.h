@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,7 @@ class LoadExporter {
   // the interval running at the checkpoint restarts at it, so its mean covers only the part
   // after the restart. `dt` (s) fixes the interval in steps: max(1, round(interval / dt)).
   // Throws std::runtime_error when a file cannot be created or does not match the mesh.
-  LoadExporter(const ExportSpec& spec, const std::vector<Surface>& surfaces,
+  LoadExporter(const ExportSpec& spec, std::span<const Surface* const> surfaces,
                const std::filesystem::path& output_directory, double dt,
                std::optional<double> resume_time);
   ~LoadExporter();
@@ -39,13 +40,13 @@ class LoadExporter {
   // `dt` (s): accumulates the surfaces' loads and, when the step ends an export interval, writes
   // one record to every format. Pre: `surfaces` is the same list as at construction.
   // Cost: O(triangles + vertices) per exported surface; a record costs a few file writes.
-  void after_step(const std::vector<Surface>& surfaces, double time, std::uint64_t step_count,
+  void after_step(std::span<const Surface* const> surfaces, double time, std::uint64_t step_count,
                   double dt);
 
   // End of the run at `time` (s): writes the unfinished interval as a last record (unless
   // `interrupted`: then the restart continues it), then the CalculiX deck of each surface
   // from its whole history. Safe to call once; later calls do nothing.
-  void finish(const std::vector<Surface>& surfaces, double time, bool interrupted);
+  void finish(std::span<const Surface* const> surfaces, double time, bool interrupted);
 
   // Lines for the run's log (files written, warnings such as supports that hold no node).
   const std::vector<std::string>& notes() const { return notes_; }

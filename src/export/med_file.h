@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/vec3.h"
-#include "export/load_window.h"
+#include "geometry/load_window.h"
 
 namespace quarry::fem_export {
 

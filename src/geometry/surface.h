@@ -1,7 +1,7 @@
-// Surface: a triangle mesh that particles touch — walls, moving equipment, and (later) the
-// skin of an FEM structure. Vertices can be moved from outside (prescribed motion or
-// coupling). Each step it accumulates contact forces per triangle and per vertex; over an
-// output window it averages them into pressure and shear stress. Element ids = input order.
+// Surface: a triangle mesh that particles touch — walls, moving equipment, the skin of a
+// structure. Vertices are moved by the surface's driver (sim: fixed, prescribed or coupled).
+// Each step the contact stage fills its loads per triangle and per vertex; LoadWindow
+// (geometry/load_window.h) averages them over time. Element ids = input order.
 #pragma once
 
 #include <array>
@@ -32,12 +32,6 @@ struct Surface {
   Vec3 total_force;                              // N
   Vec3 total_torque;                             // N·m about the origin
 
-  // ---- output-window accumulators: ∫ quantity dt over the window (N·s), window length ----
-  std::vector<Vec3> window_force_impulse;        // N·s
-  std::vector<double> window_normal_impulse;     // N·s, compressive normal part (along −normal)
-  std::vector<Vec3> window_shear_impulse;        // N·s, tangential part
-  double window_time = 0.0;                      // s
-
   std::size_t triangle_count() const { return triangles.size(); }
   std::size_t vertex_count() const { return vertices.size(); }
 
@@ -47,12 +41,6 @@ struct Surface {
   void reset_loads();
   // Zeroes the per-step loads (triangle_force, vertex_force, totals).
   void clear_step_loads();
-  // Adds this step's loads × dt to the window accumulators.
-  void accumulate_window(double dt);
-  // Window means: pressure (Pa) and shear stress (Pa, vector) and force (N) per triangle.
-  void window_means(std::vector<double>& pressure, std::vector<Vec3>& shear,
-                    std::vector<Vec3>& force) const;
-  void clear_window();
   Aabb bounds() const;
 };
 

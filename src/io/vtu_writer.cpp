@@ -56,7 +56,7 @@ std::string vec3_payload(std::span<const Vec3> values) {
 }
 
 // Zeros when `values` is empty (an optional per-vertex array never sized), else the values.
-std::string vec3_payload_or_zeros(const std::vector<Vec3>& values, std::size_t count) {
+std::string vec3_payload_or_zeros(std::span<const Vec3> values, std::size_t count) {
   if (values.empty()) return vec3_payload(std::vector<Vec3>(count));
   return vec3_payload(values);
 }
@@ -131,13 +131,13 @@ std::string particles_vtu(const ParticleStore& particles,
   require_size(particles.inv_mass, count, "particle inv_mass");
   require_size(particles.id, count, "particle id");
   require_size(particles.type, count, "particle type");
-  require_size(particles.custom_values, particles.custom_names.size(), "custom_values");
+
   static constexpr std::array<std::string_view, 7> built_in_names = {
       "id", "type", "radius", "mass", "velocity", "angular_velocity", "force"};
-  for (std::size_t k = 0; k < particles.custom_names.size(); ++k) {
-    require_size(particles.custom_values[k], count, "custom property " + particles.custom_names[k]);
+  for (const auto& property : particles.custom) {
+    require_size(property.values, count * property.components, "custom property " + property.name);
     for (const std::string_view built_in : built_in_names) {
-      if (particles.custom_names[k] == built_in) {
+      if (property.name == built_in) {
         throw std::invalid_argument(fmt::format(
             "VTU writer: custom property '{}' clashes with a built-in array name", built_in));
       }
@@ -175,10 +175,9 @@ std::string particles_vtu(const ParticleStore& particles,
   point_data +=
       arrays.element("Float64", "angular_velocity", 3, vec3_payload(particles.angular_velocity));
   point_data += arrays.element("Float64", "force", 3, vec3_payload(particles.force));
-  for (std::size_t k = 0; k < particles.custom_names.size(); ++k) {
-    point_data += arrays.element("Float64", particles.custom_names[k], 1,
-                                 scalar_payload<double>(particles.custom_values[k]));
-  }
+  for (const auto& property : particles.custom)
+    point_data += arrays.element("Float64", property.name, static_cast<int>(property.components),
+                                 scalar_payload<double>(property.values));
 
   const std::string points =
       arrays.element("Float64", "Points", 3, vec3_payload(particles.position));
@@ -198,7 +197,8 @@ std::string particles_vtu(const ParticleStore& particles,
 }
 
 std::string surface_vtu(const Surface& surface, std::span<const double> pressure,
-                        std::span<const Vec3> shear, std::span<const Vec3> force) {
+                        std::span<const Vec3> shear, std::span<const Vec3> force,
+                        std::span<const Vec3> nodal_force) {
   const std::size_t triangle_count = surface.triangle_count();
   const std::size_t vertex_count = surface.vertex_count();
   require_size(pressure, triangle_count, "surface pressure");
@@ -206,9 +206,7 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
   require_size(force, triangle_count, "surface force");
   require_size(surface.triangle_normals, triangle_count,
                "surface triangle_normals (call update_normals_and_areas)");
-  if (!surface.vertex_force.empty()) {
-    require_size(surface.vertex_force, vertex_count, "surface vertex_force");
-  }
+  if (!nodal_force.empty()) require_size(nodal_force, vertex_count, "surface nodal_force");
   if (!surface.vertex_velocities.empty()) {
     require_size(surface.vertex_velocities, vertex_count, "surface vertex_velocities");
   }
@@ -243,7 +241,7 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
 
   std::string point_data;
   point_data += arrays.element("Float64", "vertex_force", 3,
-                               vec3_payload_or_zeros(surface.vertex_force, vertex_count));
+                               vec3_payload_or_zeros(nodal_force, vertex_count));
   point_data += arrays.element("Float64", "velocity", 3,
                                vec3_payload_or_zeros(surface.vertex_velocities, vertex_count));
 

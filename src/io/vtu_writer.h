@@ -25,13 +25,14 @@ std::string particles_vtu(const ParticleStore& particles,
 // One VTK_TRIANGLE cell per triangle of `surface` at its current vertices (m). Cell data:
 // element_id (Int64, = triangle index = input mesh order), pressure (Pa), shear_stress (Pa, 3),
 // shear_magnitude (Pa), force (N, 3), normal (unit, 3). Point data: vertex_force (N, 3, from
-// surface.vertex_force), velocity (m/s, 3, from surface.vertex_velocities).
-// `pressure`, `shear`, `force` are per-triangle window means (Surface::window_means).
-// Pre: the three spans have triangle_count() entries; triangle_normals has triangle_count()
-// entries; vertex_force and vertex_velocities have vertex_count() entries or are empty (then
-// zeros are written, e.g. for a wall whose loads were never reset); every vertex index is in
-// range. Throws std::invalid_argument otherwise. Cost: O(triangles + vertices).
+// `nodal_force`), velocity (m/s, 3, from surface.vertex_velocities).
+// `pressure`, `shear`, `force`, `nodal_force` are the window means of a LoadWindow.
+// Pre: the three per-triangle spans have triangle_count() entries; triangle_normals has
+// triangle_count() entries; nodal_force and vertex_velocities have vertex_count() entries or are
+// empty (then zeros are written); every vertex index is in range. Throws std::invalid_argument
+// otherwise. Cost: O(triangles + vertices).
 std::string surface_vtu(const Surface& surface, std::span<const double> pressure,
-                        std::span<const Vec3> shear, std::span<const Vec3> force);
+                        std::span<const Vec3> shear, std::span<const Vec3> force,
+                        std::span<const Vec3> nodal_force);
 
 }  // namespace quarry

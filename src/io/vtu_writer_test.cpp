@@ -109,13 +109,13 @@ std::vector<Vec3> vectors_of(const ArrayInfo& info) {
 
 ParticleStore three_particles() {
   ParticleStore particles;
-  particles.register_custom("temperature", 293.15);
+  particles.register_custom("temperature", 1, 293.15, "K");
   particles.add(101, 0, 0, {0.1, 0.2, 0.3}, {1.0, -2.0, 0.5}, 0.005, 2500.0, 0.0);
   particles.add(7, 1, 0, {-1.0 / 3.0, 0.0, 1e-9}, {}, 0.004, 2500.0, 0.0);
   particles.add(~std::uint64_t{0}, 1, 1, {5.0, 6.0, 7.0}, {}, 0.003, 7800.0, 0.1);
   particles.angular_velocity[1] = {10.0, 20.0, 30.0};
   particles.force[2] = {0.0, 0.0, -9.81};
-  particles.custom_values[0] = {300.0, 310.5, -1.0};
+  particles.custom[0].values = {300.0, 310.5, -1.0};
   return particles;
 }
 
@@ -136,7 +136,7 @@ TEST(ParticlesVtu, RoundTripsEveryArrayExactly) {
   EXPECT_EQ(vectors_of(vtu.arrays.at("velocity")), particles.velocity);
   EXPECT_EQ(vectors_of(vtu.arrays.at("angular_velocity")), particles.angular_velocity);
   EXPECT_EQ(vectors_of(vtu.arrays.at("force")), particles.force);
-  EXPECT_EQ(values_of<double>(vtu.arrays.at("temperature")), particles.custom_values[0]);
+  EXPECT_EQ(values_of<double>(vtu.arrays.at("temperature")), particles.custom[0].values);
 
   // One VTK_VERTEX (type 1) per particle.
   EXPECT_EQ(values_of<std::int64_t>(vtu.arrays.at("connectivity")),
@@ -163,7 +163,7 @@ TEST(ParticlesVtu, RejectsInconsistentStoresAndClashingNames) {
   broken.velocity.pop_back();
   EXPECT_THROW((void)particles_vtu(broken, {}), std::invalid_argument);
   ParticleStore clashing = three_particles();
-  clashing.register_custom("radius", 0.0);
+  clashing.register_custom("radius");
   EXPECT_THROW((void)particles_vtu(clashing, {}), std::invalid_argument);
 }
 
@@ -186,7 +186,7 @@ TEST(SurfaceVtu, RoundTripsCellAndPointData) {
   const std::vector<double> pressure = {1200.0, 0.25};                   // Pa
   const std::vector<Vec3> shear = {{3.0, 4.0, 0.0}, {0.0, -1e-3, 0}};    // Pa
   const std::vector<Vec3> force = {{1.5, 2.0, -600.0}, {0, 0, -0.125}};  // N
-  const VtuContent vtu = read_vtu(surface_vtu(surface, pressure, shear, force));
+  const VtuContent vtu = read_vtu(surface_vtu(surface, pressure, shear, force, surface.vertex_force));
   EXPECT_EQ(vtu.point_count, 4u);
   EXPECT_EQ(vtu.cell_count, 2u);
   EXPECT_EQ(vtu.arrays.at("element_id").type, "Int64");
@@ -210,11 +210,10 @@ TEST(SurfaceVtu, RoundTripsCellAndPointData) {
 
 TEST(SurfaceVtu, UnsetPerVertexLoadsAreWrittenAsZeros) {
   Surface surface = unit_square();
-  surface.vertex_force.clear();
   surface.vertex_velocities.clear();
   const std::vector<double> pressure(2, 0.0);
   const std::vector<Vec3> zeros(2);
-  const VtuContent vtu = read_vtu(surface_vtu(surface, pressure, zeros, zeros));
+  const VtuContent vtu = read_vtu(surface_vtu(surface, pressure, zeros, zeros, {}));
   EXPECT_EQ(vectors_of(vtu.arrays.at("vertex_force")), std::vector<Vec3>(4));
   EXPECT_EQ(vectors_of(vtu.arrays.at("velocity")), std::vector<Vec3>(4));
 }
@@ -223,10 +222,11 @@ TEST(SurfaceVtu, RejectsMismatchedSizesAndBadVertexIndices) {
   Surface surface = unit_square();
   const std::vector<double> pressure(2, 0.0);
   const std::vector<Vec3> zeros(2);
-  EXPECT_THROW((void)surface_vtu(surface, std::vector<double>(1, 0.0), zeros, zeros),
+  EXPECT_THROW((void)surface_vtu(surface, std::vector<double>(1, 0.0), zeros, zeros, {}),
                std::invalid_argument);
+  EXPECT_THROW((void)surface_vtu(surface, pressure, zeros, zeros, std::vector<Vec3>(3)), std::invalid_argument);
   surface.triangles[1][2] = 9;
-  EXPECT_THROW((void)surface_vtu(surface, pressure, zeros, zeros), std::invalid_argument);
+  EXPECT_THROW((void)surface_vtu(surface, pressure, zeros, zeros, {}), std::invalid_argument);
 }
 
 }  // namespace

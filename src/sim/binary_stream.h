@@ -31,6 +31,7 @@ class BinaryWriter {
     buffer_.append(s);
   }
   const std::string& bytes() const { return buffer_; }
+  std::string& bytes() { return buffer_; }
 
  private:
   std::string buffer_;
@@ -38,7 +39,8 @@ class BinaryWriter {
 
 // Reads what BinaryWriter wrote, straight from a stream of known length: no copy of the whole
 // file in memory (a checkpoint of millions of particles is gigabytes). Throws
-// std::runtime_error on a truncated or corrupt stream; never reads past `size` bytes.
+// std::runtime_error on a truncated or corrupt stream; never reads past `size` bytes, and never
+// allocates more than the bytes that remain could fill.
 class BinaryReader {
  public:
   BinaryReader(std::istream& in, std::uint64_t size) : in_(in), remaining_(size) {}
@@ -54,13 +56,13 @@ class BinaryReader {
     static_assert(std::is_trivially_copyable_v<T>);
     const auto n = value<std::uint64_t>();
     if (n > remaining_ / (sizeof(T) == 0 ? 1 : sizeof(T)))
-      throw std::runtime_error("checkpoint is truncated or corrupt");
+      throw std::runtime_error("an array is longer than the rest of the file (truncated or corrupt)");
     v.resize(n);
     if (n) take(v.data(), n * sizeof(T));
   }
   std::string string() {
     const auto n = value<std::uint64_t>();
-    if (n > remaining_) throw std::runtime_error("checkpoint is truncated or corrupt");
+    if (n > remaining_) throw std::runtime_error("a text is longer than the rest of the file (truncated or corrupt)");
     std::string s(n, '\0');
     if (n) take(s.data(), n);
     return s;
@@ -69,9 +71,9 @@ class BinaryReader {
 
  private:
   void take(void* out, std::uint64_t n) {
-    if (n > remaining_) throw std::runtime_error("checkpoint is truncated or corrupt");
+    if (n > remaining_) throw std::runtime_error("the file ends early (truncated)");
     in_.read(static_cast<char*>(out), static_cast<std::streamsize>(n));
-    if (!in_) throw std::runtime_error("checkpoint is truncated or unreadable");
+    if (!in_) throw std::runtime_error("the file ends early or cannot be read");
     remaining_ -= n;
   }
   std::istream& in_;

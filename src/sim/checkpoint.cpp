@@ -1,16 +1,25 @@
-// Checkpoints: the complete dynamic state of a World in one binary file, written atomically.
-// Everything that influences later steps is saved — particles with their forces (the first
-// half kick after a restart needs them), the neighbour list exactly as built (so that the
-// restarted run sums contact forces in the same order), contact history, wall contacts,
-// surface positions and load windows, factory random streams — so a restart is bit-identical.
+// Checkpoints: the complete state of a World in one binary file, written atomically, from which
+// it restarts bit-identically without the deck's files. Format 3: a header (magic, format,
+// payload length, CRC-32 of the payload) and the payload: the effective deck as YAML text and
+// every surface's mesh (so a world built through the C ABI restores too), then everything that
+// influences later steps — particles with their forces (the first half kick after a restart
+// needs them), the neighbour list exactly as built (so the restarted run sums contact forces in
+// the same order), contact history, wall contacts, surface poses, drivers and load windows,
+// factory random streams. Loading checks the checksum and then every length, index and value,
+// so a damaged file is an error that says what is wrong, never a crash or a different state.
 #include <fmt/format.h>
+#include <zlib.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <optional>
+#include <functional>
+#include <sstream>
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/deck.h"
+#include "io/deck_writer.h"
 #include "sim/binary_stream.h"
 #include "sim/run.h"
 
@@ -18,30 +27,50 @@ namespace quarry::sim {
 
 namespace {
 
-constexpr std::uint64_t kMagic = 0x32304B4359525551ull;  // "QURYCK02"
+namespace fs = std::filesystem;
 
-// An open checkpoint file and its length, read piece by piece by BinaryReader.
-struct CheckpointFile {
-  std::ifstream stream;
-  std::uint64_t size = 0;  // bytes
+constexpr std::uint64_t kMagic = 0x33304B4359525551ull;  // "QURYCK03"
+constexpr std::uint32_t kFormat = 3;
+constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 4 + 4;
+
+struct Header {
+  std::uint64_t magic = kMagic;
+  std::uint32_t format = kFormat;
+  std::uint32_t reserved = 0;
+  std::uint64_t payload_bytes = 0;
+  std::uint32_t crc = 0;
+  std::uint32_t reserved2 = 0;
 };
 
-CheckpointFile open_checkpoint(const std::string& path) {
-  CheckpointFile file;
-  std::error_code error;
-  file.size = std::filesystem::file_size(path, error);
-  file.stream.open(path, std::ios::binary);
-  if (error || !file.stream)
-    throw UserError(SourceLocation{path, 0, 0}, "cannot open checkpoint file",
-                    "give the path of a checkpoint.qck written by 'quarry run'");
-  return file;
+std::uint32_t crc32_of(const char* data, std::size_t n, std::uint32_t crc = 0) {
+  // zlib's crc32 takes a uInt length: feed it in pieces.
+  while (n > 0) {
+    const auto piece = static_cast<uInt>(std::min<std::size_t>(n, 1u << 30));
+    crc = static_cast<std::uint32_t>(::crc32(crc, reinterpret_cast<const Bytef*>(data), piece));
+    data += piece, n -= piece;
+  }
+  return crc;
+}
+
+// FNV-1a of a file's bytes (0 if it cannot be read): to tell whether an STL changed.
+std::uint64_t file_hash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return 0;
+  std::uint64_t h = 1469598103934665603ull;
+  char buffer[1 << 16];
+  while (in) {
+    in.read(buffer, sizeof buffer);
+    for (std::streamsize k = 0; k < in.gcount(); ++k) h = (h ^ static_cast<unsigned char>(buffer[k])) * 1099511628211ull;
+  }
+  return h;
 }
 
 template <class Stream, class F>
 void each_particle_array(Stream& s, ParticleStore& p, F&& f) {
   f(s, p.position); f(s, p.velocity); f(s, p.angular_velocity); f(s, p.force); f(s, p.torque);
   f(s, p.radius); f(s, p.inv_mass); f(s, p.material); f(s, p.id);
-  f(s, p.type); f(s, p.creation_time); f(s, p.external_force); f(s, p.external_torque);
+  f(s, p.type); f(s, p.creation_time);
+  f(s, p.external_force); f(s, p.external_torque); f(s, p.external_force_once); f(s, p.external_torque_once);
 }
 
 template <class Stream, class F>
@@ -51,30 +80,337 @@ void each_pair_array(Stream& s, PairList& l, F&& f) {
 }
 
 template <class Stream, class F>
-void each_surface_array(Stream& s, Surface& surface, F&& f) {
-  f(s, surface.vertices); f(s, surface.vertex_velocities); f(s, surface.triangle_normals);
-  f(s, surface.triangle_areas); f(s, surface.triangle_force); f(s, surface.vertex_force);
-  f(s, surface.window_force_impulse); f(s, surface.window_normal_impulse);
-  f(s, surface.window_shear_impulse);
+void each_window_array(Stream& s, LoadWindow& w, F&& f) {
+  f(s, w.element_of_triangle); f(s, w.force_impulse); f(s, w.normal_impulse); f(s, w.shear_impulse);
+  f(s, w.nodal_impulse);
 }
 
-// The deck as it is now ("" if it is gone): stored in checkpoints, compared on restart.
-std::string read_deck_text(const std::string& deck_path) { return read_file(deck_path).value_or(""); }
+template <class Stream, class F>
+void each_surface_state(Stream& s, WorldSurface& w, F&& f) {
+  Surface& m = w.mesh;
+  f(s, m.vertices); f(s, m.vertex_velocities); f(s, m.triangle_normals); f(s, m.triangle_areas);
+  f(s, m.triangle_force); f(s, m.vertex_force); f(s, w.vertices_at_build);
+  f(s, w.driver.set_positions); f(s, w.driver.set_velocities); f(s, w.element_of_triangle);
+}
+
+// ---- validation of a loaded state: every length, index and value the steps will trust ----
+
+[[noreturn]] void bad(const std::string& what) { throw std::runtime_error(what); }
+
+template <class T>
+void expect_size(const std::vector<T>& v, std::size_t n, const char* what) {
+  if (v.size() != n) bad(fmt::format("{} has {} entries, expected {}", what, v.size(), n));
+}
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+template <class T>
+void expect_finite(const std::vector<T>& v, const char* what) {
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    bool ok;
+    if constexpr (std::is_same_v<T, Vec3>) ok = finite(v[k]);
+    else ok = std::isfinite(v[k]);
+    if (!ok) bad(fmt::format("{} entry {} is not a finite number", what, k));
+  }
+}
+
+void validate_window(const LoadWindow& w, const WorldSurface& s, const char* which) {
+  if (!w.sized()) return;
+  const std::string what = fmt::format("the {} load window of surface '{}'", which, s.mesh.name);
+  if (!w.element_of_triangle.empty()) {
+    expect_size(w.element_of_triangle, s.mesh.triangle_count(), what.c_str());
+    for (std::uint32_t e : w.element_of_triangle)
+      if (e >= w.force_impulse.size()) bad(what + " maps a triangle to an element that does not exist");
+  } else {
+    expect_size(w.force_impulse, s.mesh.triangle_count(), what.c_str());
+  }
+  expect_size(w.normal_impulse, w.force_impulse.size(), what.c_str());
+  expect_size(w.shear_impulse, w.force_impulse.size(), what.c_str());
+  expect_size(w.nodal_impulse, s.mesh.vertex_count(), what.c_str());
+  if (!(w.duration >= 0.0) || !std::isfinite(w.duration)) bad(what + " has an invalid duration");
+}
+
+void validate(const World& world) {
+  if (!(world.dt > 0.0) || !std::isfinite(world.dt)) bad(fmt::format("the time step {} s is not a positive number", world.dt));
+  if (!std::isfinite(world.time) || world.time < 0.0) bad(fmt::format("the time {} s is invalid", world.time));
+  const ParticleStore& p = world.particles;
+  const std::size_t n = p.size();
+  if (n >= 0xffffffffu) bad("too many particles");
+  expect_size(p.velocity, n, "particle velocities"); expect_size(p.angular_velocity, n, "particle angular velocities");
+  expect_size(p.force, n, "particle forces"); expect_size(p.torque, n, "particle torques");
+  expect_size(p.radius, n, "particle radii"); expect_size(p.inv_mass, n, "particle masses");
+  expect_size(p.material, n, "particle materials"); expect_size(p.id, n, "particle ids");
+  expect_size(p.type, n, "particle types"); expect_size(p.creation_time, n, "particle creation times");
+  const std::size_t loads = p.has_external_loads() ? n : 0;
+  expect_size(p.external_force, loads, "external forces"); expect_size(p.external_torque, loads, "external torques");
+  expect_size(p.external_force_once, loads, "one-step external forces");
+  expect_size(p.external_torque_once, loads, "one-step external torques");
+  expect_finite(p.position, "particle positions"); expect_finite(p.velocity, "particle velocities");
+  expect_finite(p.angular_velocity, "particle angular velocities"); expect_finite(p.force, "particle forces");
+  expect_finite(p.torque, "particle torques");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(p.radius[i] > 0.0) || !std::isfinite(p.radius[i])) bad(fmt::format("particle {} has radius {}", i, p.radius[i]));
+    if (!(p.inv_mass[i] > 0.0) || !std::isfinite(p.inv_mass[i])) bad(fmt::format("particle {} has an invalid mass", i));
+    if (p.material[i] >= world.materials.count()) bad(fmt::format("particle {} has material index {}", i, p.material[i]));
+    if (p.type[i] >= world.types.size()) bad(fmt::format("particle {} has type index {}", i, p.type[i]));
+    if (p.id[i] == 0 || p.id[i] >= world.next_id) bad(fmt::format("particle {} has id {} (next id {})", i, p.id[i], world.next_id));
+  }
+  for (const auto& c : p.custom) {
+    if (c.components == 0) bad("custom property '" + c.name + "' has no components");
+    expect_size(c.values, n * c.components, ("custom property " + c.name).c_str());
+  }
+  // The pair list as built for the particles of its last build (it maps their history to the
+  // particles of the next build by id); when the lists are not stale that is these particles.
+  const PairList& l = world.pairs;
+  const std::size_t built = l.ids_at_build.size();
+  expect_size(l.reference_positions, built, "the neighbour list's positions at build");
+  if (!world.lists_stale && built != n) bad(fmt::format("the neighbour list was built for {} particles, not {}", built, n));
+  if (!l.offsets.empty() || !l.partner.empty()) {
+    expect_size(l.offsets, built + 1, "the neighbour list's row offsets");
+    if (l.offsets[0] != 0 || l.offsets[built] != l.partner.size()) bad("the neighbour list's offsets do not span its pairs");
+    for (std::size_t i = 0; i < built; ++i) {
+      if (l.offsets[i + 1] < l.offsets[i]) bad(fmt::format("the neighbour list's row {} has a negative length", i));
+      for (std::uint32_t k = l.offsets[i]; k < l.offsets[i + 1]; ++k)
+        if (l.partner[k] <= i || l.partner[k] >= built) bad(fmt::format("neighbour pair {} names particle {}", k, l.partner[k]));
+    }
+  }
+  expect_size(l.tangential_displacement, l.partner.size(), "the pairs' tangential history");
+  if (!l.rolling_torque.empty()) expect_size(l.rolling_torque, l.partner.size(), "the pairs' rolling history");
+  expect_finite(l.tangential_displacement, "the pairs' tangential history");
+  const std::size_t surfaces = world.surfaces.size();
+  const SurfaceCandidates& c = world.candidates;
+  expect_size(c.offsets, c.particles.size() + 1, "the surface candidates' offsets");
+  if (c.offsets[0] != 0 || c.offsets.back() != c.triangle.size()) bad("the surface candidates' offsets do not span them");
+  expect_size(c.surface, c.triangle.size(), "the surface candidates' surfaces");
+  for (std::size_t k = 0; k < c.particles.size(); ++k) {
+    if (c.particles[k] >= n || (k > 0 && c.particles[k] <= c.particles[k - 1])) bad(fmt::format("surface candidate {} names particle {}", k, c.particles[k]));
+    if (c.offsets[k + 1] < c.offsets[k]) bad(fmt::format("surface candidate {} has a negative length", k));
+  }
+  for (std::size_t k = 0; k < c.triangle.size(); ++k)
+    if (c.surface[k] >= surfaces || c.triangle[k] >= world.surfaces[c.surface[k]].mesh.triangle_count())
+      bad(fmt::format("surface candidate entry {} names surface {} triangle {}", k, c.surface[k], c.triangle[k]));
+  for (std::size_t k = 0; k < world.wall_contacts.size(); ++k) {
+    const WallContact& w = world.wall_contacts[k];
+    if (w.particle >= n || w.surface >= surfaces || w.triangle >= world.surfaces[w.surface].mesh.triangle_count() ||
+        (k > 0 && w.particle < world.wall_contacts[k - 1].particle))
+      bad(fmt::format("wall contact {} names particle {}, surface {}, triangle {}", k, w.particle, w.surface, w.triangle));
+  }
+  for (const WorldSurface& s : world.surfaces) {
+    const Surface& m = s.mesh;
+    const std::size_t v = m.reference_vertices.size(), t = m.triangles.size();
+    const std::string what = "surface '" + m.name + "'";
+    expect_size(m.vertices, v, (what + " vertices").c_str());
+    expect_size(m.vertex_velocities, v, (what + " vertex velocities").c_str());
+    expect_size(m.vertex_force, v, (what + " vertex forces").c_str());
+    expect_size(s.vertices_at_build, v, (what + " vertices at the list build").c_str());
+    expect_size(m.triangle_normals, t, (what + " normals").c_str());
+    expect_size(m.triangle_areas, t, (what + " areas").c_str());
+    expect_size(m.triangle_force, t, (what + " triangle forces").c_str());
+    expect_finite(m.vertices, (what + " vertices").c_str());
+    expect_finite(m.vertex_velocities, (what + " vertex velocities").c_str());
+    for (const auto& tri : m.triangles)
+      for (std::uint32_t k : tri)
+        if (k >= v) bad(what + " has a triangle with a vertex index out of range");
+    if (s.driver.kind == SurfaceDriverKind::coupled && !s.driver.set_positions.empty()) {
+      expect_size(s.driver.set_positions, v, (what + " coupled positions").c_str());
+      expect_size(s.driver.set_velocities, v, (what + " coupled velocities").c_str());
+      expect_finite(s.driver.set_positions, (what + " coupled positions").c_str());
+      expect_finite(s.driver.set_velocities, (what + " coupled velocities").c_str());
+    }
+    if (!s.element_of_triangle.empty()) {
+      expect_size(s.element_of_triangle, t, (what + " element map").c_str());
+      for (std::uint32_t e : s.element_of_triangle)
+        if (e >= s.element_count) bad(what + " maps a triangle to an element that does not exist");
+    }
+    validate_window(s.output_window, s, "output");
+    validate_window(s.coupling_window, s, "coupling");
+  }
+}
+
+// The world a checkpoint's spec and meshes describe (nothing read from the deck's files).
+World rebuild_world(const std::string& spec_yaml, const std::string& deck_path, const std::vector<Surface>& meshes) {
+  DeckParseOptions options;
+  options.require_files = false;
+  SimulationSpec spec = parse_deck_string(spec_yaml, deck_path.empty() ? "checkpoint" : deck_path, options);
+  spec.deck_path = deck_path;
+  return build_world(spec, meshes);
+}
+
+RestoredWorld read_payload(std::istream& in, std::uint64_t payload_bytes) {
+  BinaryReader r(in, payload_bytes);
+  const auto get = [](BinaryReader& s, auto& v) { s.vector(v); };
+  const std::string deck_path = r.string();
+  const std::string deck_text = r.string();
+  const std::string spec_yaml = r.string();
+  // The deck and its STL files, where they still exist, must be those the run was made from.
+  if (!deck_text.empty()) {
+    if (const std::optional<std::string> now = read_file(deck_path); now && *now != deck_text)
+      throw UserError(SourceLocation{deck_path, 0, 0}, "the deck changed since the checkpoint was written",
+                      "a restart continues the same simulation: restore the deck, or start a new run "
+                      "(use --end-time to run a restart longer)");
+  }
+  const auto surface_count = r.value<std::uint64_t>();
+  if (surface_count > 65535) bad("the surface count is implausible");
+  std::vector<Surface> meshes(surface_count);
+  std::vector<std::pair<std::string, std::uint64_t>> stl_hashes(surface_count);
+  for (Surface& mesh : meshes) {
+    r.vector(mesh.reference_vertices);
+    r.vector(mesh.triangles);
+  }
+  for (auto& [file, hash] : stl_hashes) {
+    file = r.string();
+    hash = r.value<std::uint64_t>();
+    if (!file.empty() && hash != 0 && fs::exists(file) && file_hash(file) != hash)
+      throw UserError(SourceLocation{file, 0, 0}, "this mesh changed since the checkpoint was written",
+                      "a restart continues the same simulation: restore the file, or start a new run");
+  }
+  for (const Surface& mesh : meshes)
+    for (const auto& tri : mesh.triangles)
+      for (std::uint32_t k : tri)
+        if (k >= mesh.reference_vertices.size()) bad("a surface mesh has a vertex index out of range");
+  RestoredWorld restored{rebuild_world(spec_yaml, deck_path, meshes), 0};
+  World& world = restored.world;
+  if (world.surfaces.size() != surface_count) bad("the deck and the meshes disagree on the number of surfaces");
+  world.time = r.value<double>();
+  world.step_count = r.value<std::uint64_t>();
+  world.dt = r.value<double>();
+  world.next_id = r.value<ParticleId>();
+  world.removed_outside = r.value<std::uint64_t>();
+  world.steps_since_sort = r.value<std::uint64_t>();
+  world.rebuilds = r.value<std::uint64_t>();
+  world.lists_stale = r.value<std::uint8_t>() != 0;
+  restored.frame_index = r.value<std::uint64_t>();
+  ParticleStore& p = world.particles;
+  p.external_loads_enabled = r.value<std::uint8_t>() != 0;
+  each_particle_array(r, p, get);
+  const auto customs = r.value<std::uint64_t>();
+  if (customs > 100000) bad("the custom property count is implausible");
+  p.custom.assign(customs, {});
+  for (auto& c : p.custom) {
+    c.name = r.string();
+    c.unit = r.string();
+    c.components = r.value<std::uint32_t>();
+    c.initial = r.value<double>();
+    r.vector(c.values);
+  }
+  p.layout_epoch = r.value<std::uint64_t>();
+  each_pair_array(r, world.pairs, get);
+  world.pairs.skin = r.value<double>();
+  world.pairs.builds = r.value<std::uint64_t>();
+  world.force_workspace.plan = {};  // made for the list this one replaces
+  r.vector(world.candidates.particles);
+  r.vector(world.candidates.offsets);
+  r.vector(world.candidates.surface);
+  r.vector(world.candidates.triangle);
+  r.vector(world.wall_contacts);
+  for (WorldSurface& s : world.surfaces) {
+    each_surface_state(r, s, get);
+    s.mesh.total_force = r.value<Vec3>();
+    s.mesh.total_torque = r.value<Vec3>();
+    const auto kind = r.value<std::uint8_t>();
+    if (kind > static_cast<std::uint8_t>(SurfaceDriverKind::coupled)) bad("a surface has an unknown driver");
+    s.driver.kind = static_cast<SurfaceDriverKind>(kind);
+    s.driver.set_time = r.value<double>();
+    s.element_count = r.value<std::uint64_t>();
+    for (LoadWindow* w : {&s.output_window, &s.coupling_window}) {
+      each_window_array(r, *w, get);
+      w->duration = r.value<double>();
+    }
+  }
+  if (r.value<std::uint64_t>() != world.factories.size()) bad("the factory count differs from the deck's");
+  for (auto& f : world.factories) {
+    std::vector<std::uint64_t> state;
+    r.vector(state);
+    f.load_state(state);
+  }
+  if (!r.at_end()) bad("bytes remain after the last section");
+  validate(world);
+  // The search grids of moving surfaces are those of the last list build.
+  for (WorldSurface& s : world.surfaces) {
+    if (!s.moving()) continue;
+    Surface at_build = s.mesh;
+    at_build.vertices = s.vertices_at_build;
+    s.grid.build(at_build, 2.0 * world.max_radius + world.skin);
+  }
+  world.initialized = true;
+  return restored;
+}
+
+// A std::streambuf over bytes in memory (no copy).
+struct MemoryBuffer : std::streambuf {
+  MemoryBuffer(const char* data, std::size_t n) {
+    char* begin = const_cast<char*>(data);
+    setg(begin, begin, begin + n);
+  }
+};
+
+UserError damaged(const std::string& name, const std::string& what) {
+  return UserError(SourceLocation{name, 0, 0}, fmt::format("cannot restore checkpoint: {}", what),
+                   "the file is damaged, truncated or not a Quarry checkpoint of this version; "
+                   "restart from an earlier checkpoint or rerun from the deck");
+}
+
+Header parse_header(std::istream& in, std::uint64_t size, const std::string& name) {
+  Header h;
+  if (size < kHeaderBytes) throw damaged(name, fmt::format("the file has {} bytes, fewer than a header", size));
+  BinaryReader r(in, kHeaderBytes);
+  h.magic = r.value<std::uint64_t>();
+  h.format = r.value<std::uint32_t>();
+  h.reserved = r.value<std::uint32_t>();
+  h.payload_bytes = r.value<std::uint64_t>();
+  h.crc = r.value<std::uint32_t>();
+  h.reserved2 = r.value<std::uint32_t>();
+  if (h.magic != kMagic) {
+    if ((h.magic & 0x0000ffffffffffffull) == (kMagic & 0x0000ffffffffffffull))
+      throw damaged(name, "it was written by another version of Quarry's checkpoint format");
+    throw damaged(name, "it is not a Quarry checkpoint (wrong magic number)");
+  }
+  if (h.format != kFormat) throw damaged(name, fmt::format("format {} (this Quarry reads format {})", h.format, kFormat));
+  if (h.payload_bytes != size - kHeaderBytes)
+    throw damaged(name, fmt::format("the header announces {} bytes of data but the file holds {} (truncated or extended)",
+                                    h.payload_bytes, size - kHeaderBytes));
+  return h;
+}
+
+RestoredWorld restore(std::istream& in, std::uint64_t size, const std::string& name,
+                      const std::function<std::uint32_t()>& payload_crc) {
+  const Header header = parse_header(in, size, name);
+  if (payload_crc() != header.crc)
+    throw damaged(name, "the checksum does not match the data (the file was changed or damaged)");
+  try {
+    return read_payload(in, header.payload_bytes);
+  } catch (const UserError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw damaged(name, e.what());
+  }
+}
 
 }  // namespace
 
-void write_checkpoint(const World& const_world, const std::string& path, std::uint64_t frame_index) {
-  // A checkpoint holds final velocities only: a restart could not know of a pending kick.
-  if (const_world.next_opened)
-    throw std::logic_error("write_checkpoint: the next step is already opened (StepEnd::next_opened); step on first");
-  if (const_world.pending_kick != 0.0)
-    throw std::logic_error("write_checkpoint: the last step is not complete (call complete_step first)");
+std::string checkpoint_bytes(const World& const_world, std::uint64_t frame_index) {
+  if (!const_world.initialized)
+    throw std::logic_error("checkpoint: the world is not initialized (sim::initialize first)");
   World& world = const_cast<World&>(const_world);  // the visitors take non-const arrays
   BinaryWriter w;
   const auto put = [](BinaryWriter& s, auto& v) { s.vector(v); };
-  w.value(kMagic);
-  w.string(world.spec.deck_path);
-  w.string(read_deck_text(world.spec.deck_path));
+  std::error_code ignored;
+  const std::string deck_path =
+      world.spec.deck_path.empty() ? std::string() : fs::absolute(world.spec.deck_path, ignored).string();
+  w.string(deck_path);
+  w.string(deck_path.empty() ? std::string() : read_file(deck_path).value_or(""));
+  w.string(write_deck(world.spec));
+  w.value<std::uint64_t>(world.surfaces.size());
+  for (const WorldSurface& s : world.surfaces) {
+    w.vector(s.mesh.reference_vertices);
+    w.vector(s.mesh.triangles);
+  }
+  for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
+    const SurfaceSpec& spec = world.spec.surfaces[s];
+    const bool stl = spec.kind.value == SurfaceKind::stl;
+    w.string(stl ? spec.file.value : std::string());
+    w.value<std::uint64_t>(stl ? file_hash(spec.file.value) : 0);
+  }
   w.value(world.time);
   w.value(world.step_count);
   w.value(world.dt);
@@ -84,13 +420,18 @@ void write_checkpoint(const World& const_world, const std::string& path, std::ui
   w.value(world.rebuilds);
   w.value(static_cast<std::uint8_t>(world.lists_stale));
   w.value(frame_index);
-  w.value(static_cast<std::uint8_t>(world.particles.external_loads_enabled));
-  each_particle_array(w, world.particles, put);
-  w.value<std::uint64_t>(world.particles.custom_names.size());
-  for (std::size_t k = 0; k < world.particles.custom_names.size(); ++k) {
-    w.string(world.particles.custom_names[k]);
-    w.vector(world.particles.custom_values[k]);
+  ParticleStore& p = world.particles;
+  w.value(static_cast<std::uint8_t>(p.external_loads_enabled));
+  each_particle_array(w, p, put);
+  w.value<std::uint64_t>(p.custom.size());
+  for (const auto& c : p.custom) {
+    w.string(c.name);
+    w.string(c.unit);
+    w.value(c.components);
+    w.value(c.initial);
+    w.vector(c.values);
   }
+  w.value(p.layout_epoch);
   each_pair_array(w, world.pairs, put);
   w.value(world.pairs.skin);
   w.value<std::uint64_t>(world.pairs.builds);
@@ -98,101 +439,73 @@ void write_checkpoint(const World& const_world, const std::string& path, std::ui
   w.vector(world.candidates.offsets);
   w.vector(world.candidates.surface);
   w.vector(world.candidates.triangle);
-  w.value<std::uint64_t>(world.candidates.vertices_at_build.size());
-  for (const auto& v : world.candidates.vertices_at_build) w.vector(v);
   w.vector(world.wall_contacts);
-  w.value<std::uint64_t>(world.surfaces.size());
-  for (auto& surface : world.surfaces) {
-    each_surface_array(w, surface, put);
-    w.value(surface.window_time);
-    w.value(surface.total_force);
-    w.value(surface.total_torque);
+  for (WorldSurface& s : world.surfaces) {
+    each_surface_state(w, s, put);
+    w.value(s.mesh.total_force);
+    w.value(s.mesh.total_torque);
+    w.value(static_cast<std::uint8_t>(s.driver.kind));
+    w.value(s.driver.set_time);
+    w.value<std::uint64_t>(s.element_count);
+    for (LoadWindow* window : {&s.output_window, &s.coupling_window}) {
+      each_window_array(w, *window, put);
+      w.value(window->duration);
+    }
   }
   w.value<std::uint64_t>(world.factories.size());
   for (const auto& f : world.factories) w.vector(f.save_state());
-  write_file_atomically(path, w.bytes());
+
+  BinaryWriter file;
+  Header header;
+  header.payload_bytes = w.bytes().size();
+  header.crc = crc32_of(w.bytes().data(), w.bytes().size());
+  file.value(header.magic);
+  file.value(header.format);
+  file.value(header.reserved);
+  file.value(header.payload_bytes);
+  file.value(header.crc);
+  file.value(header.reserved2);
+  file.bytes() += w.bytes();
+  return std::move(file.bytes());
 }
 
-std::string checkpoint_deck_path(const std::string& path) {
-  CheckpointFile file = open_checkpoint(path);
-  BinaryReader r(file.stream, file.size);
-  if (file.size < 8 || r.value<std::uint64_t>() != kMagic)
-    throw UserError(SourceLocation{path, 0, 0}, "not a Quarry checkpoint (wrong magic number)",
+void write_checkpoint(const World& world, const std::string& path, std::uint64_t frame_index) {
+  write_file_atomically(path, checkpoint_bytes(world, frame_index));
+}
+
+RestoredWorld read_checkpoint(const std::string& path) {
+  std::error_code error;
+  if (fs::is_directory(path, error))
+    throw UserError(SourceLocation{path, 0, 0}, "this is a folder, not a checkpoint file",
                     "give the path of a checkpoint.qck written by 'quarry run'");
-  return r.string();
+  const std::uint64_t size = fs::file_size(path, error);
+  std::ifstream in(path, std::ios::binary);
+  if (error || !in)
+    throw UserError(SourceLocation{path, 0, 0}, "cannot open checkpoint file",
+                    "give the path of a checkpoint.qck written by 'quarry run'");
+  // The checksum streams over the payload first (no copy of a file of gigabytes), then the
+  // payload is read from its start.
+  const auto payload_crc = [&] {
+    std::ifstream again(path, std::ios::binary);
+    again.seekg(static_cast<std::streamoff>(kHeaderBytes));
+    std::vector<char> buffer(1 << 20);
+    std::uint32_t crc = 0;
+    while (again) {
+      again.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      crc = crc32_of(buffer.data(), static_cast<std::size_t>(again.gcount()), crc);
+    }
+    return crc;
+  };
+  return restore(in, size, path, payload_crc);
 }
 
-std::uint64_t read_checkpoint(World& world, const std::string& path) {
-  CheckpointFile file = open_checkpoint(path);
-  BinaryReader r(file.stream, file.size);
-  try {
-    if (r.value<std::uint64_t>() != kMagic) throw std::runtime_error("wrong magic number");
-    const std::string deck_path = r.string();
-    const std::string deck_text = r.string();
-    if (read_deck_text(deck_path) != deck_text)
-      throw UserError(SourceLocation{deck_path, 0, 0},
-                      "the deck changed since the checkpoint was written",
-                      "a restart continues the same simulation: restore the deck, or start a new run "
-                      "(use --end-time to run a restart longer)");
-    const auto get = [](BinaryReader& s, auto& v) { s.vector(v); };
-    world.time = r.value<double>();
-    world.step_count = r.value<std::uint64_t>();
-    world.dt = r.value<double>();
-    world.next_id = r.value<ParticleId>();
-    world.removed_outside = r.value<std::uint64_t>();
-    world.steps_since_sort = r.value<std::uint64_t>();
-    world.rebuilds = r.value<std::uint64_t>();
-    world.lists_stale = r.value<std::uint8_t>() != 0;
-    const auto frame_index = r.value<std::uint64_t>();
-    world.particles.external_loads_enabled = r.value<std::uint8_t>() != 0;
-    each_particle_array(r, world.particles, get);
-    const auto customs = r.value<std::uint64_t>();
-    world.particles.custom_names.assign(customs, {});
-    world.particles.custom_values.assign(customs, {});
-    for (std::size_t k = 0; k < customs; ++k) {
-      world.particles.custom_names[k] = r.string();
-      r.vector(world.particles.custom_values[k]);
-    }
-    each_pair_array(r, world.pairs, get);
-    world.pairs.skin = r.value<double>();
-    world.pairs.builds = r.value<std::uint64_t>();
-    world.force_workspace.plan = {};  // made for the list this one replaces
-    r.vector(world.candidates.particles);
-    r.vector(world.candidates.offsets);
-    r.vector(world.candidates.surface);
-    r.vector(world.candidates.triangle);
-    const auto surfaces_at_build = r.value<std::uint64_t>();
-    if (surfaces_at_build != world.surfaces.size()) throw std::runtime_error("surface count differs");
-    for (auto& v : world.candidates.vertices_at_build) r.vector(v);
-    r.vector(world.wall_contacts);
-    if (r.value<std::uint64_t>() != world.surfaces.size()) throw std::runtime_error("surface count differs");
-    for (auto& surface : world.surfaces) {
-      each_surface_array(r, surface, get);
-      surface.window_time = r.value<double>();
-      surface.total_force = r.value<Vec3>();
-      surface.total_torque = r.value<Vec3>();
-    }
-    if (r.value<std::uint64_t>() != world.factories.size()) throw std::runtime_error("factory count differs");
-    for (auto& f : world.factories) {
-      std::vector<std::uint64_t> state;
-      r.vector(state);
-      f.load_state(state);
-    }
-    if (!r.at_end()) throw std::runtime_error("trailing bytes");
-    // Moving surfaces: their search grids are those of the last list build.
-    for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
-      if (world.motions[s].kind.value == MotionKind::none) continue;
-      Surface at_build = world.surfaces[s];
-      at_build.vertices = world.candidates.vertices_at_build[s];
-      world.grids[s].build(at_build, 2.0 * world.max_radius + world.skin);
-    }
-    return frame_index;
-  } catch (const UserError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw UserError(SourceLocation{path, 0, 0}, fmt::format("cannot read checkpoint: {}", e.what()),
-                    "the file is damaged or from another Quarry version; rerun from the deck");
-  }
+RestoredWorld read_checkpoint_bytes(const std::string& bytes, const std::string& name) {
+  MemoryBuffer buffer(bytes.data(), bytes.size());
+  std::istream in(&buffer);
+  const auto payload_crc = [&] {
+    return bytes.size() < kHeaderBytes ? 0u : crc32_of(bytes.data() + kHeaderBytes, bytes.size() - kHeaderBytes);
+  };
+  return restore(in, bytes.size(), name, payload_crc);
 }
 
 std::uint64_t state_hash(const World& world) {
@@ -208,9 +521,9 @@ std::uint64_t state_hash(const World& world) {
   mix(p.velocity.data(), p.velocity.size() * sizeof(Vec3));
   mix(p.angular_velocity.data(), p.angular_velocity.size() * sizeof(Vec3));
   // Surface loads per element and node: their numbering and sums must not depend on threads.
-  for (const Surface& s : world.surfaces) {
-    mix(s.triangle_force.data(), s.triangle_force.size() * sizeof(Vec3));
-    mix(s.vertex_force.data(), s.vertex_force.size() * sizeof(Vec3));
+  for (const WorldSurface& s : world.surfaces) {
+    mix(s.mesh.triangle_force.data(), s.mesh.triangle_force.size() * sizeof(Vec3));
+    mix(s.mesh.vertex_force.data(), s.mesh.vertex_force.size() * sizeof(Vec3));
   }
   return h;
 }

@@ -71,14 +71,12 @@ double calibrate(const SimulationSpec& deck, std::size_t type_index, int count, 
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
     world.particles.velocity[i] = Vec3{r * std::cos(phi), r * std::sin(phi), z} * speed;
   }
-  world.lists_stale = true;
-  update_neighbors(world, true);
-  compute_forces(world);
+  initialize(world);
   const auto start = std::chrono::steady_clock::now();
   int steps = 0;
   double elapsed = 0.0;
   while (steps < 20 || (elapsed < 1.0 && steps < 2000)) {  // at least 20 steps, about 1 s
-    step(world, StepEnd::next_opened);  // as a run steps between outputs: each opening pass done by the last force stage
+    step(world);
     ++steps;
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }

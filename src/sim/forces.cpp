@@ -1,23 +1,21 @@
-// Force stage (DESIGN §2 step 3). Particle–particle contacts are computed once per pair of the
+// Contact stage (DESIGN §2 step 3). Particle–particle contacts are computed once per pair of the
 // half list and added straight onto both particles ("Newton's third law" accumulation), with a
-// summation order that does not depend on the thread count; body forces are added as soon as a
-// particle's pair sum is complete; then particle–surface contacts for the particles near a
-// surface, their reactions gathered onto triangles and vertices in particle order; then, in
-// velocity Verlet, the closing half kick. All of it runs in one team of threads.
+// summation order that does not depend on the thread count; then particle–surface contacts for
+// the particles near a surface, their reactions gathered onto triangles and vertices in
+// particle order. All of it runs in one team of threads. The sums start from the body forces
+// (set_body_forces, the stage before), so no pass zeroes them.
 //
 // Why the order is fixed. The list holds pair (i, j) only in row i, with j > i, rows ascending.
-// A serial pass (zero all, then rows in order: F_i += f, F_j −= f) adds onto particle p first
-// the pairs (k, p) with k < p in ascending k, then p's own row in row order — and after row p
-// nothing touches p again. With T threads each owns a contiguous range of rows. A pair whose
+// A serial pass (rows in order: F_i += f, F_j −= f) adds onto particle p first the pairs
+// (k, p) with k < p in ascending k, then p's own row in row order — and after row p nothing
+// touches p again. With T threads each owns a contiguous range of rows. A pair whose
 // partner lies in a later thread's range ("crossing") is computed first — by all threads, shared
 // evenly, from a list of them made once per list build — and its result kept;
 // after a barrier each thread starts its particles from the crossing contributions of earlier
 // ranges (ascending source row), then runs its rows exactly as the serial pass, taking the kept
 // result for its own crossing pairs. Every particle thus receives the same terms in the same
 // order for any T: the sums are bit-identical (checked by the determinism tests). Crossing pairs
-// are few (the ranges are compact in space after the space-filling-curve sort). The "zero all"
-// is not a pass of its own: the pair that brings a particle's first term zeroes its sum just
-// before (PairPlan::first_reach), the same bits without streaming every sum through memory.
+// are few (the ranges are compact in space after the space-filling-curve sort).
 //
 // Why surface contacts are found in chunks. The threads' pair ranges are balanced by learning
 // each thread's speed, but a core of a shared host can slow down for tens of steps, and the
@@ -28,18 +26,10 @@
 // chunks of its own particles first (their data is in its cache; the host may place the two
 // cores on different L3 caches, and then every line one thread writes and the other reads
 // costs a transfer), then helps with the others'. Each candidate's sum is added onto its
-// particle after its pair sum (the same order as one thread): at once if the thread owning
-// the particle's row is done with its rows, else after the next barrier. The chunks' contacts are gathered in chunk order
-// (candidate order, as one thread finds them), and the reactions on the surfaces are added in
-// that order too.
-//
-// Why the next step's opening pass may be done here (StepEnd::next_opened). Once row i is
-// summed, nothing in the stage reads particle i again but its surface contacts: later rows
-// hold only partners above their own index, and the crossing pairs were done before. So a
-// particle that is not a surface candidate takes its kicks and drift (sim/opening_pass.h) as
-// soon as its block of rows is summed, its data still in cache; a candidate takes them once
-// its surface sum is added. That saves the pass over every particle's state that would open
-// the next step (about 250 B per particle read or written), and a fork and join of the team.
+// particle after its pair sum (the same order as one thread): at once if the thread owning the
+// particle's row is done with its rows, else after the next barrier. The chunks' contacts are
+// gathered in chunk order (candidate order, as one thread finds them), and the reactions on the
+// surfaces are added in that order too.
 #include <omp.h>
 
 #include <algorithm>
@@ -49,8 +39,6 @@
 #include <utility>
 
 #include "contact/hertz_mindlin_batch.h"
-#include "integrate/integrator.h"
-#include "sim/opening_pass.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -172,28 +160,6 @@ bool shares_moved(const ForceWorkspace& ws) {
   return false;
 }
 
-[[gnu::always_inline]] inline bool bit(const std::vector<std::uint64_t>& bits, std::uint32_t k) {
-  return (bits[k >> 6] >> (k & 63)) & 1u;
-}
-
-// PairPlan::first_reach and ::reached. Pairs in list order are the rows in order, and that is
-// the order in which terms reach a particle's sum on any thread count (see the top of this
-// file), so the pair that first names a particle as partner brings its first term. One pass
-// over the partners, O(pairs), per list build.
-void mark_first_reach(const PairList& list, std::size_t n, ForceWorkspace::PairPlan& plan) {
-  const std::size_t pairs = list.size();
-  plan.first_reach.assign((pairs + 63) / 64, 0);
-  plan.reached.assign((n + 63) / 64, 0);
-  const std::uint32_t* const partner = list.partner.data();
-  for (std::size_t k = 0; k < pairs; ++k) {
-    const std::uint32_t j = partner[k];
-    std::uint64_t& word = plan.reached[j >> 6];
-    const std::uint64_t mask = std::uint64_t{1} << (j & 63);
-    plan.first_reach[k >> 6] |= std::uint64_t{(word & mask) == 0} << (k & 63);
-    word |= mask;
-  }
-}
-
 // True if `plan` was made for this list of n particles (its ranges may still be for other
 // threads or shares).
 bool made_for_list(const ForceWorkspace::PairPlan& plan, const PairList& list, std::size_t n) {
@@ -205,7 +171,6 @@ bool made_for_list(const ForceWorkspace::PairPlan& plan, const PairList& list, s
 // per list build (or when the shares move) rather than a scan of every pair every step.
 void make_plan(const PairList& list, std::size_t n, int threads, std::vector<double>& shares,
                ForceWorkspace::PairPlan& plan) {
-  if (!made_for_list(plan, list, n)) mark_first_reach(list, n, plan);
   plan.builds = list.builds, plan.rows = n, plan.pairs = list.size(), plan.threads = threads;
   if (shares.size() != static_cast<std::size_t>(threads)) shares.assign(threads, 1.0 / threads);
   plan.share = shares;
@@ -289,14 +254,14 @@ struct RowParticle {
   out.torque_j = {b.tjx[m], b.tjy[m], b.tjz[m]};
 }
 
-// Pair forces and body forces (gravity, coupling loads): sets p.force and p.torque. Called by
-// every thread of the team (compute_forces_and_kick); flags excessive overlaps in `excessive`.
+// Pair forces, added onto p.force and p.torque (which hold the body forces). Called by every
+// thread of the team (compute_contact_forces); flags excessive overlaps in `excessive`.
 // kBatched: one material pair, plain Hertz–Mindlin — contacts are evaluated in batches by the
 // vector kernel (contact/hertz_mindlin_batch.h), except the pairs of a row too long for a
 // batch (a large particle among many small ones), which take the scalar law in every thread
 // layout alike. Otherwise every contact takes the scalar law (pair_contact).
 template <bool kBatched>
-void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& tally, int& excessive) {
+void pair_forces(World& world, int& excessive) {
   ParticleStore& p = world.particles;
   PairList& list = world.pairs;
   const std::size_t n = p.size();
@@ -308,10 +273,6 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
   const std::uint32_t* const offsets = list.offsets.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
-  const double* const inv_mass = p.inv_mass.data();
-  const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
-  const Vec3* const external_force = p.has_external_loads() ? p.external_force.data() : nullptr;
-  const Vec3* const external_torque = p.has_external_loads() ? p.external_torque.data() : nullptr;
   ForceWorkspace& ws = world.force_workspace;
   const InteractionParameters& only = world.materials.between(0, 0);
   constexpr std::uint32_t kRowLimit = HertzMindlinBatch::kCapacity;
@@ -329,12 +290,6 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
     ws.crossing.resize(plan.crossing_pair.size());
   }
   const std::uint32_t first = plan.range_start[t], end = plan.range_start[t + 1];
-  // With `next`, each particle's next opening pass is done as soon as its force is final: at
-  // the end of its row, unless it is a surface candidate (its surface sum comes later). The
-  // candidates ascend, as the rows do: one cursor walks them.
-  const std::vector<std::uint32_t>& candidates = world.candidates.particles;
-  const std::uint32_t* next_candidate = std::lower_bound(candidates.data(), candidates.data() + candidates.size(), first);
-  const std::uint32_t* const candidates_end = candidates.data() + candidates.size();
   // Phase 1: the crossing pairs of all ranges (partner in a later range), shared evenly by
   // the threads; each result goes to its own slot, whichever thread computes it.
   if (threads > 1) {
@@ -378,35 +333,16 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
   }
 #pragma omp barrier
   const double phase2_start = omp_get_wtime();  // s
-  // Phase 2: start from the earlier ranges' crossing contributions (ascending source row),
-  // then the rows in order. A particle's sum is zeroed by the pair that reaches it first.
+  // Phase 2: the earlier ranges' crossing contributions first (ascending source row), then the
+  // rows in order.
   for (std::uint32_t q = 0; q < plan.crossing_begin[t]; ++q) {
-    const std::uint32_t k = plan.crossing_pair[q], j = v.partner[k];
+    const std::uint32_t j = v.partner[plan.crossing_pair[q]];
     if (j < first || j >= end) continue;
-    if (bit(plan.first_reach, k)) force[j] = torque[j] = Vec3{};
     const CrossingPair& c = ws.crossing[q];
     if (c.partner == kNotTouching) continue;
     force[j] -= c.force;
     torque[j] += c.torque_j;
   }
-  // Zeroes the sums that pairs [from, to) reach first, of this range's particles (the crossing
-  // tails' partners were started by their own range's thread). A few set bits per block.
-  const std::uint64_t* const first_reach = plan.first_reach.data();
-  const auto start_sums = [&](std::uint32_t from, std::uint32_t to) {
-    for (std::uint32_t word = from >> 6; word <= (to - 1) >> 6 && from < to; ++word) {
-      std::uint64_t bits = first_reach[word];
-      if (word == from >> 6) bits &= ~std::uint64_t{0} << (from & 63);
-      if (word == (to - 1) >> 6 && (to & 63) != 0) bits &= ~(~std::uint64_t{0} << (to & 63));
-      for (; bits != 0; bits &= bits - 1) {
-        const std::uint32_t j = v.partner[word * 64 + static_cast<std::uint32_t>(std::countr_zero(bits))];
-        if (j < end) force[j] = torque[j] = Vec3{};
-      }
-    }
-  };
-  // What the rows before i added onto particle i (N, N·m): zero if no pair reaches it.
-  const auto sum_so_far = [&](std::uint32_t i) {
-    return bit(plan.reached, i) ? std::pair{force[i], torque[i]} : std::pair{Vec3{}, Vec3{}};
-  };
   HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
   std::size_t next_crossing = plan.crossing_begin[t];
   // Adds this range's crossing pair k of row i (computed in phase 1) onto particle i.
@@ -417,29 +353,13 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
     torque_i += c.torque_i;
   };
   // Row i was the last to touch particle i: its pair sum is complete.
-  const auto finish_row = [&](std::uint32_t i, Vec3 force_i, Vec3 torque_i) {
-    force_i += gravity / inv_mass[i];
-    if (external_force) {
-      force_i += external_force[i];
-      torque_i += external_torque[i];
-    }
+  const auto finish_row = [&](std::uint32_t i, const Vec3& force_i, const Vec3& torque_i) {
     force[i] = force_i;
     torque[i] = torque_i;
   };
-  // Rows [from, to) are summed: their particles' next opening pass, but the candidates'.
-  const auto open_rows = [&](std::uint32_t from, std::uint32_t to) {
-    if (!next) return;
-    for (std::uint32_t i = from; i < to; ++i) {
-      if (next_candidate != candidates_end && *next_candidate == i) {
-        ++next_candidate;
-        continue;
-      }
-      next->run(p, i, tally);
-    }
-  };
   // Row i in list order by the scalar law.
   const auto scalar_row = [&](std::uint32_t i) {
-    auto [force_i, torque_i] = sum_so_far(i);  // N, N·m: the rows before i are done
+    Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: body forces and the rows before i
     for (std::uint32_t k = offsets[i]; k < offsets[i + 1]; ++k) {
       const std::uint32_t j = v.partner[k];
       if (j >= end) {
@@ -495,14 +415,13 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
         ++stop;
       }
       if (batch->count > 0) excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
-      start_sums(offsets[block], offsets[stop]);
       int lane = 0;
       for (std::uint32_t i = block; i < stop; ++i) {
         if (!batched_row(i)) {
           scalar_row(i);
           continue;
         }
-        auto [force_i, torque_i] = sum_so_far(i);  // N, N·m: the rows before i are done
+        Vec3 force_i = force[i], torque_i = torque[i];  // N, N·m: body forces and the rows before i
         for (const int lanes = lanes_end[i - block]; lane < lanes; ++lane) {
           const HertzMindlinBatch& b = *batch;
           const std::uint32_t j = b.slot[lane];
@@ -516,14 +435,11 @@ void pair_and_body_forces(World& world, const OpeningPass* next, OpeningTally& t
         for (std::uint32_t k = tail[i - block]; k < offsets[i + 1]; ++k) add_crossing(force_i, torque_i);
         finish_row(i, force_i, torque_i);
       }
-      open_rows(block, stop);
       block = stop;
     }
   } else {
     for (std::uint32_t i = first; i < end; ++i) {
-      start_sums(offsets[i], offsets[i + 1]);
       scalar_row(i);
-      open_rows(i, i + 1);
     }
   }
   ws.range_time[t] = omp_get_wtime() - phase2_start;
@@ -562,8 +478,8 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
     std::uint32_t b = a;
     while (b < end && cand.surface[b] == cand.surface[a]) ++b;
     const std::uint16_t s = cand.surface[a];
-    const Surface& surface = world.surfaces[s];
-    find_surface_contacts(surface, world.topologies[s], p.position[i], p.radius[i],
+    const Surface& surface = world.surfaces[s].mesh;
+    find_surface_contacts(surface, world.surfaces[s].topology, p.position[i], p.radius[i],
                           std::span<const std::uint32_t>(cand.triangle.data() + a, b - a), found);
     a = b;
     for (const SurfaceContact& c : found) {
@@ -615,7 +531,7 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
 // Reactions of contacts [begin, end) on the surfaces' triangles and vertices, added in order.
 void add_reactions(World& world, const WallContact* begin, const WallContact* end) {
   for (const WallContact* c = begin; c < end; ++c) {
-    Surface& surface = world.surfaces[c->surface];
+    Surface& surface = world.surfaces[c->surface].mesh;
     const Vec3 reaction = -c->force_on_particle;
     surface.triangle_force[c->triangle] += reaction;
     const auto& tri = surface.triangles[c->triangle];
@@ -637,7 +553,7 @@ void prepare_wall_contacts(World& world) {
   ws.chunk_taken.assign(ws.wall_chunks.size(), 0);
   ws.reactions_next = 0;
   ws.reactions_busy = 0;
-  for (auto& surface : world.surfaces) surface.clear_step_loads();
+  for (auto& surface : world.surfaces) surface.mesh.clear_step_loads();
 }
 
 // Adds the reactions of the chunks that are found, in chunk order from the first not added,
@@ -662,24 +578,18 @@ void add_ready_reactions(World& world, ForceWorkspace& ws) {
   }
 }
 
-// A candidate's surface sum onto its particle, after its pair sum; its force is then final,
-// so the next opening pass, if this stage does it, while the data is in cache.
-void add_surface_sum(ParticleStore& p, const ForceWorkspace::WallSum& sum, const OpeningPass* next,
-                     OpeningTally& tally) {
-  if (sum.touching) {
-    p.force[sum.particle] += sum.force;
-    p.torque[sum.particle] += sum.torque;
-  }
-  if (next) next->run(p, sum.particle, tally);
+// A candidate's surface sum onto its particle, after its pair sum.
+void add_surface_sum(ParticleStore& p, const ForceWorkspace::WallSum& sum) {
+  p.force[sum.particle] += sum.force;
+  p.torque[sum.particle] += sum.torque;
 }
 
 // Every thread of the team, as soon as it is done with its pair rows: takes chunks of
 // candidates (its own first, below) until none is left, and finds their contacts into the
 // chunk's own list. A
 // particle's surface sum is added onto it at once if the thread owning its row has finished
-// its rows (its pair sum is final), else kept for after the barrier (finish_forces).
-void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* next, OpeningTally& tally,
-                        int& excessive) {
+// its rows (its pair sum is final), else kept for after the barrier (finish_contacts).
+void find_wall_contacts(World& world, ForceWorkspace& ws, int& excessive) {
   const SurfaceCandidates& cand = world.candidates;
   ParticleStore& p = world.particles;
   const std::vector<std::uint32_t>& range_start = ws.plan.range_start;
@@ -709,27 +619,25 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
       ForceWorkspace::WallSum sum;
       const bool touching = wall_contacts_of(world, i, c, q, q_stop, found, out, sum, excessive);
       q = q_stop;
-      if (!touching && !next) continue;
-      sum.touching = touching;
+      if (!touching) continue;
       while (i >= range_start[owner + 1]) ++owner;
       if (std::atomic_ref<int>(ws.rows_done[owner]).load(std::memory_order_acquire) == 0)
         deferred.push_back(sum);
       else
-        add_surface_sum(p, sum, next, tally);
+        add_surface_sum(p, sum);
     }
     std::atomic_ref<int>(ws.chunk_found[chunk]).store(1);
     add_ready_reactions(world, ws);
   };
   // Chunk c belongs to the thread whose rows hold its first candidate: that thread's particles
-  // are in its own cache (it has just summed them, and it opens them for the next step), and
-  // they stay there if it finds their surface contacts too. A thread takes its own chunks
+  // are in its own cache (it has just summed them), and they stay there if it finds their surface contacts too. A thread takes its own chunks
   // first, in order, then helps the others from the back of theirs. Whoever takes a chunk,
   // its results are the same: only the speed depends on it.
   const auto first_chunk_of = [&](int t) -> std::size_t {  // t = threads: the end
     const auto c = std::lower_bound(cand.particles.begin(), cand.particles.end(), range_start[t]);
     return (static_cast<std::size_t>(c - cand.particles.begin()) + kWallChunk - 1) / kWallChunk;
   };
-  // The taker is recorded (thread + 1): it also copies the chunk's contacts out (finish_forces).
+  // The taker is recorded (thread + 1): it also copies the chunk's contacts out (finish_contacts).
   const auto take = [&](std::size_t c) { return std::atomic_ref<int>(ws.chunk_taken[c]).exchange(me + 1) == 0; };
   // A thread's own chunks are taken from the front, a helper's from the back: each side takes a
   // contiguous run and stops at the first chunk the other side took, so none is left behind
@@ -745,12 +653,11 @@ void find_wall_contacts(World& world, ForceWorkspace& ws, const OpeningPass* nex
 
 // Every thread of the team, after a barrier (all pair sums and all chunks done, and so all
 // reactions added): the surface sums kept back added (after the pair sums: the order of one
-// thread). Then the chunks' contacts are gathered into world.wall_contacts and, if h is not 0,
-// every particle is kicked by h.
-void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally& tally) {
+// thread). Then the chunks' contacts are gathered into world.wall_contacts.
+void finish_contacts(World& world) {
   ForceWorkspace& ws = world.force_workspace;
   ParticleStore& p = world.particles;
-  for (const ForceWorkspace::WallSum& sum : ws.wall_deferred[omp_get_thread_num()]) add_surface_sum(p, sum, next, tally);
+  for (const ForceWorkspace::WallSum& sum : ws.wall_deferred[omp_get_thread_num()]) add_surface_sum(p, sum);
   const std::size_t chunks = ws.wall_chunks.size();
 #pragma omp single
   {
@@ -766,67 +673,47 @@ void finish_forces(World& world, double h, const OpeningPass* next, OpeningTally
   for (std::size_t c = 0; c < chunks; ++c)
     if (ws.chunk_taken[c] == me)
       std::copy(ws.wall_chunks[c].begin(), ws.wall_chunks[c].end(), world.wall_contacts.begin() + ws.wall_chunk_start[c]);
-  if (h == 0.0) return;
-  const std::size_t n = p.size();
-#pragma omp for schedule(dynamic, 4096) nowait
-  for (std::size_t i = 0; i < n; ++i) integrate::kick_particle(p, i, h);
 }
-
-}  // namespace
-
-void compute_forces(World& world) { compute_forces_and_kick(world, 0.0, nullptr); }
 
 // One team for the whole stage: pair sums (phase 1, barrier, phase 2), surface contacts in
 // chunks as threads come free (their reactions onto the surfaces added in chunk order as the
-// chunks are found), a barrier, then finish_forces: the contacts gathered, the particles
-// finished and kicked.
+// chunks are found), a barrier, then finish_contacts: the kept sums added, the contacts gathered.
 template <bool kBatched>
-void forces_and_kick(World& world, double h, const OpeningPass* next) {
-  ParticleStore& p = world.particles;
-  const std::size_t n = p.size();
+void contact_forces(World& world) {
+  const std::size_t n = world.particles.size();
   ForceWorkspace& ws = world.force_workspace;
-  const int thread_count = n > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
+  const int thread_count = world.threading.team(n);
   if (kBatched && ws.batches.size() < static_cast<std::size_t>(thread_count)) ws.batches.resize(thread_count);
   ws.wall_deferred.resize(std::max<std::size_t>(ws.wall_deferred.size(), thread_count));
   ws.rows_done.assign(thread_count, 0);
   prepare_wall_contacts(world);
   // Stage times as thread 0 sees them (s).
-  double start = omp_get_wtime(), pairs_done = start, walls_done = start;
+  double start = omp_get_wtime(), pairs_done = start;
   int excessive = 0;
-  OpeningTally tally;  // of the next step's opening pass, if done here
-#pragma omp parallel num_threads(thread_count) reduction(| : excessive) reduction(merge : tally)
+#pragma omp parallel num_threads(thread_count) reduction(| : excessive)
   {
-    pair_and_body_forces<kBatched>(world, next, tally, excessive);
+    pair_forces<kBatched>(world, excessive);
     if (omp_get_thread_num() == 0) pairs_done = omp_get_wtime();
-    find_wall_contacts(world, ws, next, tally, excessive);
+    find_wall_contacts(world, ws, excessive);
 #pragma omp barrier
-    if (omp_get_thread_num() == 0) walls_done = omp_get_wtime();
-    finish_forces(world, h, next, tally);
+    finish_contacts(world);
   }
   const double end = omp_get_wtime();
   learn_shares(ws);
   world.excessive_overlap = excessive != 0;
-  if (next && world.excessive_overlap) {
-    // The run stops at this step (check_overlaps): back to its state for the report.
-#pragma omp parallel for schedule(static) num_threads(thread_count)
-    for (std::size_t i = 0; i < n; ++i) next->undo(p, i);
-  } else if (next) {
-    world.opening = tally;
-    world.next_opened = true;
-  }
   world.timers.add(world.timers.stage("pair forces"), pairs_done - start);
-  world.timers.add(world.timers.stage("surface forces"), walls_done - pairs_done);
-  // The gathering and the kick overlap: booked to the kick if there is one.
-  world.timers.add(world.timers.stage(h != 0.0 ? "integrate" : "surface forces"), end - walls_done);
+  world.timers.add(world.timers.stage("surface forces"), end - pairs_done);
 }
 
-void compute_forces_and_kick(World& world, double h, const OpeningPass* next) {
+}  // namespace
+
+void compute_contact_forces(World& world) {
   const auto& pairs = world.materials.pairs;
   // The batched path keeps no rolling history (there is none with plain Hertz–Mindlin).
   if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty())
-    forces_and_kick<true>(world, h, next);
+    contact_forces<true>(world);
   else
-    forces_and_kick<false>(world, h, next);
+    contact_forces<false>(world);
 }
 
 }  // namespace quarry::sim

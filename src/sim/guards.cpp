@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/opening_pass.h"
+#include "integrate/integrator.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -23,21 +23,37 @@ std::string show(const Vec3& v) {
 }
 }  // namespace
 
+// Per-thread tallies of the parallel opening pass, merged (exact: flags and a maximum, so any
+// merge order gives the same result).
+#pragma omp declare reduction(merge : OpeningTally : omp_out.merge(omp_in)) initializer(omp_priv = OpeningTally{})
+
 DriftScan kick_drift_scan(World& world, double h, double dt) {
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
+  const Aabb& box = world.spec.simulation.domain.value;
+  const Aabb* const domain = box.empty() ? nullptr : &box;
+  const PairList& list = world.pairs;
+  const bool compare = list.built_for(n);
+  const Vec3* const reference = compare ? list.reference_positions.data() : nullptr;  // m
+  const ParticleId* const id_at_build = compare ? list.ids_at_build.data() : nullptr;
   OpeningTally tally;
-  if (world.next_opened) {
-    // Done by the last step's force stage, particle by particle.
-    tally = world.opening;
-    world.next_opened = false;
-  } else {
-    const OpeningPass pass = OpeningPass::of(world, world.pending_kick, h, dt);
-#pragma omp parallel for schedule(static) if (n > parallel_threshold) reduction(merge : tally)
-    for (std::size_t i = 0; i < n; ++i) pass.run(p, i, tally);
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) reduction(merge : tally)
+  for (std::size_t i = 0; i < n; ++i) {
+    integrate::kick_drift_particle(p, i, h, dt);
+    const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
+    // Branch-free: x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum tells whether
+    // all nine components are finite (the first offender is searched only if one is not).
+    const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
+                        (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
+    tally.non_finite |= !(zero == 0.0);
+    if (domain) tally.any_outside |= !domain->contains(x);
+    if (reference) {
+      // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
+      const double d2 = norm2(x - reference[i]);  // m²
+      tally.largest_displacement_squared = d2 > tally.largest_displacement_squared ? d2 : tally.largest_displacement_squared;
+      tally.ids_changed |= p.id[i] != id_at_build[i];
+    }
   }
-  world.pending_kick = 0.0;
-  const bool compare = world.pairs.built_for(n);
   std::size_t first_bad = n;
   if (tally.non_finite)
     for (std::size_t i = 0; i < n && first_bad == n; ++i)
@@ -55,7 +71,7 @@ void check_finite(const World& world) {
   const std::size_t n = p.size();
   // The first offending index (the same for any thread count), or n: a parallel min-reduction.
   std::size_t first_bad = n;
-#pragma omp parallel for schedule(static) if (n > parallel_threshold) reduction(min : first_bad)
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) reduction(min : first_bad)
   for (std::size_t i = 0; i < n; ++i)
     if (!finite_state(p, i)) first_bad = std::min(first_bad, i);
   DriftScan scan;
@@ -112,7 +128,7 @@ void check_overlaps(const World& world) {
         "= {:.1f} % of its radius {:.4g} m (limit {:.0f} %); speed {:.4g} m/s\n"
         "  hint: reduce simulation.time_step (now {:.4g} s) or raise the Young's modulus; a "
         "surface moving faster than particles can follow also causes this",
-        world.step_count, world.time, p.id[i], world.surfaces[contact.surface].name,
+        world.step_count, world.time, p.id[i], world.surfaces[contact.surface].mesh.name,
         contact.triangle, overlap, 100.0 * overlap / p.radius[i], p.radius[i], 100.0 * limit,
         norm(p.velocity[i]), world.dt));
   }

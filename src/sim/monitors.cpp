@@ -9,19 +9,19 @@
 
 namespace quarry::sim {
 
-std::vector<std::string> monitor_columns(const World& world) {
+std::vector<std::string> monitor_columns(const World& world, std::size_t surface_count) {
   std::vector<std::string> c = {"time_s", "particles", "kinetic_energy_J", "mean_speed_m_s",
                                 "mean_vx_m_s", "mean_vy_m_s", "mean_vz_m_s", "contacts",
                                 "removed_outside"};
-  for (const auto& s : world.surfaces)
+  for (std::size_t s = 0; s < surface_count; ++s)
     for (const char* q : {"Fx_N", "Fy_N", "Fz_N", "F_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"})
-      c.push_back(s.name + "_" + q);
+      c.push_back(world.surfaces[s].mesh.name + "_" + q);
   for (const auto& m : world.spec.monitors)
     if (m.region) c.push_back(m.name.value + "_mass_kg");
   return c;
 }
 
-std::vector<double> monitor_row(const World& world) {
+std::vector<double> monitor_row(const World& world, std::size_t surface_count) {
   const ParticleStore& p = world.particles;
   double kinetic = 0.0, speed = 0.0;  // J, m/s
   Vec3 velocity;
@@ -36,8 +36,8 @@ std::vector<double> monitor_row(const World& world) {
   std::vector<double> row = {world.time, n, kinetic, speed, velocity.x, velocity.y, velocity.z,
                              static_cast<double>(world.pair_contact_count() + world.wall_contact_count()),
                              static_cast<double>(world.removed_outside)};
-  for (const auto& s : world.surfaces) {
-    const Vec3 f = s.total_force, t = s.total_torque;
+  for (std::size_t s = 0; s < surface_count; ++s) {
+    const Vec3 f = world.surfaces[s].mesh.total_force, t = world.surfaces[s].mesh.total_torque;
     for (double v : {f.x, f.y, f.z, norm(f), t.x, t.y, t.z}) row.push_back(v);
   }
   for (const auto& m : world.spec.monitors) {

@@ -10,8 +10,10 @@
 
 namespace quarry::sim {
 
-std::vector<std::string> monitor_columns(const World& world);
-std::vector<double> monitor_row(const World& world);
+// Columns and one row of the monitors; the first `surface_count` surfaces (those that existed
+// when the output began) have columns.
+std::vector<std::string> monitor_columns(const World& world, std::size_t surface_count);
+std::vector<double> monitor_row(const World& world, std::size_t surface_count);
 // PNG plots next to the CSV: force on each surface, mean particle speed, particle count and
 // kinetic energy against time.
 void write_monitor_plots(const std::string& directory, const std::vector<std::string>& columns,

@@ -1,8 +1,10 @@
-// The run loop: steps the world to the end time, writes ParaView frames, monitor CSV rows,
-// plots and checkpoints when due, prints progress with an ETA, stops cleanly on SIGINT/SIGTERM
-// (writing a checkpoint), and ends with a per-stage time table.
+// Run loop: initializes a world, steps it to the end time with the output stage attached
+// (frames, monitors, export, checkpoints), prints progress with an ETA, stops cleanly when asked
+// (writing a checkpoint), and ends with a per-stage time table. Checkpoints: the whole state of a
+// world in one file, from which it restarts bit-identically without the deck's files.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <iosfwd>
 #include <optional>
@@ -16,31 +18,47 @@ struct RunOptions {
   std::string output_directory;      // overrides output.directory when not empty
   std::optional<double> end_time;    // s, overrides simulation.end_time
   bool quiet = false;                // no progress lines
+  int threads = 0;                   // > 0: overrides the deck's simulation.threads
   std::ostream* log = nullptr;       // progress/summary stream (default std::cerr)
+  // Read after every step: non-zero (a signal number) asks the run to stop with a checkpoint.
+  // The CLI's SIGINT/SIGTERM handler sets it; null: the run is never asked.
+  const std::atomic<int>* stop = nullptr;
 };
 
 struct RunSummary {
   std::uint64_t steps = 0;           // steps taken in this call
-  std::uint64_t steps_opened_ahead = 0;  // of those, steps whose force stage also opened the next
   double simulated_time = 0.0;       // s, world time at the end
   double wall_seconds = 0.0;         // s
   std::size_t particles = 0;
-  bool interrupted = false;          // stopped by a signal (checkpoint written)
+  int stop_signal = 0;               // the signal that stopped the run (checkpoint written); 0: none
   std::string checkpoint;            // last checkpoint written, if any
   std::uint64_t final_state_hash = 0;  // state_hash() at the end (determinism checks)
+  bool interrupted() const { return stop_signal != 0; }
 };
 
-// Runs a freshly built world from its current time.
+// Initializes a freshly built world and runs it from its current time.
 RunSummary run(World& world, const RunOptions& options);
-// Loads a checkpoint written by run() (the deck it names is parsed again) and continues.
+// Restores a checkpoint written by run() and continues; outputs go to the checkpoint's folder
+// unless options say otherwise. The deck's files are not needed (the checkpoint holds the
+// effective deck and the meshes); if the deck or an STL file still exists and has changed, that
+// is an error: a restart continues the same simulation.
 RunSummary restart(const std::string& checkpoint_path, const RunOptions& options);
 
-// Checkpoints (checkpoint.cpp): the whole dynamic state, so a restart continues bit-identically.
+// ---- checkpoints (checkpoint.cpp) ----
+// Writes the whole state atomically. `frame_index`: the output's next frame number.
 void write_checkpoint(const World& world, const std::string& path, std::uint64_t frame_index);
-// Restores the dynamic state into a world built from the same deck; returns the frame index.
-std::uint64_t read_checkpoint(World& world, const std::string& path);
-// Reads only the deck path stored in a checkpoint.
-std::string checkpoint_deck_path(const std::string& path);
+struct RestoredWorld {
+  World world;
+  std::uint64_t frame_index = 0;
+};
+// Rebuilds the world a checkpoint was written from and restores its state; the world is
+// complete (initialized). Throws UserError naming the file and what is wrong for a damaged,
+// truncated or foreign file, or a changed deck or mesh.
+RestoredWorld read_checkpoint(const std::string& path);
+// The same from checkpoint bytes in memory (`name` for messages).
+RestoredWorld read_checkpoint_bytes(const std::string& bytes, const std::string& name);
+// The checkpoint as bytes (what write_checkpoint writes).
+std::string checkpoint_bytes(const World& world, std::uint64_t frame_index);
 
 // A hash of the particle state (ids, positions, velocities, angular velocities) and of the
 // surfaces' per-element and per-node loads, for the determinism tests: equal hashes mean

@@ -1,26 +1,53 @@
-// The time step, read top to bottom (DESIGN §2). Velocity Verlet: half kick, drift, move the
-// geometry, forces at the new configuration, half kick. Symplectic Euler: full kick with the
-// forces of the previous configuration, drift, geometry, forces. The order matters: forces
-// are always computed at one consistent configuration of particles and surfaces.
+// The time step, read top to bottom (DESIGN §2). Velocity Verlet (Swope et al. 1982): half
+// kick, drift, move the geometry, forces at the new configuration, half kick. Symplectic Euler:
+// full kick with the forces of the previous configuration, drift, geometry, forces. The order
+// matters: forces are always computed at one consistent configuration of particles and
+// surfaces, and every stage leaves the state whole for the next one.
 #include "sim/step.h"
 
-#include <stdexcept>
-
 #include "integrate/integrator.h"
-#include "sim/opening_pass.h"
+#include "sim/output.h"
 
 namespace quarry::sim {
 
-void step(World& world, StepEnd end) {
-  const double dt = world.dt;
-  const bool verlet = world.spec.simulation.integrator.value == Integrator::velocity_verlet;
-  const double opening_kick = verlet ? 0.5 * dt : dt;  // s
-  const bool defer = verlet && end == StepEnd::kick_pending;
+namespace {
+
+bool velocity_verlet(const World& world) {
+  return world.spec.simulation.integrator.value == Integrator::velocity_verlet;
+}
+
+// The forces of the configuration as it stands: body forces, contacts, then the hooks that add
+// velocity-dependent forces.
+void compute_forces(World& world) {
+  {
+    ScopedStage timer(world.timers, world.timers.stage("body forces"));
+    set_body_forces(world);
+  }
+  compute_contact_forces(world);  // times itself: "pair forces", "surface forces"
+  run_hooks(world, HookStage::post_force);
+}
+
+}  // namespace
+
+void initialize(World& world) {
+  const ThreadScope threads(world.threading);
+  drive_surfaces(world, world.time);
+  insert_and_remove(world);
+  rebuild_lists(world);
+  compute_forces(world);
+  world.initialized = true;
+  if (world.output) world.output->start(world);
+}
+
+void step(World& world) {
+  const ThreadScope threads(world.threading);
+  const double dt = world.dt;  // s
+  const bool verlet = velocity_verlet(world);
+  const int team = world.threading.team(world.particles.size());
   DriftScan scan;  // what the drift saw: NaNs, particles outside the domain, displacements
   {
-    // The last step's closing kick first, if it was left to this pass.
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
-    scan = kick_drift_scan(world, opening_kick, dt);
+    scan = kick_drift_scan(world, verlet ? 0.5 * dt : dt, dt);
   }
   world.time += dt;
   world.step_count += 1;
@@ -32,7 +59,7 @@ void step(World& world, StepEnd end) {
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("geometry"));
-    move_surfaces(world, world.time);
+    drive_surfaces(world, world.time);
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("insert/remove"));
@@ -42,34 +69,74 @@ void step(World& world, StepEnd end) {
     ScopedStage timer(world.timers, world.timers.stage("neighbor"));
     update_neighbors(world, scan);
   }
-  // Forces at the new configuration, then velocity Verlet's closing half kick, in one team of
-  // threads (the stages time themselves) — or the kick is left to the next step's first pass,
-  // or that whole first pass is done here as well, each particle once its force is final
-  // (then booked under "pair forces" and "surface forces").
-  if (end == StepEnd::next_opened) {
-    const OpeningPass next = OpeningPass::of(world, verlet ? 0.5 * dt : 0.0, opening_kick, dt);
-    compute_forces_and_kick(world, 0.0, &next);
-  } else {
-    compute_forces_and_kick(world, verlet && !defer ? 0.5 * dt : 0.0);
-    if (defer) world.pending_kick = 0.5 * dt;
+  compute_forces(world);  // body forces, contacts, post_force hooks
+  if (verlet) {
+    ScopedStage timer(world.timers, world.timers.stage("integrate"));
+    integrate::kick(world.particles, 0.5 * dt, team);
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("guards"));
-    if (world.excessive_overlap) complete_step(world);  // the report shows the final velocities
     check_overlaps(world);
+  }
+  {
+    ScopedStage timer(world.timers, world.timers.stage("loads"));
+    end_of_step_loads(world);
+  }
+  run_hooks(world, HookStage::end_of_step);
+  if (world.output) {
+    ScopedStage timer(world.timers, world.timers.stage("output"));
+    world.output->after_step(world);  // monitors, frames, load export, checkpoints when due
   }
 }
 
-void complete_step(World& world) {
-  if (world.next_opened)
-    throw std::logic_error("complete_step: the next step's opening pass is done; only step() may follow");
-  if (world.pending_kick == 0.0) return;
-  integrate::kick(world.particles, world.pending_kick);
-  world.pending_kick = 0.0;
+void advance(World& world, std::uint64_t steps) {
+  for (std::uint64_t s = 0; s < steps; ++s) step(world);
 }
 
-void advance(World& world, std::uint64_t steps) {
-  for (std::uint64_t s = 0; s < steps; ++s) step(world, s + 1 < steps ? StepEnd::next_opened : StepEnd::complete);
+void run_hooks(World& world, HookStage stage) {
+  for (StepHook& hook : world.hooks) {
+    if (hook.stage != stage) continue;
+    ScopedStage timer(world.timers, world.timers.stage("hook " + hook.name));
+    hook.run(world);
+  }
+}
+
+void set_body_forces(World& world) {
+  ParticleStore& p = world.particles;
+  const std::size_t n = p.size();
+  const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
+  if (!p.has_external_loads()) {
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
+    for (std::size_t i = 0; i < n; ++i) {
+      p.force[i] = gravity / p.inv_mass[i];
+      p.torque[i] = Vec3{};
+    }
+    return;
+  }
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
+  for (std::size_t i = 0; i < n; ++i) {
+    p.force[i] = gravity / p.inv_mass[i] + p.external_force[i] + p.external_force_once[i];
+    p.torque[i] = p.external_torque[i] + p.external_torque_once[i];
+  }
+}
+
+void end_of_step_loads(World& world) {
+  for (WorldSurface& s : world.surfaces) {
+    if (s.output_window.sized()) s.output_window.accumulate(s.mesh, world.dt);
+    if (s.coupling_window.sized()) s.coupling_window.accumulate(s.mesh, world.dt);
+  }
+  ParticleStore& p = world.particles;
+  if (!p.has_external_loads()) return;
+  // One-step loads acted in both half kicks of this step; the next step's opening kick must
+  // not see them.
+  const std::size_t n = p.size();
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p.external_force_once[i] == Vec3{} && p.external_torque_once[i] == Vec3{}) continue;
+    p.force[i] -= p.external_force_once[i];
+    p.torque[i] -= p.external_torque_once[i];
+    p.external_force_once[i] = p.external_torque_once[i] = Vec3{};
+  }
 }
 
 }  // namespace quarry::sim

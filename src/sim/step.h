@@ -1,41 +1,28 @@
-// One time step of the simulation, and the stages it is made of (DESIGN §2).
+// One time step of the simulation and the stages it is made of, in the order step() runs them
+// (DESIGN §2). After initialize() and after every step() the state is complete: positions,
+// velocities and forces belong to one time, nothing is left half done, so a coupling partner
+// may read and write between calls.
 #pragma once
+
+#include <span>
 
 #include "sim/world.h"
 
 namespace quarry::sim {
 
-struct OpeningPass;
+// Brings a freshly built (or changed) world to a complete state at its current time: surfaces
+// at their driver's pose, particles due from the factories inserted, lists built, forces of the
+// configuration computed (body, contact, post-force hooks). Idempotent in what it leaves, but
+// it evaluates the contacts, so call it once, before the first step. Throws UserError or
+// PhysicsError as step() does.
+void initialize(World& world);
 
-// How step() leaves the world.
-enum class StepEnd {
-  // The step is complete: velocities and positions are the step's final ones.
-  complete,
-  // Velocity Verlet's closing half kick is left pending (World::pending_kick), for the next
-  // step's opening pass, which reads and writes every particle's velocity anyway: the same
-  // operations in the same order, so the same bits, with one pass over the particles less per
-  // step. Whoever looks at the velocities between steps (monitors, output, checkpoints) calls
-  // complete_step() first.
-  kick_pending,
-  // Further still: the force stage does the next step's whole opening pass (closing kick,
-  // opening kick, drift, and the scan of the new state), each particle as soon as its force is
-  // final, while its data is still in cache — no pass over the particles of its own at all.
-  // The state is then between the next step's opening pass and the rest of it, which cannot be
-  // undone: only step() may follow (complete_step() and checkpoints refuse it). For callers
-  // that know the next step follows with nothing looking in between (sim::advance, the run
-  // loop between outputs). If the force stage finds an excessive overlap, the run is to stop
-  // at this step: the opening is taken back (to within rounding, OpeningPass::undo) and the
-  // step ends complete, so that the guard's report and the last frame show this step's state.
-  next_opened,
-};
+// Advances the world by one time step dt: the stages below, then the output due at the new
+// time. Throws PhysicsError if the state becomes invalid (the world then holds the step's state
+// for the report). Pre: initialize() has run.
+void step(World& world);
 
-// Advances the world by one time step dt. Throws PhysicsError if the state becomes invalid.
-void step(World& world, StepEnd end = StepEnd::complete);
-// Applies a pending closing kick (nothing if there is none). Throws std::logic_error if the
-// next step's opening pass is already done (StepEnd::next_opened): that cannot be completed.
-void complete_step(World& world);
-// `steps` steps, each leaving the next step's opening pass to its force stage but the last,
-// which ends complete.
+// `steps` steps.
 void advance(World& world, std::uint64_t steps);
 
 // What the opening kick-drift saw of the new state (kick_drift_scan): the pass's tally, and
@@ -49,26 +36,41 @@ struct DriftScan : OpeningTally {
                                      // ids_changed and largest displacement hold
 };
 
-// Stages, in the order step() calls them; exposed for tests and the C ABI.
-// Kick by the pending closing kick (if any), then by h (s), drift by dt (s); clears the pending kick.
+// ---- stages, in the order step() calls them; exposed for tests and the coupling interface ----
+// Kick by h (s), drift by dt (s), and scan the new state.
 DriftScan kick_drift_scan(World& world, double h, double dt);
-void move_surfaces(World& world, double time);           // prescribed motion at `time` (s)
-void insert_and_remove(World& world);                    // factories; particles leaving the domain
-void update_neighbors(World& world, bool force_rebuild); // Verlet/candidate lists when needed
-void compute_forces(World& world);                        // contacts, gravity, external forces
-// compute_forces, then every particle kicked by h (s): the closing half kick of velocity
-// Verlet in the same team of threads (the same bits as compute_forces, then integrate::kick).
-// With `next`, each particle also takes that opening pass of the next step once its force is
-// final (StepEnd::next_opened; then h is 0).
-void compute_forces_and_kick(World& world, double h, const OpeningPass* next = nullptr);
-void check_finite(const World& world);                    // NaN/inf guard (after the drift)
-void check_overlaps(const World& world);                  // overlap guard (after the forces)
-// The same stages taking what the drift's scan saw instead of a pass of their own.
-void check_finite(const World& world, const DriftScan& scan);
-void insert_and_remove(World& world, const DriftScan& scan);
-void update_neighbors(World& world, const DriftScan& scan);
+void check_finite(const World& world, const DriftScan& scan);  // NaN/inf guard (after the drift)
+// Moves every surface to its driver's pose at `time` (s): prescribed motion, or a coupled
+// surface's last set vertices moved on with their velocities.
+void drive_surfaces(World& world, double time);
+void insert_and_remove(World& world, const DriftScan& scan);  // factories; particles leaving the domain
+void update_neighbors(World& world, const DriftScan& scan);   // Verlet/candidate lists when needed
+// particles.force = m g + external force (held and one-step), torque = external torque: the
+// sums the contact stage adds onto.
+void set_body_forces(World& world);
+// Particle–particle and particle–surface contacts added onto the body forces; the surfaces'
+// per-step loads (per triangle and vertex) filled.
+void compute_contact_forces(World& world);
+void run_hooks(World& world, HookStage stage);                 // post_force, end_of_step
+void check_overlaps(const World& world);                      // overlap guard (after the forces)
+// The loads of the step added to every sized load window; the one-step external loads expire
+// (taken out of the forces, which hold them until here).
+void end_of_step_loads(World& world);
+
+// The same stages when no scan is at hand (after changes from outside): a pass of their own.
+void check_finite(const World& world);
+void insert_and_remove(World& world);
+void update_neighbors(World& world, bool force_rebuild);
 
 // Rebuilds every list now (after particles were added/removed/moved from outside).
 void rebuild_lists(World& world);
+
+// ---- changes from outside, between steps (the coupling interface) ----
+// Sets a coupled surface's vertices (m) and velocities (m/s; empty: at rest) at the world's
+// time; the surface then moves on with those velocities until the next set (drive_surfaces).
+// Throws std::logic_error if the surface is not coupled, std::invalid_argument on a size that
+// is not its vertex count.
+void set_surface_vertices(World& world, std::size_t surface, std::span<const Vec3> positions,
+                          std::span<const Vec3> velocities);
 
 }  // namespace quarry::sim

@@ -10,6 +10,7 @@
 #include "geometry/motion.h"
 #include "geometry/primitives.h"
 #include "geometry/stl_reader.h"
+#include "sim/output.h"
 #include "insert/size_distribution.h"
 #include "sim/time_step_choice.h"
 
@@ -50,8 +51,35 @@ MaterialTable build_material_table(const SimulationSpec& spec) {
   return table;
 }
 
+// A mesh given vertex by vertex (the deck's type: mesh, or the C ABI): vertices as given (not
+// merged, so node n is the partner's node n), triangles, then each quad as two triangles.
+Surface make_mesh_surface(const SurfaceSpec& s) {
+  Surface surface;
+  surface.reference_vertices = s.mesh_vertices;
+  surface.vertices = s.mesh_vertices;
+  surface.triangles = s.mesh_triangles;
+  for (const auto& c : s.mesh_quads) {
+    surface.triangles.push_back({c[0], c[1], c[2]});
+    surface.triangles.push_back({c[0], c[2], c[3]});
+  }
+  surface.update_normals_and_areas();
+  return surface;
+}
+
+// Element of each triangle of make_mesh_surface: triangle e is element e, both halves of quad q
+// are element (triangles + q). Empty when there are no quads (element = triangle).
+std::vector<std::uint32_t> mesh_element_map(const SurfaceSpec& s) {
+  std::vector<std::uint32_t> element_of_triangle;
+  if (s.mesh_quads.empty()) return element_of_triangle;
+  for (std::uint32_t t = 0; t < s.mesh_triangles.size(); ++t) element_of_triangle.push_back(t);
+  const auto first_quad = static_cast<std::uint32_t>(s.mesh_triangles.size());
+  for (std::uint32_t q = 0; q < s.mesh_quads.size(); ++q) element_of_triangle.insert(element_of_triangle.end(), 2, first_quad + q);
+  return element_of_triangle;
+}
+
 Surface make_surface(const SurfaceSpec& s) {
   switch (s.kind.value) {
+    case SurfaceKind::mesh: return make_mesh_surface(s);
     case SurfaceKind::stl: return read_stl(s.file.value, s.scale.value, s.offset.value);
     case SurfaceKind::plane: return make_plane(s.point.value, s.normal.value, s.size.value, 1);
     case SurfaceKind::box: return make_box(s.min.value, s.max.value, 1);
@@ -79,9 +107,15 @@ std::vector<ParticleTypeInfo> particle_type_infos(const SimulationSpec& spec) {
   return infos;
 }
 
+World::World() = default;
+World::~World() = default;
+World::World(const World&) = default;
+World& World::operator=(const World&) = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
 bool World::has_moving_surfaces() const {
-  return std::any_of(motions.begin(), motions.end(),
-                     [](const MotionSpec& m) { return m.kind.value != MotionKind::none; });
+  return std::any_of(surfaces.begin(), surfaces.end(), [](const WorldSurface& s) { return s.moving(); });
 }
 
 std::size_t World::pair_contact_count() const {
@@ -118,16 +152,65 @@ void drop_wall_contacts_of_removed(World& world, const std::vector<char>& remove
   for (WallContact& c : world.wall_contacts) c.particle = new_index[c.particle];
 }
 
-World build_world(const SimulationSpec& spec) {
+std::size_t add_surface(World& world, const SurfaceSpec& s, const Surface* given) {
+  const std::size_t material = material_index(world.spec, s.material.value);
+  if (material >= world.materials.count())
+    throw UserError(s.material.where, fmt::format("unknown material '{}' for surface '{}'", s.material.value, s.name.value),
+                    "define the material first");
+  WorldSurface record;
+  Surface& surface = record.mesh;
+  if (given) {
+    surface.reference_vertices = given->reference_vertices;
+    surface.triangles = given->triangles;
+  } else {
+    surface = make_surface(s);
+  }
+  record.element_of_triangle = mesh_element_map(s);
+  record.element_count = record.element_of_triangle.empty() ? surface.triangle_count()
+                                                            : s.mesh_triangles.size() + s.mesh_quads.size();
+  if (surface.reference_vertices.empty()) surface.reference_vertices = surface.vertices;
+  surface.vertices = surface.reference_vertices;
+  surface.name = s.name.value;
+  surface.material = static_cast<std::uint16_t>(material);
+  surface.conveyor_velocity = s.conveyor_velocity.value;
+  surface.export_loads = s.export_loads.value;
+  surface.update_normals_and_areas();
+  surface.reset_loads();
+  if (s.motion.kind.value != MotionKind::none) {
+    record.driver.kind = SurfaceDriverKind::prescribed;
+    record.driver.motion = s.motion;
+    apply_motion(s.motion, world.time, surface);
+  } else if (s.coupled.value) {
+    record.driver.kind = SurfaceDriverKind::coupled;  // at rest until the partner sets its vertices
+  }
+  record.topology = build_topology(surface);
+  // Search grid: cells about one particle diameter plus skin (fixed surfaces keep theirs for
+  // the whole run; moving ones are rebuilt with the lists).
+  record.grid.build(surface, 2.0 * world.max_radius + world.skin);
+  record.vertices_at_build = surface.vertices;
+  world.surfaces.push_back(std::move(record));
+  world.spec.surfaces.push_back(s);
+  world.lists_stale = true;
+  return world.surfaces.size() - 1;
+}
+
+World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes) {
+  if (!meshes.empty() && meshes.size() != spec.surfaces.size())
+    throw std::invalid_argument("build_world: one mesh per surface of the spec, or none");
   World world;
   world.spec = spec;
+  world.threading.threads = spec.simulation.threads.value;
   world.materials = build_material_table(spec);
   // Rolling-torque history exists only for the EPSD model (contact_law.h).
   world.pairs.keep_rolling_history =
       std::any_of(world.materials.pairs.begin(), world.materials.pairs.end(),
                   [](const InteractionParameters& p) { return p.rolling_model == RollingModel::epsd; });
   world.types = particle_type_infos(spec);
-  for (const auto& t : spec.particle_types) world.type_names.push_back(t.name.value);
+  for (const auto& t : spec.particle_types) {
+    world.type_names.push_back(t.name.value);
+    world.size_samplers.emplace_back(t.size);
+  }
+  world.size_random = Random(spec.simulation.seed ^ 0xA5A5A5A55A5A5A5Aull);
 
   // Time step (throws with the deck location if the contact time is under-resolved).
   const TimeStepChoice choice = choose_time_step(spec);
@@ -151,26 +234,9 @@ World build_world(const SimulationSpec& spec) {
   // Verlet skin: 10 % of the smallest diameter unless the deck says otherwise.
   world.skin = spec.simulation.skin.value >= 0.0 ? spec.simulation.skin.value : 0.2 * min_radius;
 
-  for (const auto& s : spec.surfaces) {
-    Surface surface = make_surface(s);
-    surface.name = s.name.value;
-    surface.material = static_cast<std::uint16_t>(material_index(spec, s.material.value));
-    surface.conveyor_velocity = s.conveyor_velocity.value;
-    surface.export_loads = s.export_loads.value;
-    surface.reset_loads();
-    world.motions.push_back(s.motion);
-    if (s.motion.kind.value != MotionKind::none) apply_motion(s.motion, 0.0, surface);
-    world.topologies.push_back(build_topology(surface));
-    world.surfaces.push_back(std::move(surface));
-  }
-  // Surface search grids: cells about one particle diameter plus skin (static surfaces keep
-  // theirs for the whole run; moving ones are rebuilt with the lists).
-  world.grids.resize(world.surfaces.size());
-  world.candidates.vertices_at_build.resize(world.surfaces.size());
-  for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
-    world.grids[s].build(world.surfaces[s], 2.0 * world.max_radius + world.skin);
-    world.candidates.vertices_at_build[s] = world.surfaces[s].vertices;
-  }
+  world.spec.surfaces.clear();  // add_surface appends each again
+  for (std::size_t s = 0; s < spec.surfaces.size(); ++s)
+    add_surface(world, spec.surfaces[s], meshes.empty() ? nullptr : &meshes.at(s));
 
   for (std::size_t f = 0; f < spec.factories.size(); ++f) {
     const auto& fs = spec.factories[f];

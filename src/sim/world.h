@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,11 +15,15 @@
 #include "core/particle_store.h"
 #include "core/simulation_spec.h"
 #include "core/stage_timer.h"
+#include "core/threading.h"
+#include "geometry/load_window.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/surface.h"
 #include "geometry/surface_contact.h"
 #include "geometry/surface_grid.h"
 #include "insert/factory.h"
+#include "insert/random.h"
+#include "insert/size_distribution.h"
 #include "neighbor/pair_list.h"
 
 namespace quarry {
@@ -57,12 +63,44 @@ struct SurfaceCandidates {
   std::vector<std::uint32_t> offsets;         // particles.size()+1
   std::vector<std::uint16_t> surface;         // per entry
   std::vector<std::uint32_t> triangle;        // per entry
-  std::vector<std::vector<Vec3>> vertices_at_build;  // per surface (m)
 };
 
-// What a step's opening pass saw of the new state, over all particles (sim/opening_pass.h);
-// sim::DriftScan adds where it stands. The last two hold only if the pass compared with the
-// pair list (it was built for these particles).
+// What moves a surface's vertices (DESIGN §5): nothing, the deck's prescribed motion, or a
+// coupling partner.
+enum class SurfaceDriverKind : std::uint8_t { fixed, prescribed, coupled };
+
+struct SurfaceDriver {
+  SurfaceDriverKind kind = SurfaceDriverKind::fixed;
+  MotionSpec motion;  // prescribed
+  // coupled: the vertex positions (m) and velocities (m/s) the partner set at set_time (s). Until
+  // the next set the surface moves on with those velocities: x(t) = x + v (t − set_time), the
+  // motion an explicit structural solver's central-difference step assumes over a sync period.
+  std::vector<Vec3> set_positions, set_velocities;
+  double set_time = 0.0;
+};
+
+// One surface of the world: its mesh and loads, everything derived from the mesh for the
+// contact search, its driver, and its load windows.
+struct WorldSurface {
+  Surface mesh;                        // vertices now, this step's loads
+  MeshTopology topology;               // edges and incidences (face/edge/vertex contacts)
+  SurfaceGrid grid;                    // search grid over vertices_at_build
+  std::vector<Vec3> vertices_at_build; // m: the vertices the grid and the candidates were made for
+  SurfaceDriver driver;
+  // Elements as the partner or the deck numbered them: a quad of the input is two triangles of
+  // one element (LoadWindow::element_of_triangle); empty when element = triangle.
+  std::vector<std::uint32_t> element_of_triangle;
+  std::size_t element_count = 0;
+  // Time means of the loads: for the output frames (sized while a run writes frames) and for
+  // the coupling partner (sized once a partner asks; restarted at each read).
+  LoadWindow output_window, coupling_window;
+
+  bool moving() const { return driver.kind != SurfaceDriverKind::fixed; }
+};
+
+// What a step's opening pass saw of the new state, over all particles (kick_drift_scan): the
+// NaN guard, the domain check and the neighbour stage take it instead of a pass of their own.
+// The last two hold only if the pass compared with the pair list (built for these particles).
 struct OpeningTally {
   bool non_finite = false;   // some x, v or ω is not finite
   bool any_outside = false;  // some particle is outside the domain
@@ -95,13 +133,6 @@ struct ForceWorkspace {
     std::vector<std::uint32_t> crossing_row, crossing_pair;
     std::vector<std::uint32_t> crossing_begin;  // threads + 1: range t's are [begin[t], begin[t+1])
     std::vector<double> share;                  // threads: the fraction of rows + pairs in each range
-    // Where each particle's sum starts, so that no pass zeroes every sum first (at 200k on 2
-    // threads such a pass took 3 % of the step, bound by memory bandwidth): bit k of
-    // first_reach is set if pair k is the first in list order whose partner is partner[k];
-    // that pair zeroes the partner's sum just before its own term. Bit i of reached is set if
-    // some pair has partner i; else row i starts from zero. Remade with each list, whatever
-    // the threads.
-    std::vector<std::uint64_t> first_reach, reached;
   };
   PairPlan plan;
   // Balance of the ranges, learnt from the time each thread spent on its rows: the fraction of
@@ -120,7 +151,6 @@ struct ForceWorkspace {
   // (another thread was still on its rows): added after the team's next barrier.
   struct WallSum {
     std::uint32_t particle = 0;
-    bool touching = true;  // false: no contact, nothing to add (kept for the next opening pass)
     Vec3 force, torque;  // N, N·m
   };
   std::vector<std::vector<WallSum>> wall_deferred;  // per thread
@@ -134,17 +164,76 @@ struct ForceWorkspace {
   std::vector<int> rows_done;                       // per thread: 1 once its pair rows are summed
 };
 
+struct World;
+
+// Where in the step a hook runs (sim/step.cpp; like LAMMPS's fix stages).
+enum class HookStage : std::uint8_t {
+  // After the contact and body forces of the new configuration, before velocity Verlet's
+  // closing half kick: forces that depend on the particles' velocities (fluid drag) are added
+  // to particles.force here. Positions are x(t + dt); velocities are the half-step ones,
+  // v(t + dt/2) (symplectic Euler: v(t + dt)), as LAMMPS's post_force sees them.
+  post_force,
+  // After the step is complete (time advanced, velocities final, loads accumulated): read the
+  // state, set the next step's loads or vertices.
+  end_of_step,
+};
+
+struct StepHook {
+  HookStage stage = HookStage::end_of_step;
+  std::string name;                   // for messages and the stage table
+  std::function<void(World&)> run;    // may throw UserError/PhysicsError: the step stops there
+};
+
+namespace sim {
+class Output;  // sim/output.h: frames, monitors, export and checkpoints of a run
+}
+
+// Owns a T that belongs to one world only: a copy of the world starts without one (a copied
+// world writes no output of the original's). T may be incomplete where this is declared.
+template <class T>
+class NotCopied {
+ public:
+  NotCopied() = default;
+  NotCopied(const NotCopied&) {}
+  NotCopied& operator=(const NotCopied&) {
+    owned_.reset();
+    return *this;
+  }
+  NotCopied(NotCopied&&) noexcept = default;
+  NotCopied& operator=(NotCopied&&) noexcept = default;
+  ~NotCopied() = default;
+  NotCopied& operator=(std::unique_ptr<T> p) {
+    owned_ = std::move(p);
+    return *this;
+  }
+  T* operator->() const { return owned_.get(); }
+  T& operator*() const { return *owned_; }
+  explicit operator bool() const { return owned_ != nullptr; }
+  void reset() { owned_.reset(); }
+
+ private:
+  std::unique_ptr<T> owned_;
+};
+
 struct World {
+  World();
+  ~World();
+  World(const World&);
+  World& operator=(const World&);
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+
   SimulationSpec spec;
   ParticleStore particles;
-  std::vector<Surface> surfaces;
-  std::vector<MeshTopology> topologies;
-  std::vector<SurfaceGrid> grids;
-  std::vector<MotionSpec> motions;
+  std::vector<WorldSurface> surfaces;
   MaterialTable materials;
   std::vector<ParticleTypeInfo> types;
   std::vector<std::string> type_names;
   std::vector<Factory> factories;
+  // Sizes of particles added from outside without a radius (sim::add_particles): drawn from
+  // their type's distribution with a random stream of their own (both checkpointed).
+  std::vector<SizeSampler> size_samplers;  // per particle type
+  Random size_random{0};
 
   PairList pairs;
   SurfaceCandidates candidates;
@@ -161,18 +250,14 @@ struct World {
   std::uint64_t steps_since_sort = 0;
   int insertion_interval_steps = 1;
   std::uint64_t rebuilds = 0;
+  bool initialized = false;           // sim::initialize has run: forces belong to the state
   bool excessive_overlap = false;     // set by the force stage for the overlap guard
-  // s: velocity Verlet's closing half kick of the last step, left for the next step's opening
-  // pass (step(world, StepEnd::kick_pending)); 0 when the velocities are final (complete_step).
-  double pending_kick = 0.0;
-  // The last step's force stage already did this step's opening pass (StepEnd::next_opened),
-  // and `opening` is what it saw: the state is between a step's opening pass and the rest of
-  // it, and only step() may follow.
-  bool next_opened = false;
-  OpeningTally opening;
   bool lists_stale = true;            // particles were added/removed: rebuild before forces
   std::vector<std::string> warnings;  // reported once (e.g. factory shortfall)
 
+  Threading threading;
+  std::vector<StepHook> hooks;
+  NotCopied<sim::Output> output;      // null: the step writes nothing
   StageTimers timers;
 
   bool has_moving_surfaces() const;
@@ -181,9 +266,18 @@ struct World {
 };
 
 // Builds the world: material table, surfaces (STL or primitives), factories, time step.
-// Throws UserError (with the deck locations) for problems only visible now, e.g. a time step
-// too large for the Hertz contact time.
-World build_world(const SimulationSpec& spec);
+// `meshes`, if not empty, are the surfaces' meshes as they were built before (one per
+// spec.surfaces entry, reference vertices and triangles): files are then not read again (a
+// checkpoint restores this way). Throws UserError (with the deck locations) for problems only
+// visible now, e.g. a time step too large for the Hertz contact time. The world holds no
+// particles' forces yet: sim::initialize comes next.
+World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes = {});
+
+// Appends a surface to a built world (and its spec): mesh from `mesh` if given, else built from
+// the spec entry; driver from the entry (prescribed motion, coupled, or fixed). The lists are
+// rebuilt before the next force stage. Returns its index. Throws UserError for an unknown
+// material. Cost: the mesh's topology and search grid, O(triangles log triangles).
+std::size_t add_surface(World& world, const SurfaceSpec& surface, const Surface* mesh = nullptr);
 
 // After the particles were reordered (new index k holds old index order[k]) or some removed
 // (keep_old[i] == 0), moves the wall contacts' particle indices along; contacts of removed

@@ -1,5 +1,5 @@
-// Stages that change what exists or where it is: prescribed surface motion, factories,
-// removal of particles that left the domain, spatial re-sorting and list rebuilds.
+// Stages that change what exists or where it is: the surfaces' drivers, factories, removal of
+// particles that left the domain, spatial re-sorting and list rebuilds.
 #include <fmt/format.h>
 #include <omp.h>
 
@@ -14,15 +14,14 @@ namespace quarry::sim {
 
 namespace {
 
-// Largest displacement (m) of any vertex of moving surfaces since the lists were built.
+// Largest displacement (m) of any vertex of a moving surface since the lists were built.
 double max_surface_displacement(const World& world) {
   double worst = 0.0;
-  for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
-    if (world.motions[s].kind.value == MotionKind::none) continue;
-    const auto& at_build = world.candidates.vertices_at_build[s];
-    const auto& now = world.surfaces[s].vertices;
-    if (at_build.size() != now.size()) return 1e300;
-    for (std::size_t v = 0; v < now.size(); ++v) worst = std::max(worst, norm2(now[v] - at_build[v]));
+  for (const WorldSurface& s : world.surfaces) {
+    if (!s.moving()) continue;
+    const auto& now = s.mesh.vertices;
+    if (s.vertices_at_build.size() != now.size()) return 1e300;
+    for (std::size_t v = 0; v < now.size(); ++v) worst = std::max(worst, norm2(now[v] - s.vertices_at_build[v]));
   }
   return std::sqrt(worst);
 }
@@ -35,10 +34,10 @@ void build_surface_candidates(World& world) {
   const std::size_t n = p.size();
   SurfaceCandidates& c = world.candidates;
   const double cell = 2.0 * world.max_radius + world.skin;
-  for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
-    const bool moving = world.motions[s].kind.value != MotionKind::none;
-    if (moving) world.grids[s].build(world.surfaces[s], cell);
-    c.vertices_at_build[s] = world.surfaces[s].vertices;
+  for (WorldSurface& s : world.surfaces) {
+    if (!s.moving()) continue;
+    s.grid.build(s.mesh, cell);
+    s.vertices_at_build = s.mesh.vertices;
   }
   c.particles.clear();
   c.offsets.assign(1, 0);
@@ -49,7 +48,7 @@ void build_surface_candidates(World& world) {
     std::vector<std::uint32_t> particles, counts, triangles;
     std::vector<std::uint16_t> surfaces;
   };
-  const int thread_count = n > parallel_threshold ? std::max(1, omp_get_max_threads()) : 1;
+  const int thread_count = world.threading.team(n);
   std::vector<Found> found(static_cast<std::size_t>(thread_count));
 #pragma omp parallel num_threads(thread_count)
   {
@@ -63,8 +62,8 @@ void build_surface_candidates(World& world) {
       box.hi = p.position[i] + Vec3{reach, reach, reach};
       std::uint32_t count = 0;
       for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
-        world.grids[s].query(box, hits);
-        const Surface& surface = world.surfaces[s];
+        world.surfaces[s].grid.query(box, hits);
+        const Surface& surface = world.surfaces[s].mesh;
         for (std::uint32_t tri : hits) {
           // Exact test against the triangle's own box, so the set does not depend on the grid.
           Aabb tb;
@@ -93,9 +92,42 @@ void build_surface_candidates(World& world) {
 
 }  // namespace
 
-void move_surfaces(World& world, double time) {
-  for (std::size_t s = 0; s < world.surfaces.size(); ++s)
-    if (world.motions[s].kind.value != MotionKind::none) apply_motion(world.motions[s], time, world.surfaces[s]);
+void drive_surfaces(World& world, double time) {
+  for (WorldSurface& s : world.surfaces) {
+    SurfaceDriver& driver = s.driver;
+    switch (driver.kind) {
+      case SurfaceDriverKind::fixed: break;
+      case SurfaceDriverKind::prescribed: apply_motion(driver.motion, time, s.mesh); break;
+      case SurfaceDriverKind::coupled: {
+        if (driver.set_positions.empty()) break;  // nothing set yet: the surface rests
+        const double since = time - driver.set_time;  // s
+        for (std::size_t v = 0; v < s.mesh.vertices.size(); ++v) {
+          s.mesh.vertices[v] = driver.set_positions[v] + driver.set_velocities[v] * since;
+          s.mesh.vertex_velocities[v] = driver.set_velocities[v];
+        }
+        s.mesh.update_normals_and_areas();
+        break;
+      }
+    }
+  }
+}
+
+void set_surface_vertices(World& world, std::size_t surface, std::span<const Vec3> positions,
+                          std::span<const Vec3> velocities) {
+  WorldSurface& s = world.surfaces.at(surface);
+  const std::size_t n = s.mesh.vertex_count();
+  if (s.driver.kind != SurfaceDriverKind::coupled)
+    throw std::logic_error("surface '" + s.mesh.name + "' is not coupled; its vertices are moved by its own driver");
+  if (positions.size() != n || (!velocities.empty() && velocities.size() != n))
+    throw std::invalid_argument("surface '" + s.mesh.name + "' has " + std::to_string(n) + " vertices");
+  s.driver.set_positions.assign(positions.begin(), positions.end());
+  if (velocities.empty()) s.driver.set_velocities.assign(n, Vec3{});
+  else s.driver.set_velocities.assign(velocities.begin(), velocities.end());
+  s.driver.set_time = world.time;
+  // The surface is where the partner says now: the state between steps is complete.
+  s.mesh.vertices = s.driver.set_positions;
+  s.mesh.vertex_velocities = s.driver.set_velocities;
+  s.mesh.update_normals_and_areas();
 }
 
 void insert_and_remove(World& world) {
@@ -105,7 +137,7 @@ void insert_and_remove(World& world) {
   const std::size_t n = p.size();
   bool any = false;
   if (!domain.empty()) {
-#pragma omp parallel for schedule(static) if (n > parallel_threshold) reduction(|| : any)
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) reduction(|| : any)
     for (std::size_t i = 0; i < n; ++i) any = any || !domain.contains(p.position[i]);
   }
   DriftScan scan;
@@ -134,15 +166,14 @@ void insert_and_remove(World& world, const DriftScan& scan) {
   const auto touches_surface = [&world](const Vec3& centre, double radius) {
     std::vector<std::uint32_t> all;
     std::vector<SurfaceContact> contacts;
-    for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
-      const Surface& surface = world.surfaces[s];
+    for (const WorldSurface& s : world.surfaces) {
       Aabb box;
       // The grid of a moving surface is from the last rebuild: widen the query by the skin.
       const double reach = radius + world.skin;
       box.lo = centre - Vec3{reach, reach, reach};
       box.hi = centre + Vec3{reach, reach, reach};
-      world.grids[s].query(box, all);
-      find_surface_contacts(surface, world.topologies[s], centre, radius, all, contacts);
+      s.grid.query(box, all);
+      find_surface_contacts(s.mesh, s.topology, centre, radius, all, contacts);
       if (!contacts.empty()) return true;
     }
     return false;

@@ -86,10 +86,8 @@ PlateRun run_plate(const std::string& name, int threads) {
   write_ascii_stl(square_plate(kSide, kDivisions), folder / "plate.stl");
   const SimulationSpec spec =
       parse_deck_string(plate_deck(folder / "plate.stl", folder / "out"), "plate.yaml");
-  const std::size_t saved_threshold = parallel_threshold;
-  parallel_threshold = 0;  // both threads work even in this small scene
-  omp_set_num_threads(threads);
   World world = build_world(spec);
+  world.threading = Threading{threads, 0};  // both threads work even in this small scene
   // The two layers, 0.5 mm above their resting heights (the hollow of four spheres of radius r
   // at pitch p holds the upper sphere sqrt(4r² − p²/2) above them).
   const double density = 2500.0;  // kg/m³
@@ -110,8 +108,6 @@ PlateRun run_plate(const std::string& name, int threads) {
   std::ostringstream log;
   options.log = &log;
   sim::run(world, options);
-  parallel_threshold = saved_threshold;
-  omp_set_num_threads(2);
   PlateRun result;
   result.export_folder = folder / "out" / "fem_export";
   for (std::size_t i = 0; i < world.particles.size(); ++i)

@@ -12,6 +12,7 @@
 
 #include "geometry/primitives.h"
 #include "geometry/stl_reader.h"
+#include "sim/exchange.h"
 #include "verification/test_support.h"
 
 namespace quarry {
@@ -76,11 +77,13 @@ TEST(Verification, RollingAcrossSeamsKeepsNormalForceConstant) {
   const double mass = 7800.0 * 4.0 / 3.0 * std::numbers::pi * std::pow(radius, 3);  // kg
   const double overlap = resting_overlap(mass, radius, 1e8, 0.3);
   const double speed = 1.0;  // m/s along x; ω = v/R about −y... rolling without slip: ω_y = v/R
-  world.particles.add(1, 0, 0, {0.02, 0.00317, radius - overlap}, {speed, 0, 0}, radius, 7800.0, 0.0);
-  world.particles.angular_velocity[0] = {0, speed / radius, 0};
-  world.lists_stale = true;
-  sim::update_neighbors(world, true);
-  sim::compute_forces(world);
+  sim::NewParticle ball;
+  ball.position = {0.02, 0.00317, radius - overlap};
+  ball.velocity = {speed, 0, 0};
+  ball.angular_velocity = {0, speed / radius, 0};
+  ball.radius = radius;
+  sim::add_particles(world, std::span(&ball, 1));
+  sim::initialize(world);
   const double weight = mass * 9.81;  // N
   double worst = 0.0;
   int steps = 0;
@@ -88,7 +91,7 @@ TEST(Verification, RollingAcrossSeamsKeepsNormalForceConstant) {
     sim::step(world);
     ++steps;
     ASSERT_EQ(world.wall_contact_count(), 1u) << "at x = " << world.particles.position[0].x;
-    worst = std::max(worst, std::abs(-world.surfaces[0].total_force.z / weight - 1.0));
+    worst = std::max(worst, std::abs(-world.surfaces[0].mesh.total_force.z / weight - 1.0));
   }
   EXPECT_GT(world.particles.position[0].x, 0.075);  // it crossed many seams
   // Started at the Hertz equilibrium with no vertical speed: the normal force stays the weight.
@@ -114,16 +117,17 @@ TEST(Verification, SphereOnVertexOfSixTrianglesCarriesItsWeight) {
   const SimulationSpec spec = sphere_on_surface_spec(stl, 0.05);
   World world = build_world(spec);
   const double radius = 0.005;
-  world.particles.add(1, 0, 0, {0, 0, radius * 1.001}, {}, radius, 7800.0, 0.0);
-  world.lists_stale = true;
-  sim::update_neighbors(world, true);
-  sim::compute_forces(world);
+  sim::NewParticle ball;
+  ball.position = {0, 0, radius * 1.001};
+  ball.radius = radius;
+  sim::add_particles(world, std::span(&ball, 1));
+  sim::initialize(world);
   while (world.time < 0.05) {
     sim::step(world);
     ASSERT_LE(world.wall_contact_count(), 1u);
   }
   const double weight = world.particles.mass(0) * 9.81;  // N
-  const Surface& s = world.surfaces[0];
+  const Surface& s = world.surfaces[0].mesh;
   // Damped to rest (e = 0.2, 50 ms ≫ contact period): force = weight to 1e-6.
   EXPECT_NEAR(-s.total_force.z / weight, 1.0, 1e-6);
   std::size_t centre = 0;  // the welded index of the shared vertex at the origin

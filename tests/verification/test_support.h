@@ -17,12 +17,13 @@ inline std::string source_dir() {
 
 inline std::string deck_path(const std::string& relative) { return source_dir() + "/" + relative; }
 
-// Builds the world of a deck and computes the initial forces (what sim::run does first).
-inline World start_world(const SimulationSpec& spec) {
+// Builds the world of a deck and brings it to its initial state (what sim::run does first).
+// threads > 0: that many threads for every loop, however few particles (threshold 0), so that
+// even a small scene exercises the threaded paths.
+inline World start_world(const SimulationSpec& spec, int threads = 0) {
   World world = build_world(spec);
-  sim::insert_and_remove(world);
-  sim::update_neighbors(world, true);
-  sim::compute_forces(world);
+  if (threads > 0) world.threading = Threading{threads, 0};
+  sim::initialize(world);
   return world;
 }
 

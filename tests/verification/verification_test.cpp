@@ -1,7 +1,6 @@
 // Whole-simulation verification cases (tests/verification/NN-name/): each compares the engine,
 // all stages together, with a closed-form result; the formula and its source are cited per test.
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 
 #include "geometry/stl_reader.h"
 #include "integrate/integrator.h"
+#include "sim/exchange.h"
 #include "sim/run.h"
 #include "verification/test_support.h"
 
@@ -34,7 +34,7 @@ TEST(Verification, SettledBedWallsCarryTheWeight) {
   int samples = 0;
   while (world.time < end) {
     sim::step(world);
-    wall_force += world.surfaces[0].total_force.z;
+    wall_force += world.surfaces[0].mesh.total_force.z;
     ++samples;
   }
   wall_force /= samples;
@@ -76,88 +76,50 @@ TEST(Verification, StateIsBitIdenticalForOneToFourThreads) {
   const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
   std::uint64_t hashes[4];
   std::size_t counts[4];
-  parallel_threshold = 0;  // even this small scene runs on every thread
   for (int threads : {1, 2, 3, 4}) {
-    omp_set_num_threads(threads);
-    World world = start_world(spec);
+    World world = start_world(spec, threads);
     for (int n = 0; n < 800; ++n) sim::step(world);
     hashes[threads - 1] = sim::state_hash(world);
     counts[threads - 1] = world.particles.size();
     EXPECT_GT(world.pair_contact_count(), 0u);
   }
-  omp_set_num_threads(2);
-  parallel_threshold = 2048;
   for (int t = 1; t < 4; ++t) {
     EXPECT_EQ(counts[0], counts[t]) << t + 1 << " threads";
     EXPECT_EQ(hashes[0], hashes[t]) << t + 1 << " threads";
   }
 }
 
-// 05 — Determinism with symplectic Euler: its step has no closing half kick, so the force
-// stage ends after the surface sums (the other branch of the stage's last part).
+// 05 — Determinism with symplectic Euler: its step has no closing half kick.
 TEST(Verification, SymplecticEulerStateIsBitIdenticalForOneToThreeThreads) {
   SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
   spec.simulation.integrator.value = Integrator::symplectic_euler;
-  parallel_threshold = 0;
   std::uint64_t hashes[3];
   for (int threads : {1, 2, 3}) {
-    omp_set_num_threads(threads);
-    World world = start_world(spec);
+    World world = start_world(spec, threads);
     for (int n = 0; n < 600; ++n) sim::step(world);
     EXPECT_GT(world.pair_contact_count(), 0u);
     EXPECT_FALSE(world.wall_contacts.empty());
     hashes[threads - 1] = sim::state_hash(world);
   }
-  // The same steps, each opening the next in its force stage (a full kick by the forces just
-  // computed, then the drift): the same state.
-  World opened = start_world(spec);
-  sim::advance(opened, 600);
-  omp_set_num_threads(2);
-  parallel_threshold = 2048;
   EXPECT_EQ(hashes[0], hashes[1]) << "2 threads";
   EXPECT_EQ(hashes[0], hashes[2]) << "3 threads";
-  EXPECT_EQ(hashes[0], sim::state_hash(opened)) << "3 threads, each step opening the next";
 }
 
-// 05 — The closing half kick left to the next step's first pass, or the whole opening pass of
-// the next step done by the force stage (sim::advance; runs do the same) gives the state of
-// plain steps to the bit, on 1 and 2 threads. A step left pending shows in
-// World::pending_kick, cannot be checkpointed, and completes to the same state; a step that
-// opened the next one can be neither completed nor checkpointed, and the next step gives the
-// same state.
-TEST(Verification, ClosingKickDoneByTheNextStepGivesTheSameState) {
+// 05 — Many worlds in one process: each keeps its own thread count and threshold (no process-
+// wide settings), so two worlds stepped in turn, one on 1 thread and one on 3, each end in the
+// state it reaches alone.
+TEST(Verification, WorldsSteppedInTurnEachReachTheirOwnState) {
   const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
-  parallel_threshold = 0;
-  for (int threads : {1, 2}) {
-    omp_set_num_threads(threads);
-    World plain = start_world(spec), fused = start_world(spec);
-    for (int n = 0; n < 500; ++n) sim::step(plain);
-    sim::advance(fused, 500);
-    EXPECT_EQ(fused.pending_kick, 0.0);
-    EXPECT_FALSE(fused.next_opened);
-    EXPECT_EQ(sim::state_hash(plain), sim::state_hash(fused)) << threads << " threads";
-    sim::step(plain);
-    sim::step(fused, sim::StepEnd::next_opened);
-    ASSERT_TRUE(fused.next_opened);
-    EXPECT_NE(sim::state_hash(plain), sim::state_hash(fused)) << "the next step is half done";
-    const std::string opened = (std::filesystem::path(testing::TempDir()) / "quarry_opened.qck").string();
-    EXPECT_THROW(sim::write_checkpoint(fused, opened, 0), std::logic_error);
-    EXPECT_THROW(sim::complete_step(fused), std::logic_error);
-    sim::step(plain);
-    sim::step(fused);
-    EXPECT_FALSE(fused.next_opened);
-    EXPECT_EQ(sim::state_hash(plain), sim::state_hash(fused)) << threads << " threads";
-    sim::step(plain);
-    sim::step(fused, sim::StepEnd::kick_pending);
-    EXPECT_GT(fused.pending_kick, 0.0);
-    EXPECT_NE(sim::state_hash(plain), sim::state_hash(fused)) << "the velocities are half a kick short";
-    const std::string path = (std::filesystem::path(testing::TempDir()) / "quarry_pending.qck").string();
-    EXPECT_THROW(sim::write_checkpoint(fused, path, 0), std::logic_error);
-    sim::complete_step(fused);
-    EXPECT_EQ(sim::state_hash(plain), sim::state_hash(fused)) << threads << " threads";
-  }
-  omp_set_num_threads(2);
-  parallel_threshold = 2048;
+  SimulationSpec other = spec;
+  other.simulation.gravity.value = Vec3{0.0, 0.0, -5.0};
+  World alone_a = start_world(spec, 1), alone_b = start_world(other, 3);
+  sim::advance(alone_a, 300);
+  sim::advance(alone_b, 300);
+  World a = start_world(spec, 1), b = start_world(other, 3);
+  for (int n = 0; n < 300; ++n) sim::step(a), sim::step(b);
+  EXPECT_EQ(sim::state_hash(a), sim::state_hash(alone_a));
+  EXPECT_EQ(sim::state_hash(b), sim::state_hash(alone_b));
+  EXPECT_NE(sim::state_hash(a), sim::state_hash(b));
 }
 
 // 05 — Determinism whatever the split: the threads' row ranges follow their measured speed
@@ -169,14 +131,9 @@ TEST(Verification, ClosingKickDoneByTheNextStepGivesTheSameState) {
 // the barrier instead of at once, which must not change the state either.
 TEST(Verification, StateIsBitIdenticalWhenTheThreadRangesMoveEveryStep) {
   const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
-  parallel_threshold = 0;
   std::size_t deferred = 0;  // surface sums added after the barrier, over all steps
-  // opened_ahead: every step but the last also does the next step's opening pass
-  // (StepEnd::next_opened): a particle's pass then waits for its surface sum, also when that
-  // is added after the barrier.
-  const auto run = [&spec, &deferred](int threads, bool swing, bool opened_ahead) {
-    omp_set_num_threads(threads);
-    World world = start_world(spec);
+  const auto run = [&spec, &deferred](int threads, bool swing) {
+    World world = start_world(spec, threads);
     std::uint64_t plans = 0, last_start = 0;
     for (int n = 0; n < 800; ++n) {
       auto& share = world.force_workspace.range_share;
@@ -187,7 +144,7 @@ TEST(Verification, StateIsBitIdenticalWhenTheThreadRangesMoveEveryStep) {
         for (double x : share) sum += x;
         for (double& x : share) x /= sum;
       }
-      sim::step(world, opened_ahead && n + 1 < 800 ? sim::StepEnd::next_opened : sim::StepEnd::complete);
+      sim::step(world);
       for (const auto& kept : world.force_workspace.wall_deferred) deferred += kept.size();
       const auto& plan = world.force_workspace.plan;
       if (threads > 1 && plan.range_start.size() > 1 && plan.range_start[1] != last_start)
@@ -198,16 +155,10 @@ TEST(Verification, StateIsBitIdenticalWhenTheThreadRangesMoveEveryStep) {
     }
     return sim::state_hash(world);
   };
-  const std::uint64_t one = run(1, false, false);
-  EXPECT_EQ(one, run(2, true, false)) << "2 threads";
-  EXPECT_EQ(one, run(3, true, false)) << "3 threads";
+  const std::uint64_t one = run(1, false);
+  EXPECT_EQ(one, run(2, true)) << "2 threads";
+  EXPECT_EQ(one, run(3, true)) << "3 threads";
   EXPECT_GT(deferred, 0u) << "no surface sum was kept for after the barrier: that path went untested";
-  deferred = 0;
-  EXPECT_EQ(one, run(2, true, true)) << "2 threads, each step opening the next";
-  EXPECT_EQ(one, run(3, true, true)) << "3 threads, each step opening the next";
-  EXPECT_GT(deferred, 0u) << "no surface sum was kept for after the barrier: that path went untested";
-  omp_set_num_threads(2);
-  parallel_threshold = 2048;
 }
 
 // 05 — Restart: a run stopped at its checkpoint and restarted ends bit-identical to the run
@@ -235,14 +186,14 @@ TEST(Verification, RestartContinuesBitIdentically) {
   sim::run(first, options);
   options.end_time.reset();
   const sim::RunSummary second = sim::restart((split / "checkpoint.qck").string(), options);
-  EXPECT_FALSE(second.interrupted);
+  EXPECT_FALSE(second.interrupted());
   EXPECT_NEAR(second.simulated_time, through.time, 1e-12);
   EXPECT_EQ(second.particles, through.particles.size());
   EXPECT_EQ(second.final_state_hash, sim::state_hash(through));
 }
 
-// 05 — The run loop lets a step's force stage open the next step wherever nothing looks at the
-// state in between (sim::run; sim/step.h): its final state is that of plain steps to the bit.
+// 05 — The run loop is plain steps with the output stage attached: its final state is that of
+// plain steps to the bit (writing frames, monitors and checkpoints changes nothing).
 TEST(Verification, RunEndsInTheStateOfPlainSteps) {
   const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
   const std::filesystem::path directory = std::filesystem::path(testing::TempDir()) / "quarry_run_plain";
@@ -258,47 +209,22 @@ TEST(Verification, RunEndsInTheStateOfPlainSteps) {
   std::uint64_t steps = 0;
   while (stepped.time < spec.simulation.end_time.value - 0.5 * stepped.dt) sim::step(stepped), ++steps;
   EXPECT_EQ(summary.steps, steps);
-  // Monitor rows every 0.01 s, checkpoints every 0.015 s: the rest open the next step.
-  EXPECT_GT(summary.steps_opened_ahead, steps * 9 / 10);
-  EXPECT_LT(summary.steps_opened_ahead, steps);
   EXPECT_EQ(summary.final_state_hash, sim::state_hash(stepped));
 }
 
-// 05 — An excessive overlap found by a step that had already opened the next one: the run
-// stops at that step with the report a plain step gives, and the state is that step's state,
-// the opening taken back to within rounding (OpeningPass::undo: x − v·dt and v − F·h/m, a few
-// units in the last place of x and v), not half a step further on.
-TEST(Verification, OverlapFoundByAStepThatOpenedTheNextIsReportedAtThatStep) {
-  const SimulationSpec spec = parse_deck(deck_path("tests/decks/unstable.yaml"));
-  World plain = start_world(spec), opened = start_world(spec);
-  std::string plain_report;
-  int steps = 0;
-  for (; steps < 20000 && plain_report.empty(); ++steps) {
-    try {
-      sim::step(plain);
-    } catch (const PhysicsError& e) {
-      plain_report = e.what();
-    }
-  }
-  ASSERT_FALSE(plain_report.empty()) << "the head-on collision should pass the overlap limit";
-  ASSERT_GT(steps, 10);
-  for (int n = 0; n + 1 < steps; ++n) sim::step(opened, sim::StepEnd::next_opened);
-  try {
-    sim::step(opened, sim::StepEnd::next_opened);
-    FAIL() << "expected a PhysicsError";
-  } catch (const PhysicsError& e) {
-    EXPECT_EQ(std::string(e.what()), plain_report);
-  }
-  EXPECT_FALSE(opened.next_opened);
-  EXPECT_EQ(opened.step_count, plain.step_count);
-  ASSERT_EQ(opened.particles.size(), plain.particles.size());
-  // Half a step further on, the particles would be v·dt ≈ 5e-6 m away; taken back, within a
-  // few units in the last place: positions ~1 cm (ulp ~2e-18 m), speeds ~5 m/s (ulp ~1e-15 m/s).
-  for (std::size_t i = 0; i < plain.particles.size(); ++i) {
-    EXPECT_LT(norm(opened.particles.position[i] - plain.particles.position[i]), 1e-16);
-    EXPECT_LT(norm(opened.particles.velocity[i] - plain.particles.velocity[i]), 1e-13);
-    EXPECT_LT(norm(opened.particles.angular_velocity[i] - plain.particles.angular_velocity[i]), 1e-10);
-  }
+// 05 — A checkpoint taken between any two steps restores the complete state: the restored world
+// and the original go on to the same bits, and the restore needs no file of the deck.
+TEST(Verification, CheckpointBetweenStepsRestoresTheCompleteState) {
+  const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
+  World world = start_world(spec, 2);
+  for (int n = 0; n < 137; ++n) sim::step(world);  // not at any output time
+  const std::string bytes = sim::checkpoint_bytes(world, 0);
+  sim::RestoredWorld restored = sim::read_checkpoint_bytes(bytes, "memory");
+  restored.world.threading = world.threading;
+  EXPECT_EQ(sim::state_hash(restored.world), sim::state_hash(world));
+  sim::advance(world, 200);
+  sim::advance(restored.world, 200);
+  EXPECT_EQ(sim::state_hash(restored.world), sim::state_hash(world));
 }
 
 }  // namespace
@@ -317,15 +243,16 @@ TEST(Verification, SettledBedFloorPressureIntegratesToTheLoad) {
   World world = start_world(spec);
   const double end = spec.simulation.end_time.value;
   while (world.time < end - 0.05) sim::step(world);
-  Surface& box = world.surfaces[0];
-  box.clear_window();
+  const Surface& box = world.surfaces[0].mesh;
+  LoadWindow window(box);
   while (world.time < end) {
     sim::step(world);
-    box.accumulate_window(world.dt);
+    window.accumulate(box, world.dt);
   }
-  std::vector<double> pressure;
-  std::vector<Vec3> shear, force;
-  box.window_means(pressure, shear, force);
+  LoadFrame means;
+  window.take_means(box, world.time, means);
+  const std::vector<double>& pressure = means.pressure;
+  const std::vector<Vec3>& force = means.force;
   double normal_on_floor = 0.0, vertical_total = 0.0;  // N
   for (std::size_t t = 0; t < box.triangle_count(); ++t) {
     vertical_total += force[t].z;
@@ -351,11 +278,10 @@ TEST(Verification, SphereOnConveyorEndsAtTwoSeventhsOfBeltSpeed) {
   spec.factories.clear();
   spec.surfaces[0].conveyor_velocity = Vec3{0.5, 0, 0};
   World world = start_world(spec);
-  const double radius = 0.005;
-  world.particles.add(1, 0, 0, {0, 0, radius * 0.9999}, {}, radius, 7800.0, 0.0);
-  world.lists_stale = true;
-  sim::update_neighbors(world, true);
-  sim::compute_forces(world);
+  const double radius = 0.005;  // m, the type's
+  sim::NewParticle sphere;
+  sphere.position = {0, 0, radius * 0.9999};
+  sim::add_particles(world, std::span(&sphere, 1));
   while (world.time < 0.1) sim::step(world);
   EXPECT_NEAR(world.particles.velocity[0].x / (2.0 / 7.0 * 0.5), 1.0, 0.01);
   EXPECT_NEAR(world.particles.angular_velocity[0].y * radius / (5.0 / 7.0 * 0.5), -1.0, 0.01);
@@ -366,14 +292,14 @@ TEST(Verification, ParticlesLeavingTheDomainAreRemovedAndCounted) {
   SimulationSpec spec = parse_deck(deck_path("tests/verification/02-bouncing-sphere/deck.yaml"));
   spec.factories.clear();
   World world = start_world(spec);
-  world.particles.add(7, 0, 0, {0.0, 0.0, 0.05}, {0, 0, 0}, 0.005, 7800.0, 0.0);
-  world.particles.add(8, 0, 0, {0.09, 0.0, 0.15}, {5, 0, 0}, 0.005, 7800.0, 0.0);
-  world.lists_stale = true;
-  sim::update_neighbors(world, true);
-  sim::compute_forces(world);
+  std::vector<sim::NewParticle> added(2);
+  added[0].position = {0.0, 0.0, 0.05};
+  added[1].position = {0.09, 0.0, 0.15};
+  added[1].velocity = {5, 0, 0};  // m/s: out through x = 0.1 m in about 2 ms
+  const std::vector<ParticleId> ids = sim::add_particles(world, added);
   for (int n = 0; n < 2000; ++n) sim::step(world);
   ASSERT_EQ(world.particles.size(), 1u);
-  EXPECT_EQ(world.particles.id[0], 7u);
+  EXPECT_EQ(world.particles.id[0], ids[0]);
   EXPECT_EQ(world.removed_outside, 1u);
 }
 
@@ -414,6 +340,7 @@ namespace {
 TEST(Verification, DriftScanAgreesWithTheSeparatePasses) {
   SimulationSpec spec = parse_deck(deck_path("tests/verification/01-settled-bed/deck.yaml"));
   World fused = start_world(spec);
+  const int team = fused.threading.team(fused.particles.size());
   for (int n = 0; n < 50; ++n) sim::step(fused);
   const std::size_t n = fused.particles.size();
   ASSERT_GT(n, 100u);
@@ -427,7 +354,7 @@ TEST(Verification, DriftScanAgreesWithTheSeparatePasses) {
   {
     World separate = fused;
     const sim::DriftScan scan = sim::kick_drift_scan(fused, h, dt);
-    integrate::kick_drift(separate.particles, h, dt);
+    integrate::kick_drift(separate.particles, h, dt, team);
     for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(fused.particles.position[i], separate.particles.position[i]);
     EXPECT_EQ(scan.particles, n);
     EXPECT_EQ(scan.first_non_finite, n);

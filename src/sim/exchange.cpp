@@ -1,0 +1,141 @@
+// Changes from outside between steps (exchange.h): particles added and removed, external
+// loads, the type order and id index of the coupling interface.
+#include "sim/exchange.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace quarry::sim {
+
+namespace {
+
+bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+std::string show(const Vec3& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z); }
+
+// The particle indices changed: the lists are rebuilt before the next force stage. The surface
+// candidates name indices and go now; the pair list stays (its history follows the ids).
+void mark_lists_stale(World& world) {
+  world.lists_stale = true;
+  world.candidates = SurfaceCandidates{};
+  world.candidates.offsets.assign(1, 0);
+}
+
+}  // namespace
+
+std::vector<ParticleId> add_particles(World& world, std::span<const NewParticle> particles) {
+  const Aabb& domain = world.spec.simulation.domain.value;
+  for (std::size_t k = 0; k < particles.size(); ++k) {
+    const NewParticle& q = particles[k];
+    const auto fail = [k](const std::string& what) {
+      throw std::invalid_argument(fmt::format("particle {} of the list: {}", k, what));
+    };
+    if (q.type >= world.types.size())
+      fail(fmt::format("type index {} does not exist ({} types)", q.type, world.types.size()));
+    if (!finite(q.position) || !finite(q.velocity) || !finite(q.angular_velocity) || !std::isfinite(q.radius))
+      fail("a position, velocity, angular velocity or radius is not a finite number");
+    if (q.radius > world.max_radius)
+      fail(fmt::format("radius {:.6g} m is larger than the largest the world was sized for ({:.6g} m, "
+                       "from the particle types' size distributions)", q.radius, world.max_radius));
+    if (!domain.empty() && !domain.contains(q.position))
+      fail(fmt::format("position {} m is outside the domain", show(q.position)));
+  }
+  ParticleStore& p = world.particles;
+  const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
+  std::vector<ParticleId> ids;
+  ids.reserve(particles.size());
+  for (const NewParticle& q : particles) {
+    const ParticleTypeInfo& type = world.types[q.type];
+    const double radius = q.radius > 0.0 ? q.radius : world.size_samplers[q.type].sample(world.size_random);  // m
+    const std::size_t i = p.add(world.next_id, type.type_index, type.material_index, q.position, q.velocity,
+                                radius, type.density, world.time);
+    p.angular_velocity[i] = q.angular_velocity;
+    p.force[i] = gravity / p.inv_mass[i];  // its body force, as set_body_forces would give
+    ids.push_back(world.next_id++);
+  }
+  if (!particles.empty()) mark_lists_stale(world);
+  return ids;
+}
+
+void remove_particles(World& world, std::span<const ParticleId> ids) {
+  if (ids.empty()) return;
+  IdIndex index;
+  update_id_index(world, index);
+  std::vector<char> remove(world.particles.size(), 0);
+  for (const ParticleId id : ids) {
+    const auto found = index.index.find(id);
+    if (found == index.index.end())
+      throw std::invalid_argument(fmt::format("particle id {} does not exist", id));
+    if (remove[found->second]) throw std::invalid_argument(fmt::format("particle id {} is given twice", id));
+    remove[found->second] = 1;
+  }
+  drop_wall_contacts_of_removed(world, remove);
+  world.particles.remove_flagged(remove);
+  mark_lists_stale(world);
+}
+
+void set_external_loads(World& world, std::span<const std::size_t> indices, std::span<const Vec3> forces,
+                        std::span<const Vec3> torques, LoadMode mode, LoadHold hold) {
+  ParticleStore& p = world.particles;
+  const std::size_t n = p.size();
+  const std::size_t entries = indices.empty() ? n : indices.size();
+  if ((!forces.empty() && forces.size() != entries) || (!torques.empty() && torques.size() != entries))
+    throw std::invalid_argument(fmt::format("{} entries expected, got {} forces and {} torques", entries,
+                                            forces.size(), torques.size()));
+  for (std::size_t k = 0; k < entries; ++k) {
+    if (!indices.empty() && indices[k] >= n)
+      throw std::invalid_argument(fmt::format("entry {}: particle index {} does not exist ({} particles)", k, indices[k], n));
+    if ((!forces.empty() && !finite(forces[k])) || (!torques.empty() && !finite(torques[k])))
+      throw std::invalid_argument(fmt::format("entry {}: a force or torque is not a finite number", k));
+  }
+  p.enable_external_loads();
+  std::vector<Vec3>& held_force = hold == LoadHold::until_changed ? p.external_force : p.external_force_once;
+  std::vector<Vec3>& held_torque = hold == LoadHold::until_changed ? p.external_torque : p.external_torque_once;
+  // The stored force of the step's configuration changes with the load (F + new − old), so
+  // that the next opening kick already sees it.
+  const auto apply = [mode](Vec3& load, Vec3& total, const Vec3& value) {
+    const Vec3 next = mode == LoadMode::add ? load + value : value;
+    total += next - load;
+    load = next;
+  };
+  for (std::size_t k = 0; k < entries; ++k) {
+    const std::size_t i = indices.empty() ? k : indices[k];
+    if (!forces.empty()) apply(held_force[i], p.force[i], forces[k]);
+    if (!torques.empty()) apply(held_torque[i], p.torque[i], torques[k]);
+  }
+}
+
+void update_type_order(const World& world, TypeOrder& order) {
+  const ParticleStore& p = world.particles;
+  const std::size_t n = p.size();
+  if (order.epoch == p.layout_epoch && order.particles == n) return;
+  const std::size_t types = world.types.size();
+  order.type_start.assign(types + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) order.type_start[p.type[i] + 1] += 1;
+  for (std::size_t t = 0; t < types; ++t) order.type_start[t + 1] += order.type_start[t];
+  std::vector<std::uint64_t> next(order.type_start.begin(), order.type_start.end() - 1);
+  order.order.resize(n);
+  order.identity = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint64_t k = next[p.type[i]]++;
+    order.order[k] = static_cast<std::uint32_t>(i);
+    order.identity &= k == i;
+  }
+  order.epoch = p.layout_epoch;
+  order.particles = n;
+}
+
+void update_id_index(const World& world, IdIndex& ids) {
+  const ParticleStore& p = world.particles;
+  if (ids.epoch == p.layout_epoch && ids.particles == p.size()) return;
+  ids.index.clear();
+  ids.index.reserve(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) ids.index.emplace(p.id[i], static_cast<std::uint32_t>(i));
+  ids.epoch = p.layout_epoch;
+  ids.particles = p.size();
+}
+
+}  // namespace quarry::sim

@@ -1,0 +1,69 @@
+// Changes made to a world from outside, between steps: the particle, load and surface operations
+// the coupling interface (include/quarry/quarry.h) is built on. Each leaves the state complete
+// (DESIGN §2), so the next step starts from a consistent world.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "sim/world.h"
+
+namespace quarry::sim {
+
+struct NewParticle {
+  std::uint16_t type = 0;     // particle-type index
+  Vec3 position;              // m
+  Vec3 velocity;              // m/s
+  Vec3 angular_velocity;      // rad/s
+  double radius = 0.0;        // m; ≤ 0: drawn from the type's size distribution
+};
+
+// Adds particles at the world's time and returns their new ids (in the order given). Their
+// force is set to the body forces (gravity); contacts they make act from the next step's force
+// stage on (the lists are rebuilt then). Throws std::invalid_argument, naming the entry, for an
+// unknown type, a non-finite value, a radius above the largest the world was sized for, or a
+// position outside the domain; nothing is added then. Cost: O(added) plus a list rebuild.
+std::vector<ParticleId> add_particles(World& world, std::span<const NewParticle> particles);
+
+// Removes the particles with these ids. Throws std::invalid_argument naming the first id that
+// does not exist (or is given twice); nothing is removed then. The remaining particles' forces
+// keep the removed ones' contacts until the next force stage. Cost: O(n).
+void remove_particles(World& world, std::span<const ParticleId> ids);
+
+enum class LoadMode : std::uint8_t { add, replace };
+enum class LoadHold : std::uint8_t { next_step, until_changed };
+
+// External force (N) and torque (N·m) on particles, by engine index: entry k applies to particle
+// indices[k] (indices empty: entry k to particle k, and then the spans hold one entry per
+// particle). `forces` or `torques` may be empty (left as they are). With `replace` the value
+// replaces the particle's held (or one-step) load, with `add` it is added to it. Held loads act
+// until changed; one-step loads act in the next step only. particles.force and torque are
+// updated at once, so the next opening kick uses them. Throws std::invalid_argument on a size
+// mismatch, an index out of range or a non-finite value (nothing changed then). Cost: O(entries).
+void set_external_loads(World& world, std::span<const std::size_t> indices, std::span<const Vec3> forces,
+                        std::span<const Vec3> torques, LoadMode mode, LoadHold hold);
+
+// The particles in type order (seed 004: all of type 0, then type 1, …; within a type by engine
+// index): order[k] is the engine index of the k-th particle; type_start[t] the first position of
+// type t (types + 1 entries). Remade only when the layout epoch changed. Cost: O(n) then.
+struct TypeOrder {
+  std::uint64_t epoch = ~std::uint64_t{0};
+  std::size_t particles = ~std::size_t{0};
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint64_t> type_start;
+  bool identity = false;  // order[k] == k for every k (one type, or types already grouped)
+};
+void update_type_order(const World& world, TypeOrder& order);
+
+// Engine index of every particle id, remade when the layout epoch changed. Cost: O(n) then,
+// O(1) a look-up.
+struct IdIndex {
+  std::uint64_t epoch = ~std::uint64_t{0};
+  std::size_t particles = ~std::size_t{0};
+  std::unordered_map<ParticleId, std::uint32_t> index;
+};
+void update_id_index(const World& world, IdIndex& ids);
+
+}  // namespace quarry::sim

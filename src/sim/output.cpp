@@ -1,0 +1,129 @@
+// Output stage: schedules in steps (so a restart keeps them), ParaView frames of particles and
+// surfaces with the surfaces' window-mean loads, monitor rows, the FEM load export (issue 4) and
+// checkpoints; every file written atomically.
+#include "sim/output.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "export/load_exporter.h"
+#include "io/atomic_file.h"
+#include "io/vtu_writer.h"
+#include "sim/monitors.h"
+#include "sim/run.h"
+
+namespace quarry::sim {
+
+namespace {
+
+// Steps between events for an interval in seconds (0 → never).
+std::uint64_t every_steps(double interval, double dt) {
+  if (interval <= 0.0) return 0;
+  return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(interval / dt)));
+}
+
+std::vector<const Surface*> meshes_of(const World& world) {
+  std::vector<const Surface*> meshes;
+  for (const WorldSurface& s : world.surfaces) meshes.push_back(&s.mesh);
+  return meshes;
+}
+
+}  // namespace
+
+Output::Output(World& world, const OutputOptions& options)
+    : log_(options.log ? *options.log : std::cerr),
+      directory_(options.directory),
+      end_time_(options.end_time),
+      frame_index_(options.frame_index),
+      surface_count_(world.surfaces.size()),
+      monitors_(directory_ / "monitors.csv", monitor_columns(world, world.surfaces.size())),
+      particle_series_(directory_ / "particles.pvd"),
+      checkpoint_path_((directory_ / "checkpoint.qck").string()) {
+  std::filesystem::create_directories(directory_);
+  const auto& out = world.spec.output;
+  output_every_ = every_steps(out.interval.value, world.dt);
+  monitor_every_ = every_steps(out.monitor_interval.value > 0 ? out.monitor_interval.value : out.interval.value, world.dt);
+  if (monitor_every_ == 0)  // neither given: about 200 rows over the run
+    monitor_every_ = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(end_time_ / world.dt / 200));
+  checkpoint_every_ = every_steps(out.checkpoint_interval.value, world.dt);
+  for (WorldSurface& s : world.surfaces) {
+    surface_series_.emplace_back(directory_ / (s.mesh.name + ".pvd"));
+    // Frames show triangles: the window is per triangle whatever the input's elements.
+    if (!s.output_window.sized()) s.output_window = LoadWindow(s.mesh);
+  }
+  if (options.resume_time) {
+    // Keep what the interrupted run wrote up to the checkpoint time, drop anything later.
+    monitors_ = CsvTable::load(directory_ / "monitors.csv");
+    monitors_.truncate_after(*options.resume_time);
+    particle_series_.load_existing(*options.resume_time);
+    for (auto& series : surface_series_) series.load_existing(*options.resume_time);
+  }
+  exporter_ = std::make_unique<fem_export::LoadExporter>(world.spec.fem_export, meshes_of(world), directory_,
+                                                         world.dt, options.resume_time);
+  for (const auto& note : exporter_->notes()) log_ << "quarry: " << note << "\n";
+}
+
+Output::~Output() = default;
+
+void Output::start(World& world) {
+  record_monitors(world);
+  write_frame(world);
+}
+
+void Output::after_step(World& world) {
+  exporter_->after_step(meshes_of(world), world.time, world.step_count, world.dt);
+  const std::uint64_t n = world.step_count;
+  const auto due = [n](std::uint64_t every) { return every != 0 && n % every == 0; };
+  frame_pending_ = true;
+  if (due(monitor_every_)) record_monitors(world);
+  if (due(output_every_)) write_frame(world);
+  if (due(checkpoint_every_)) write_checkpoint_now(world);
+}
+
+void Output::finish(World& world, bool interrupted) {
+  if (frame_pending_ && !interrupted) write_frame(world);
+  const std::size_t notes_before = exporter_->notes().size();
+  exporter_->finish(meshes_of(world), world.time, interrupted);
+  for (std::size_t k = notes_before; k < exporter_->notes().size(); ++k) log_ << "quarry: " << exporter_->notes()[k] << "\n";
+  monitors_.flush();
+  if (world.spec.output.plots.value && !monitors_.rows().empty())
+    write_monitor_plots(directory_.string(), monitors_.columns(), monitors_.rows());
+}
+
+void Output::stopped_by_error(World& world) {
+  monitors_.flush();
+  write_frame(world);
+  exporter_->finish(meshes_of(world), world.time, true);
+}
+
+std::string Output::write_checkpoint_now(World& world) {
+  monitors_.flush();
+  write_checkpoint(world, checkpoint_path_, frame_index_);
+  checkpoint_written_ = true;
+  return checkpoint_path_;
+}
+
+void Output::write_frame(World& world) {
+  const std::string tag = fmt::format("{:06}", frame_index_);
+  const std::string particle_file = "particles_" + tag + ".vtu";
+  write_file_atomically(directory_ / particle_file, particles_vtu(world.particles, world.type_names));
+  particle_series_.add(world.time, particle_file);
+  LoadFrame means;
+  for (std::size_t s = 0; s < surface_count_; ++s) {
+    WorldSurface& surface = world.surfaces[s];
+    surface.output_window.take_means(surface.mesh, world.time, means);
+    const std::string file = surface.mesh.name + "_" + tag + ".vtu";
+    write_file_atomically(directory_ / file, surface_vtu(surface.mesh, means.pressure, means.shear_stress,
+                                                         means.force, means.nodal_force));
+    surface_series_[s].add(world.time, file);
+  }
+  monitors_.flush();
+  frame_pending_ = false;
+  ++frame_index_;
+}
+
+void Output::record_monitors(World& world) { monitors_.add_row(monitor_row(world, surface_count_)); }
+
+}  // namespace quarry::sim

@@ -1,0 +1,81 @@
+// Output: what a run writes while it goes — ParaView frames of the particles and surfaces,
+// monitor rows and plots, the FEM load export, checkpoints — each on its own schedule counted
+// in steps, so that a restarted run keeps the same schedule. Attached to a World
+// (World::output) it is the last stage of every step; without one a step writes nothing.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/csv_table.h"
+#include "io/pvd_series.h"
+#include "sim/world.h"
+
+namespace quarry::fem_export {
+class LoadExporter;
+}
+
+namespace quarry::sim {
+
+struct OutputOptions {
+  std::filesystem::path directory;  // where the files go
+  double end_time = 0.0;            // s: the run's end (sets the default monitor interval)
+  std::ostream* log = nullptr;      // notes (files written, warnings); null: std::cerr
+  // Restart: the checkpoint's time (s) and frame number. Files written up to that time are
+  // kept and continued; later records are dropped.
+  std::optional<double> resume_time;
+  std::uint64_t frame_index = 0;
+};
+
+class Output {
+ public:
+  // Creates the folder and sizes the surfaces' output windows. Throws std::runtime_error (or
+  // filesystem_error) when the folder or a file cannot be created.
+  Output(World& world, const OutputOptions& options);
+  ~Output();
+  Output(const Output&) = delete;
+  Output& operator=(const Output&) = delete;
+
+  // A fresh run's first monitor row and frame (sim::initialize calls it); nothing on a restart.
+  void start(World& world);
+  // After a step: the load export, then a monitor row, a frame and a checkpoint when due.
+  void after_step(World& world);
+  // The run is over at world.time: the last frame (unless `interrupted`, or one was just
+  // written), the export's last record and CalculiX decks, the monitor file and its plots.
+  void finish(World& world, bool interrupted);
+  // The run stopped on a physics error: keep the monitors so far, a last frame to look at, the
+  // export up to here.
+  void stopped_by_error(World& world);
+  // Writes the checkpoint now (a stop signal); returns its path.
+  std::string write_checkpoint_now(World& world);
+
+  const std::filesystem::path& directory() const { return directory_; }
+  const std::string& checkpoint_path() const { return checkpoint_path_; }
+  std::uint64_t frame_index() const { return frame_index_; }
+  bool checkpoint_written() const { return checkpoint_written_; }
+
+ private:
+  void write_frame(World& world);
+  void record_monitors(World& world);
+
+  std::ostream& log_;
+  std::filesystem::path directory_;
+  double end_time_ = 0.0;
+  std::uint64_t output_every_ = 0, monitor_every_ = 0, checkpoint_every_ = 0;  // steps (0: never)
+  std::uint64_t frame_index_ = 0;
+  std::size_t surface_count_ = 0;  // surfaces when the output began: its columns and series
+  CsvTable monitors_;
+  PvdSeries particle_series_;
+  std::vector<PvdSeries> surface_series_;
+  std::string checkpoint_path_;
+  bool checkpoint_written_ = false;
+  bool frame_pending_ = false;     // a step was taken since the last frame
+  std::unique_ptr<fem_export::LoadExporter> exporter_;
+};
+
+}  // namespace quarry::sim
