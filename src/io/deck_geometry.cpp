@@ -178,8 +178,8 @@ std::size_t read_mesh_vertices(MapReader& map, SurfaceSpec& surface) {
     Vec3 point;
     bool valid = true;
     for (int component = 0; component < 3; ++component) {
-      const std::optional<double> number = read_number(
-          context, element[component], element, fmt::format("{}[{}]", name, component));
+      const std::optional<double> number =
+          read_number(context, element[component], element, fmt::format("{}[{}]", name, component));
       if (number)
         point[component] = *number;
       else
@@ -203,10 +203,10 @@ long read_mesh_elements(MapReader& map, const std::string& key, const std::strin
   DeckContext& context = map.context();
   const std::string shape = Corners == 3 ? "[a, b, c]" : "[a, b, c, d]";
   if (!list->IsSequence()) {
-    context.error(map.where_value(key),
-                  fmt::format("expected a list of {}s for \"{}\", got {}", noun, key,
-                              describe_node(*list)),
-                  fmt::format("write it as {}: [{}, …], 0-based indices into vertices", key, shape));
+    context.error(
+        map.where_value(key),
+        fmt::format("expected a list of {}s for \"{}\", got {}", noun, key, describe_node(*list)),
+        fmt::format("write it as {}: [{}, …], 0-based indices into vertices", key, shape));
     return -1;
   }
   // Indices are stored as 32-bit; a deck cannot list more vertices than that in practice.
@@ -226,8 +226,7 @@ long read_mesh_elements(MapReader& map, const std::string& key, const std::strin
     for (std::size_t corner = 0; corner < Corners; ++corner) {
       const YAML::Node value = element[corner];
       const std::string corner_name = fmt::format("{}[{}]", name, corner);
-      const std::optional<std::int64_t> vertex =
-          read_integer(context, value, element, corner_name);
+      const std::optional<std::int64_t> vertex = read_integer(context, value, element, corner_name);
       if (!vertex) {
         valid = false;
         continue;

@@ -578,7 +578,8 @@ TEST(Deck, MeshErrorsPointAtTheEntry) {
   expect_error(2, 8, 16, "triangles[0][2] = 4 is out of range: the mesh has 4 vertices");
   EXPECT_EQ(errors[2].hint, "indices are 0-based, from 0 to 3");
   expect_error(3, 9, 9, "degenerate triangle \"triangles[1]\": vertex 0 appears twice");
-  expect_error(4, 10, 9, "expected a list of 3 vertex indices for \"triangles[2]\", got a list of 2");
+  expect_error(4, 10, 9,
+               "expected a list of 3 vertex indices for \"triangles[2]\", got a list of 2");
   expect_error(5, 11, 10, "triangles[3][0] = -1 is out of range: the mesh has 4 vertices");
   expect_error(6, 11, 14, "expected an integer for \"triangles[3][1]\", got \"1.5\"");
   expect_error(7, 12, 13, "degenerate quad \"quads[0]\": vertex 1 appears twice");
