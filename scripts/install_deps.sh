@@ -12,6 +12,8 @@ packages=(
   libmedc-dev libhdf5-openmpi-dev        # MED load export (med.h needs the OpenMPI HDF5)
   libmed-tools                           # mdump: the tests check exported MED files with it
   calculix-ccx                           # ccx: the tests run the exported CalculiX decks
+  libzmq3-dev                            # coupling server/client transport (quarry serve)
+  python3 python3-numpy                  # the Python module (ctypes over libquarry.so) and its tests
 )
 missing=()
 for p in "${packages[@]}"; do
