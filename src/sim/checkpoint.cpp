@@ -65,37 +65,148 @@ std::uint64_t file_hash(const std::string& path) {
   return h;
 }
 
-template <class Stream, class F>
-void each_particle_array(Stream& s, ParticleStore& p, F&& f) {
-  f(s, p.position); f(s, p.velocity); f(s, p.angular_velocity); f(s, p.force); f(s, p.torque);
-  f(s, p.radius); f(s, p.inv_mass); f(s, p.material); f(s, p.id);
-  f(s, p.type); f(s, p.creation_time);
-  f(s, p.external_force); f(s, p.external_torque); f(s, p.external_force_once); f(s, p.external_torque_once);
+[[noreturn]] void bad(const std::string& what) { throw std::runtime_error(what); }
+
+// The two directions of one visit: Save writes each field, Load reads it back in place, so the
+// order of the fields is written once (transfer_state) and cannot differ between them.
+struct Save {
+  static constexpr bool loading = false;
+  BinaryWriter& out;
+  template <class T>
+  void value(T& v) { out.value(v); }
+  template <class T>
+  void vector(std::vector<T>& v) { out.vector(v); }
+  void string(std::string& s) { out.string(s); }
+};
+
+struct Load {
+  static constexpr bool loading = true;
+  BinaryReader& in;
+  template <class T>
+  void value(T& v) { v = in.value<T>(); }
+  template <class T>
+  void vector(std::vector<T>& v) { in.vector(v); }
+  void string(std::string& s) { s = in.string(); }
+};
+
+void transfer_header(auto& io, Header& h) {
+  io.value(h.magic);
+  io.value(h.format);
+  io.value(h.reserved);
+  io.value(h.payload_bytes);
+  io.value(h.crc);
+  io.value(h.reserved2);
 }
 
-template <class Stream, class F>
-void each_pair_array(Stream& s, PairList& l, F&& f) {
-  f(s, l.offsets); f(s, l.partner); f(s, l.tangential_displacement); f(s, l.rolling_torque);
-  f(s, l.reference_positions); f(s, l.ids_at_build);
+// A flag as one byte; a loaded byte other than 0 or 1 is damage.
+void transfer_flag(auto& io, bool& flag) {
+  auto byte = static_cast<std::uint8_t>(flag);
+  io.value(byte);
+  if (byte > 1) bad("a flag holds a value other than 0 or 1");
+  flag = byte != 0;
 }
 
-template <class Stream, class F>
-void each_window_array(Stream& s, LoadWindow& w, F&& f) {
-  f(s, w.element_of_triangle); f(s, w.force_impulse); f(s, w.normal_impulse); f(s, w.shear_impulse);
-  f(s, w.nodal_impulse);
+void transfer_window(auto& io, LoadWindow& w) {
+  io.vector(w.element_of_triangle);
+  io.vector(w.force_impulse);
+  io.vector(w.normal_impulse);
+  io.vector(w.shear_impulse);
+  io.vector(w.nodal_impulse);
+  io.value(w.duration);
 }
 
-template <class Stream, class F>
-void each_surface_state(Stream& s, WorldSurface& w, F&& f) {
-  Surface& m = w.mesh;
-  f(s, m.vertices); f(s, m.vertex_velocities); f(s, m.triangle_normals); f(s, m.triangle_areas);
-  f(s, m.triangle_force); f(s, m.vertex_force); f(s, w.vertices_at_build);
-  f(s, w.driver.set_positions); f(s, w.driver.set_velocities); f(s, w.element_of_triangle);
+// Everything of a built world that later steps depend on (the world itself — materials, types,
+// meshes — is rebuilt from the spec first). A count read from the file is bounded before use.
+void transfer_state(auto& io, World& world, std::uint64_t& frame_index) {
+  constexpr bool loading = std::remove_reference_t<decltype(io)>::loading;
+  io.value(world.time);
+  io.value(world.step_count);
+  io.value(world.dt);
+  io.value(world.next_id);
+  io.value(world.removed_outside);
+  io.value(world.steps_since_sort);
+  io.value(world.rebuilds);
+  transfer_flag(io, world.lists_stale);
+  io.value(frame_index);
+  ParticleStore& p = world.particles;
+  transfer_flag(io, p.external_loads_enabled);
+  for (auto* v : {&p.position, &p.velocity, &p.angular_velocity, &p.force, &p.torque}) io.vector(*v);
+  io.vector(p.radius);
+  io.vector(p.inv_mass);
+  io.vector(p.material);
+  io.vector(p.id);
+  io.vector(p.type);
+  io.vector(p.creation_time);
+  for (auto* v : {&p.external_force, &p.external_torque, &p.external_force_once, &p.external_torque_once}) io.vector(*v);
+  std::uint64_t customs = p.custom.size();
+  io.value(customs);
+  if constexpr (loading) {
+    if (customs > 100000) bad("the custom property count is implausible");
+    p.custom.assign(customs, {});
+  }
+  for (auto& c : p.custom) {
+    io.string(c.name);
+    io.string(c.unit);
+    io.value(c.components);
+    io.value(c.initial);
+    io.vector(c.values);
+  }
+  io.value(p.layout_epoch);
+  PairList& l = world.pairs;
+  for (auto* v : {&l.tangential_displacement, &l.rolling_torque, &l.reference_positions}) io.vector(*v);
+  io.vector(l.offsets);
+  io.vector(l.partner);
+  io.vector(l.ids_at_build);
+  io.value(l.skin);
+  io.value(l.builds);
+  io.vector(world.candidates.particles);
+  io.vector(world.candidates.offsets);
+  io.vector(world.candidates.surface);
+  io.vector(world.candidates.triangle);
+  io.vector(world.wall_contacts);
+  for (WorldSurface& s : world.surfaces) {
+    Surface& m = s.mesh;
+    for (auto* v : {&m.vertices, &m.vertex_velocities, &m.triangle_normals, &m.triangle_force, &m.vertex_force,
+                    &s.vertices_at_build, &s.driver.set_positions, &s.driver.set_velocities})
+      io.vector(*v);
+    io.vector(m.triangle_areas);
+    io.vector(s.element_of_triangle);
+    io.value(m.total_force);
+    io.value(m.total_torque);
+    auto kind = static_cast<std::uint8_t>(s.driver.kind);
+    io.value(kind);
+    if constexpr (loading) {
+      if (kind > static_cast<std::uint8_t>(SurfaceDriverKind::coupled)) bad("a surface has an unknown driver");
+      s.driver.kind = static_cast<SurfaceDriverKind>(kind);
+    }
+    io.value(s.driver.set_time);
+    io.value(s.element_count);
+    transfer_window(io, s.output_window);
+    transfer_window(io, s.coupling_window);
+  }
+  std::uint64_t factories = world.factories.size();
+  io.value(factories);
+  if (loading && factories != world.factories.size()) bad("the factory count differs from the deck's");
+  for (auto& f : world.factories) {
+    std::vector<std::uint64_t> state;
+    if constexpr (!loading) state = f.save_state();
+    io.vector(state);
+    if constexpr (loading) f.load_state(state);
+  }
+  std::array<std::uint64_t, 4> random = world.size_random.state();
+  for (auto& word : random) io.value(word);
+  if constexpr (loading) {
+    if (random == std::array<std::uint64_t, 4>{}) bad("the size stream's state is all zero");
+    world.size_random.set_state(random);
+  }
+  for (SizeSampler& sampler : world.size_samplers) {
+    std::vector<double> state = sampler.state();
+    io.vector(state);
+    if constexpr (loading) sampler.set_state(state);
+  }
 }
 
 // ---- validation of a loaded state: every length, index and value the steps will trust ----
-
-[[noreturn]] void bad(const std::string& what) { throw std::runtime_error(what); }
 
 template <class T>
 void expect_size(const std::vector<T>& v, std::size_t n, const char* what) {
@@ -238,7 +349,6 @@ World rebuild_world(const std::string& spec_yaml, const std::string& deck_path, 
 
 RestoredWorld read_payload(std::istream& in, std::uint64_t payload_bytes) {
   BinaryReader r(in, payload_bytes);
-  const auto get = [](BinaryReader& s, auto& v) { s.vector(v); };
   const std::string deck_path = r.string();
   const std::string deck_text = r.string();
   const std::string spec_yaml = r.string();
@@ -271,58 +381,8 @@ RestoredWorld read_payload(std::istream& in, std::uint64_t payload_bytes) {
   RestoredWorld restored{rebuild_world(spec_yaml, deck_path, meshes), 0};
   World& world = restored.world;
   if (world.surfaces.size() != surface_count) bad("the deck and the meshes disagree on the number of surfaces");
-  world.time = r.value<double>();
-  world.step_count = r.value<std::uint64_t>();
-  world.dt = r.value<double>();
-  world.next_id = r.value<ParticleId>();
-  world.removed_outside = r.value<std::uint64_t>();
-  world.steps_since_sort = r.value<std::uint64_t>();
-  world.rebuilds = r.value<std::uint64_t>();
-  world.lists_stale = r.value<std::uint8_t>() != 0;
-  restored.frame_index = r.value<std::uint64_t>();
-  ParticleStore& p = world.particles;
-  p.external_loads_enabled = r.value<std::uint8_t>() != 0;
-  each_particle_array(r, p, get);
-  const auto customs = r.value<std::uint64_t>();
-  if (customs > 100000) bad("the custom property count is implausible");
-  p.custom.assign(customs, {});
-  for (auto& c : p.custom) {
-    c.name = r.string();
-    c.unit = r.string();
-    c.components = r.value<std::uint32_t>();
-    c.initial = r.value<double>();
-    r.vector(c.values);
-  }
-  p.layout_epoch = r.value<std::uint64_t>();
-  each_pair_array(r, world.pairs, get);
-  world.pairs.skin = r.value<double>();
-  world.pairs.builds = r.value<std::uint64_t>();
-  world.force_workspace.plan = {};  // made for the list this one replaces
-  r.vector(world.candidates.particles);
-  r.vector(world.candidates.offsets);
-  r.vector(world.candidates.surface);
-  r.vector(world.candidates.triangle);
-  r.vector(world.wall_contacts);
-  for (WorldSurface& s : world.surfaces) {
-    each_surface_state(r, s, get);
-    s.mesh.total_force = r.value<Vec3>();
-    s.mesh.total_torque = r.value<Vec3>();
-    const auto kind = r.value<std::uint8_t>();
-    if (kind > static_cast<std::uint8_t>(SurfaceDriverKind::coupled)) bad("a surface has an unknown driver");
-    s.driver.kind = static_cast<SurfaceDriverKind>(kind);
-    s.driver.set_time = r.value<double>();
-    s.element_count = r.value<std::uint64_t>();
-    for (LoadWindow* w : {&s.output_window, &s.coupling_window}) {
-      each_window_array(r, *w, get);
-      w->duration = r.value<double>();
-    }
-  }
-  if (r.value<std::uint64_t>() != world.factories.size()) bad("the factory count differs from the deck's");
-  for (auto& f : world.factories) {
-    std::vector<std::uint64_t> state;
-    r.vector(state);
-    f.load_state(state);
-  }
+  Load load{r};
+  transfer_state(load, world, restored.frame_index);
   if (!r.at_end()) bad("bytes remain after the last section");
   validate(world);
   // The search grids of moving surfaces are those of the last list build.
@@ -354,18 +414,15 @@ Header parse_header(std::istream& in, std::uint64_t size, const std::string& nam
   Header h;
   if (size < kHeaderBytes) throw damaged(name, fmt::format("the file has {} bytes, fewer than a header", size));
   BinaryReader r(in, kHeaderBytes);
-  h.magic = r.value<std::uint64_t>();
-  h.format = r.value<std::uint32_t>();
-  h.reserved = r.value<std::uint32_t>();
-  h.payload_bytes = r.value<std::uint64_t>();
-  h.crc = r.value<std::uint32_t>();
-  h.reserved2 = r.value<std::uint32_t>();
+  Load load{r};
+  transfer_header(load, h);
   if (h.magic != kMagic) {
     if ((h.magic & 0x0000ffffffffffffull) == (kMagic & 0x0000ffffffffffffull))
       throw damaged(name, "it was written by another version of Quarry's checkpoint format");
     throw damaged(name, "it is not a Quarry checkpoint (wrong magic number)");
   }
   if (h.format != kFormat) throw damaged(name, fmt::format("format {} (this Quarry reads format {})", h.format, kFormat));
+  if (h.reserved != 0 || h.reserved2 != 0) throw damaged(name, "the header's reserved fields are not zero");
   if (h.payload_bytes != size - kHeaderBytes)
     throw damaged(name, fmt::format("the header announces {} bytes of data but the file holds {} (truncated or extended)",
                                     h.payload_bytes, size - kHeaderBytes));
@@ -391,9 +448,8 @@ RestoredWorld restore(std::istream& in, std::uint64_t size, const std::string& n
 std::string checkpoint_bytes(const World& const_world, std::uint64_t frame_index) {
   if (!const_world.initialized)
     throw std::logic_error("checkpoint: the world is not initialized (sim::initialize first)");
-  World& world = const_cast<World&>(const_world);  // the visitors take non-const arrays
+  World& world = const_cast<World&>(const_world);  // the visit takes non-const fields
   BinaryWriter w;
-  const auto put = [](BinaryWriter& s, auto& v) { s.vector(v); };
   std::error_code ignored;
   const std::string deck_path =
       world.spec.deck_path.empty() ? std::string() : fs::absolute(world.spec.deck_path, ignored).string();
@@ -411,60 +467,15 @@ std::string checkpoint_bytes(const World& const_world, std::uint64_t frame_index
     w.string(stl ? spec.file.value : std::string());
     w.value<std::uint64_t>(stl ? file_hash(spec.file.value) : 0);
   }
-  w.value(world.time);
-  w.value(world.step_count);
-  w.value(world.dt);
-  w.value(world.next_id);
-  w.value(world.removed_outside);
-  w.value(world.steps_since_sort);
-  w.value(world.rebuilds);
-  w.value(static_cast<std::uint8_t>(world.lists_stale));
-  w.value(frame_index);
-  ParticleStore& p = world.particles;
-  w.value(static_cast<std::uint8_t>(p.external_loads_enabled));
-  each_particle_array(w, p, put);
-  w.value<std::uint64_t>(p.custom.size());
-  for (const auto& c : p.custom) {
-    w.string(c.name);
-    w.string(c.unit);
-    w.value(c.components);
-    w.value(c.initial);
-    w.vector(c.values);
-  }
-  w.value(p.layout_epoch);
-  each_pair_array(w, world.pairs, put);
-  w.value(world.pairs.skin);
-  w.value<std::uint64_t>(world.pairs.builds);
-  w.vector(world.candidates.particles);
-  w.vector(world.candidates.offsets);
-  w.vector(world.candidates.surface);
-  w.vector(world.candidates.triangle);
-  w.vector(world.wall_contacts);
-  for (WorldSurface& s : world.surfaces) {
-    each_surface_state(w, s, put);
-    w.value(s.mesh.total_force);
-    w.value(s.mesh.total_torque);
-    w.value(static_cast<std::uint8_t>(s.driver.kind));
-    w.value(s.driver.set_time);
-    w.value<std::uint64_t>(s.element_count);
-    for (LoadWindow* window : {&s.output_window, &s.coupling_window}) {
-      each_window_array(w, *window, put);
-      w.value(window->duration);
-    }
-  }
-  w.value<std::uint64_t>(world.factories.size());
-  for (const auto& f : world.factories) w.vector(f.save_state());
+  Save save{w};
+  transfer_state(save, world, frame_index);
 
   BinaryWriter file;
   Header header;
   header.payload_bytes = w.bytes().size();
   header.crc = crc32_of(w.bytes().data(), w.bytes().size());
-  file.value(header.magic);
-  file.value(header.format);
-  file.value(header.reserved);
-  file.value(header.payload_bytes);
-  file.value(header.crc);
-  file.value(header.reserved2);
+  Save save_header{file};
+  transfer_header(save_header, header);
   file.bytes() += w.bytes();
   return std::move(file.bytes());
 }

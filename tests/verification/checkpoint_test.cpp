@@ -1,0 +1,96 @@
+// Checkpoints that are damaged never crash or restore a different state: a flipped bit anywhere
+// or a truncation is caught by the header and the CRC-32 of the payload; a file whose checksum is
+// right but whose content is inconsistent (written by a bug, or forged) is caught by the
+// validation of every length, index and value — each an error that says what is wrong.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+#include <string>
+
+#include "sim/run.h"
+#include "verification/test_support.h"
+
+namespace quarry {
+namespace {
+
+using testing_support::deck_path;
+using testing_support::start_world;
+
+World stepped_world() {
+  const SimulationSpec spec = parse_deck(deck_path("tests/verification/05-determinism/deck.yaml"));
+  World world = start_world(spec);
+  for (int n = 0; n < 1500; ++n) sim::step(world);  // contacts, wall contacts and history exist
+  return world;
+}
+
+// The restore of `bytes` must fail with a UserError whose text contains `expected`.
+void expect_refused(const std::string& bytes, const std::string& expected, const std::string& what) {
+  try {
+    sim::read_checkpoint_bytes(bytes, "damaged.qck");
+    ADD_FAILURE() << what << ": restored without a word";
+  } catch (const UserError& e) {
+    const std::string text = e.diagnostics().format();
+    EXPECT_NE(text.find("damaged.qck"), std::string::npos) << what << ": " << text;
+    EXPECT_NE(text.find(expected), std::string::npos) << what << ": " << text;
+  }
+}
+
+TEST(CheckpointDamage, FlippedBitsAndTruncationsAreRefused) {
+  const World world = stepped_world();
+  const std::string bytes = sim::checkpoint_bytes(world, 3);
+  ASSERT_GT(bytes.size(), 10000u);
+  // The intact file restores the same state.
+  EXPECT_EQ(sim::state_hash(sim::read_checkpoint_bytes(bytes, "intact.qck").world), sim::state_hash(world));
+  std::mt19937_64 random(20261202);
+  std::uniform_int_distribution<std::size_t> position(0, bytes.size() - 1);
+  for (int k = 0; k < 300; ++k) {
+    std::string damaged = bytes;
+    const std::size_t at = k < 32 ? static_cast<std::size_t>(k) : position(random);  // every header byte too
+    damaged[at] = static_cast<char>(damaged[at] ^ (1 << (k % 8)));
+    try {
+      sim::read_checkpoint_bytes(damaged, "damaged.qck");
+      ADD_FAILURE() << "a flip of bit " << k % 8 << " of byte " << at << " restored";
+    } catch (const UserError&) {
+    }
+  }
+  for (const std::size_t keep : {std::size_t{0}, std::size_t{7}, std::size_t{31}, std::size_t{32}, bytes.size() / 2, bytes.size() - 1}) {
+    expect_refused(bytes.substr(0, keep), "cannot restore checkpoint", "truncated to " + std::to_string(keep));
+  }
+  expect_refused(bytes + "x", "cannot restore checkpoint", "one byte appended");
+  std::string other_format = bytes;
+  other_format[6] = '9';  // "QURYCK09": another format of the same family
+  expect_refused(other_format, "another version", "another format");
+  expect_refused(std::string(200, 'x'), "not a Quarry checkpoint", "random bytes");
+}
+
+// Damage inside a correctly checksummed file: the writer does not check what it writes, so a
+// world changed by hand gives such a file.
+TEST(CheckpointDamage, InconsistentContentIsNamed) {
+  const World original = stepped_world();
+  ASSERT_GT(original.pairs.size(), 0u);
+  ASSERT_FALSE(original.wall_contacts.empty());
+  const std::vector<std::pair<std::string, std::function<void(World&)>>> cases = {
+      {"neighbour pair 0 names particle", [](World& w) { w.pairs.partner[0] = 0xFFFFFFF0u; }},
+      {"offsets", [](World& w) { w.pairs.offsets.pop_back(); }},
+      {"time step", [](World& w) { w.dt = 0.0; }},
+      {"the time", [](World& w) { w.time = std::nan(""); }},
+      {"particle positions", [](World& w) { w.particles.position[5].y = INFINITY; }},
+      {"particle radii", [](World& w) { w.particles.radius.pop_back(); }},
+      {"has radius", [](World& w) { w.particles.radius[3] = -1.0; }},
+      {"material index", [](World& w) { w.particles.material[2] = 40; }},
+      {"has id", [](World& w) { w.particles.id[1] = w.next_id + 5; }},
+      {"wall contact 0", [](World& w) { w.wall_contacts[0].triangle = 1u << 30; }},
+      {"surface candidate", [](World& w) { w.candidates.particles[0] = 1u << 30; }},
+      {"tangential history", [](World& w) { w.pairs.tangential_displacement.pop_back(); }},
+  };
+  for (const auto& [expected, damage] : cases) {
+    World world = original;
+    damage(world);
+    expect_refused(sim::checkpoint_bytes(world, 0), expected, expected);
+  }
+}
+
+}  // namespace
+}  // namespace quarry
