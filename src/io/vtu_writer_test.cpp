@@ -110,12 +110,14 @@ std::vector<Vec3> vectors_of(const ArrayInfo& info) {
 ParticleStore three_particles() {
   ParticleStore particles;
   particles.register_custom("temperature", 1, 293.15, "K");
+  particles.register_custom("fluid_velocity", 3, 0.0, "m/s");
   particles.add(101, 0, 0, {0.1, 0.2, 0.3}, {1.0, -2.0, 0.5}, 0.005, 2500.0, 0.0);
   particles.add(7, 1, 0, {-1.0 / 3.0, 0.0, 1e-9}, {}, 0.004, 2500.0, 0.0);
   particles.add(~std::uint64_t{0}, 1, 1, {5.0, 6.0, 7.0}, {}, 0.003, 7800.0, 0.1);
   particles.angular_velocity[1] = {10.0, 20.0, 30.0};
   particles.force[2] = {0.0, 0.0, -9.81};
   particles.custom[0].values = {300.0, 310.5, -1.0};
+  particles.custom[1].values = {1, 2, 3, 4, 5, 6, 7, 8, 9};
   return particles;
 }
 
@@ -137,6 +139,8 @@ TEST(ParticlesVtu, RoundTripsEveryArrayExactly) {
   EXPECT_EQ(vectors_of(vtu.arrays.at("angular_velocity")), particles.angular_velocity);
   EXPECT_EQ(vectors_of(vtu.arrays.at("force")), particles.force);
   EXPECT_EQ(values_of<double>(vtu.arrays.at("temperature")), particles.custom[0].values);
+  EXPECT_EQ(vtu.arrays.at("fluid_velocity").components, 3);  // a vector property, one tuple per particle
+  EXPECT_EQ(values_of<double>(vtu.arrays.at("fluid_velocity")), particles.custom[1].values);
 
   // One VTK_VERTEX (type 1) per particle.
   EXPECT_EQ(values_of<std::int64_t>(vtu.arrays.at("connectivity")),
