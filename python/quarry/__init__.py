@@ -45,19 +45,16 @@ from .errors import (
     VersionError,
     WrongStateError,
 )
+from .records import Particles, PropertyInfo, SurfaceInfo, SurfaceLoads
 from .simulation import (
-    Particles,
-    PropertyInfo,
     Simulation,
-    SurfaceInfo,
-    SurfaceLoads,
-    View,
     abi_version,
     default_settings,
     library_path,
     status_name,
     version,
 )
+from .views import View
 
 __all__ = [
     "ABI_MAJOR",
