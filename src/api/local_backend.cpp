@@ -274,8 +274,11 @@ void LocalBackend::restore_state(const void* bytes, std::uint64_t size) {
   restored.world.threading = world_.threading;
   restored.world.hooks = std::move(world_.hooks);
   restored.world.output = std::move(world_.output);
+  // Every view and index taken before is stale: the epoch moves past both the current one and
+  // the saved one (which may be equal to the current one for a different particle order).
+  const std::uint64_t epoch = std::max(world_.particles.layout_epoch, restored.world.particles.layout_epoch) + 1;
   world_ = std::move(restored.world);
-  world_.particles.layout_epoch += 1;  // every view and index of before is stale
+  world_.particles.layout_epoch = epoch;
 }
 
 // ---- particles ----

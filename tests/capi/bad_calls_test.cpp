@@ -301,6 +301,32 @@ TEST(BadCalls, WrongArgumentsAndStatesAreRefusedAndChangeNothing) {
   EXPECT_EQ(quarry_close(sim), QUARRY_OK);
 }
 
+// A state put back by quarry_restore_state makes every earlier view and index stale: the epoch
+// moves past the current one and past the saved one, even when the two were equal.
+TEST(BadCalls, RestoredStateMovesTheEpochPastBoth) {
+  quarry_sim sim = started_simulation();
+  std::uint64_t needed = 0, saved_epoch = 0, current = 0, after = 0;
+  ASSERT_EQ(quarry_save_state(sim, nullptr, 0, &needed), QUARRY_OK);
+  std::vector<char> state(needed);
+  ASSERT_EQ(quarry_save_state(sim, state.data(), state.size(), &needed), QUARRY_OK);
+  ASSERT_EQ(quarry_epoch(sim, &saved_epoch), QUARRY_OK);
+  const double position[3] = {0.2, 0.2, 0.2};
+  quarry_new_particles add{};
+  add.struct_size = sizeof add;
+  add.count = 1;
+  add.position = position;
+  ASSERT_EQ(quarry_add_particles(sim, &add), QUARRY_OK);  // epoch + 1: the saved one + 1
+  ASSERT_EQ(quarry_epoch(sim, &current), QUARRY_OK);
+  ASSERT_EQ(quarry_restore_state(sim, state.data(), state.size()), QUARRY_OK) << error_of(sim);
+  ASSERT_EQ(quarry_epoch(sim, &after), QUARRY_OK);
+  EXPECT_GT(after, current);
+  EXPECT_GT(after, saved_epoch);
+  std::uint64_t count = 0;
+  ASSERT_EQ(quarry_num_particles(sim, -1, &count), QUARRY_OK);
+  EXPECT_EQ(count, 2u);
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK);
+}
+
 // A simulation built by calls that lacks what a deck would need is refused at start with what is
 // missing; the handle stays usable.
 TEST(BadCalls, IncompleteDefinitionIsReportedAtStart) {
