@@ -6,16 +6,13 @@
 #include <fmt/format.h>
 
 #include <cstring>
-#include <filesystem>
 #include <mutex>
-#include <new>
 #include <string>
 #include <vector>
 
 #include "api/backend.h"
 #include "api/local_backend.h"
 #include "api/remote.h"
-#include "core/diagnostics.h"
 
 namespace quarry::api {
 namespace {
@@ -93,27 +90,14 @@ quarry_status call(quarry_sim sim, const char* name, F&& f) {
   std::lock_guard lock(slot->mutex);
   if (Registry::generation_of(sim) != slot->generation || !slot->backend)
     return thread_error(QUARRY_ERROR_INVALID_HANDLE, fmt::format("{}: handle {:#x} was closed", name, sim.id));
-  const auto failed = [&](quarry_status status, const std::string& text) {
-    set_error(*slot, text);
-    return status;
-  };
   try {
     f(*slot->backend);
     set_error(*slot, "");
     return QUARRY_OK;
-  } catch (const ApiError& e) {
-    const std::string text = e.what();
-    return failed(e.status(), text.rfind("quarry_", 0) == 0 ? text : fmt::format("{}: {}", name, text));
-  } catch (const UserError& e) {
-    return failed(QUARRY_ERROR_INPUT, fmt::format("{}: {}", name, e.diagnostics().format()));
-  } catch (const PhysicsError& e) {
-    return failed(QUARRY_ERROR_PHYSICS, fmt::format("{}: {}", name, e.what()));
-  } catch (const std::filesystem::filesystem_error& e) {
-    return failed(QUARRY_ERROR_IO, fmt::format("{}: {}", name, e.what()));
-  } catch (const std::bad_alloc&) {
-    return failed(QUARRY_ERROR_INTERNAL, fmt::format("{}: out of memory", name));
-  } catch (const std::exception& e) {
-    return failed(QUARRY_ERROR_INTERNAL, fmt::format("{}: internal error: {}", name, e.what()));
+  } catch (...) {
+    const Failure failure = current_failure(name);
+    set_error(*slot, failure.text);
+    return failure.status;
   }
 }
 
@@ -159,7 +143,7 @@ extern "C" {
 
 QUARRY_API uint32_t quarry_abi_version(void) { return QUARRY_ABI_VERSION; }
 
-QUARRY_API const char* quarry_version_string(void) { return "0.2.0"; }
+QUARRY_API const char* quarry_version_string(void) { return kLibraryVersion; }
 
 QUARRY_API const char* quarry_status_name(quarry_status status) {
   switch (status) {
@@ -216,18 +200,9 @@ QUARRY_API quarry_status quarry_open(const quarry_open_info* info, quarry_sim* s
     *sim = registry().add(std::move(backend));
     t_last_error.clear();
     return QUARRY_OK;
-  } catch (const ApiError& e) {
-    return thread_error(e.status(), e.what());
-  } catch (const UserError& e) {
-    return thread_error(QUARRY_ERROR_INPUT, "quarry_open: " + e.diagnostics().format());
-  } catch (const PhysicsError& e) {
-    return thread_error(QUARRY_ERROR_PHYSICS, std::string("quarry_open: ") + e.what());
-  } catch (const std::filesystem::filesystem_error& e) {
-    return thread_error(QUARRY_ERROR_IO, std::string("quarry_open: ") + e.what());
-  } catch (const std::bad_alloc&) {
-    return thread_error(QUARRY_ERROR_INTERNAL, "quarry_open: out of memory");
-  } catch (const std::exception& e) {
-    return thread_error(QUARRY_ERROR_INTERNAL, std::string("quarry_open: internal error: ") + e.what());
+  } catch (...) {
+    const Failure failure = current_failure("quarry_open");
+    return thread_error(failure.status, failure.text);
   }
 }
 

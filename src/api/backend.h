@@ -14,6 +14,9 @@
 
 namespace quarry::api {
 
+// quarry_version_string's text (also what `quarry serve` tells its clients).
+inline constexpr const char* kLibraryVersion = "0.2.0";
+
 // An error to report through the ABI: its status code and its text.
 class ApiError : public std::runtime_error {
  public:
@@ -23,6 +26,17 @@ class ApiError : public std::runtime_error {
  private:
   quarry_status status_;
 };
+
+// What a failed call reports: its status code and its text.
+struct Failure {
+  quarry_status status = QUARRY_ERROR_INTERNAL;
+  std::string text;
+};
+// The failure of the exception being handled (call it inside a catch block): an ApiError's own
+// status, UserError → INPUT with the deck's diagnostics, PhysicsError → PHYSICS, a filesystem
+// error → IO, anything else → INTERNAL; each text begins with `call` ("quarry_step: ...") unless
+// an ApiError's names its call already. Used by the C functions and by `quarry serve` alike.
+Failure current_failure(const char* call);
 
 class Backend {
  public:

@@ -225,7 +225,13 @@ void LocalBackend::get_time(double* time, double* time_step, std::uint64_t* step
 }
 
 void LocalBackend::run_steps(std::uint64_t steps) {
-  for (std::uint64_t s = 0; s < steps; ++s) sim::step(world_);
+  for (std::uint64_t s = 0; s < steps; ++s) {
+    if (stop_ && stop_->load(std::memory_order_relaxed) != 0)
+      fail(QUARRY_ERROR_TRANSPORT, fmt::format("quarry serve is stopping (signal {}): the advance ended after {} of {} "
+                                               "steps, at step {} (t = {:.6g} s)",
+                                               stop_->load(), s, steps, world_.step_count, world_.time));
+    sim::step(world_);
+  }
 }
 
 quarry_advance_result LocalBackend::advance(double duration) {
@@ -424,11 +430,17 @@ sim::LoadHold load_hold(std::int32_t hold) {
   fail(QUARRY_ERROR_BAD_VALUE, fmt::format("hold {} is not QUARRY_HOLD_NEXT_STEP or QUARRY_HOLD_UNTIL_CHANGED", hold));
 }
 
+// 3 × count doubles as vectors into `out`, whose storage is kept from call to call (a partner
+// sets loads every step: fresh arrays would be mapped and faulted in every time); NULL: none.
+void vectors_into(const double* values, std::size_t count, std::vector<Vec3>& out) {
+  if (!values) return out.clear();
+  out.resize(count);  // every entry is written below: no clear first (it would zero them again)
+  for (std::size_t k = 0; k < count; ++k) out[k] = vec(values, k);
+}
+
 std::vector<Vec3> vectors_of(const double* values, std::size_t count) {
   std::vector<Vec3> out;
-  if (!values) return out;
-  out.resize(count);
-  for (std::size_t k = 0; k < count; ++k) out[k] = vec(values, k);
+  vectors_into(values, count, out);
   return out;
 }
 
@@ -444,10 +456,15 @@ void LocalBackend::set_external_loads(const double* force, const double* torque,
          fmt::format("quarry_set_external_loads: {} entries for {} particles (one per particle, type order)", count, n));
   const sim::LoadMode m = load_mode(mode);
   const sim::LoadHold h = load_hold(hold);
+  // Type order; when it is the engine's (one type, or types already grouped) the loads go in
+  // without an index list.
   const sim::TypeOrder& o = order();
-  const std::vector<std::size_t> indices(o.order.begin(), o.order.end());
+  if (o.identity) load_indices_.clear();
+  else load_indices_.assign(o.order.begin(), o.order.end());
+  vectors_into(force, count, load_forces_);
+  vectors_into(torque, count, load_torques_);
   translated([&] {
-    sim::set_external_loads(world_, indices, vectors_of(force, count), vectors_of(torque, count), m, h);
+    sim::set_external_loads(world_, load_indices_, load_forces_, load_torques_, m, h);
     return 0;
   });
 }
@@ -459,15 +476,17 @@ void LocalBackend::set_external_loads_by_id(const std::uint64_t* ids, std::uint6
   const sim::LoadMode m = load_mode(mode);
   const sim::LoadHold h = load_hold(hold);
   sim::update_id_index(world_, ids_);
-  std::vector<std::size_t> indices(count);
+  load_indices_.resize(count);
   for (std::size_t k = 0; k < count; ++k) {
     const auto found = ids_.index.find(ids[k]);
     if (found == ids_.index.end())
       fail(QUARRY_ERROR_NOT_FOUND, fmt::format("quarry_set_external_loads_by_id: particle id {} (entry {}) does not exist", ids[k], k));
-    indices[k] = found->second;
+    load_indices_[k] = found->second;
   }
+  vectors_into(force, count, load_forces_);
+  vectors_into(torque, count, load_torques_);
   translated([&] {
-    sim::set_external_loads(world_, indices, vectors_of(force, count), vectors_of(torque, count), m, h);
+    sim::set_external_loads(world_, load_indices_, load_forces_, load_torques_, m, h);
     return 0;
   });
 }

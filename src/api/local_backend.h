@@ -3,6 +3,7 @@
 // `quarry serve` process runs for its remote partner.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -79,6 +80,9 @@ class LocalBackend final : public Backend {
 
   // The world (started simulations only), for tests and the server.
   World& world();
+  // `quarry serve`: once *stop is non-zero (a signal number), an advance or step ends between
+  // two steps with TRANSPORT (the server is stopping), the state being that step's.
+  void set_stop_flag(const std::atomic<int>* stop) { stop_ = stop; }
 
  private:
   void require_started(const char* call) const;
@@ -104,6 +108,10 @@ class LocalBackend final : public Backend {
     quarry_sim sim{0};
   };
   Hook hooks_[2];                    // post_force, end_of_step
+  const std::atomic<int>* stop_ = nullptr;
+  // quarry_set_external_loads' arguments as the sim functions take them, kept between calls.
+  std::vector<std::size_t> load_indices_;
+  std::vector<Vec3> load_forces_, load_torques_;
 };
 
 }  // namespace quarry::api

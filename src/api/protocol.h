@@ -21,8 +21,8 @@ concept Of = std::same_as<std::remove_const_t<S>, T>;
 
 template <class A, Of<quarry_settings> S>
 void fields(A& a, S& s) {
-  a(s.time_step, s.rayleigh_fraction, s.gravity, s.domain_min, s.domain_max, s.end_time, s.impact_speed, s.skin,
-    s.integrator, s.sort_interval, s.max_overlap_fraction, s.seed);
+  a(s.time_step, s.rayleigh_fraction, s.gravity, s.domain_min, s.domain_max, s.end_time,
+    s.impact_speed, s.skin, s.integrator, s.sort_interval, s.max_overlap_fraction, s.seed);
 }
 
 template <class A, Of<quarry_material> S>
@@ -32,8 +32,8 @@ void fields(A& a, S& s) {
 
 template <class A, Of<quarry_interaction> S>
 void fields(A& a, S& s) {
-  a(s.material_a, s.material_b, s.restitution, s.static_friction, s.rolling_friction, s.rolling_model,
-    s.cohesion_energy_density);
+  a(s.material_a, s.material_b, s.restitution, s.static_friction, s.rolling_friction,
+    s.rolling_model, s.cohesion_energy_density);
 }
 
 template <class A, Of<quarry_particle_type> S>
@@ -70,7 +70,8 @@ struct OpenRequest {
 };
 template <class A, Of<OpenRequest> S>
 void fields(A& a, S& s) {
-  a(s.caller_abi_version, s.deck_path, s.checkpoint_path, s.output_directory, s.threads, s.client_pid, s.segment);
+  a(s.caller_abi_version, s.deck_path, s.checkpoint_path, s.output_directory, s.threads,
+    s.client_pid, s.segment);
 }
 
 // Its reply: the session the client's later requests name, whether the server mapped the
@@ -97,15 +98,20 @@ T read(wire::Reader& in) {
 // A value of any kind the messages carry: a number, a text, or a struct with a field list.
 template <class T>
 T read_value(wire::Reader& in) {
-  if constexpr (std::is_arithmetic_v<T>) return in.get<T>();
-  else if constexpr (std::is_same_v<T, std::string>) return in.text();
-  else return read<T>(in);
+  if constexpr (std::is_arithmetic_v<T>)
+    return in.get<T>();
+  else if constexpr (std::is_same_v<T, std::string>)
+    return in.text();
+  else
+    return read<T>(in);
 }
 template <class... T>
 void write_values(wire::Writer& out, const T&... values) {
   [[maybe_unused]] const auto one = [&out](const auto& value) {
-    if constexpr (requires { fields(out, value); }) fields(out, value);
-    else out(value);
+    if constexpr (requires { fields(out, value); })
+      fields(out, value);
+    else
+      out(value);
   };
   (one(values), ...);
 }
@@ -114,10 +120,14 @@ void write_values(wire::Writer& out, const T&... values) {
 inline std::size_t dtype_bytes(std::uint32_t dtype) {
   switch (dtype) {
     case QUARRY_DTYPE_FLOAT64:
-    case QUARRY_DTYPE_UINT64: return 8;
-    case QUARRY_DTYPE_UINT32: return 4;
-    case QUARRY_DTYPE_UINT16: return 2;
-    default: return 0;
+    case QUARRY_DTYPE_UINT64:
+      return 8;
+    case QUARRY_DTYPE_UINT32:
+      return 4;
+    case QUARRY_DTYPE_UINT16:
+      return 2;
+    default:
+      return 0;
   }
 }
 

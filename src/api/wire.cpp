@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <limits>
 
@@ -69,30 +70,38 @@ T load(const std::byte* data, std::size_t at) {
 }
 
 // Checks the parts every header shares: long enough for magic and version, and the magic.
-void check_magic(const std::byte* data, std::size_t size, std::size_t header_bytes, const char* what) {
+void check_magic(const std::byte* data, std::size_t size, std::size_t header_bytes,
+                 const char* what) {
   if (size < 8)
-    throw WireError(fmt::format("a message of {} bytes is too short for a Quarry {} ({} bytes of header)", size,
-                                what, header_bytes));
+    throw WireError(
+        fmt::format("a message of {} bytes is too short for a Quarry {} ({} bytes of header)", size,
+                    what, header_bytes));
   const auto magic = load<std::uint32_t>(data, 0);
   if (magic != kMagic)
-    throw WireError(fmt::format("not a Quarry {}: its first 4 bytes are {:#010x}, not the magic {:#010x} "
-                                "(is the other side a Quarry client and server?)",
-                                what, magic, kMagic));
+    throw WireError(
+        fmt::format("not a Quarry {}: its first 4 bytes are {:#010x}, not the magic {:#010x} "
+                    "(is the other side a Quarry client and server?)",
+                    what, magic, kMagic));
   if (size < header_bytes)
-    throw WireError(fmt::format("a {} of {} bytes is shorter than its {}-byte header", what, size, header_bytes));
+    throw WireError(fmt::format("a {} of {} bytes is shorter than its {}-byte header", what, size,
+                                header_bytes));
 }
 
 // count × element in bytes, refused (not wrapped) when it cannot be.
-std::uint64_t array_bytes(std::uint64_t count, std::size_t element, std::uint64_t limit, const char* where) {
+std::uint64_t array_bytes(std::uint64_t count, std::size_t element, std::uint64_t limit,
+                          const char* where) {
   if (count > limit / element)
-    throw WireError(fmt::format("{}: an array of {} elements of {} bytes is longer than the {} bytes it may have",
-                                where, count, element, limit));
+    throw WireError(fmt::format(
+        "{}: an array of {} elements of {} bytes is longer than the {} bytes it may have", where,
+        count, element, limit));
   return count * element;
 }
 
 }  // namespace
 
-const char* op_name(std::uint32_t op) { return op >= kFirstOp && op <= kLastOp ? kOpNames[op] : nullptr; }
+const char* op_name(std::uint32_t op) {
+  return op >= kFirstOp && op <= kLastOp ? kOpNames[op] : nullptr;
+}
 
 std::string version_text(std::uint32_t abi_version) {
   return fmt::format("{}.{}", abi_version >> 16, abi_version & 0xffffu);
@@ -102,7 +111,8 @@ std::string version_text(std::uint32_t abi_version) {
 
 void Writer::text(std::string_view text) {
   if (text.size() > std::numeric_limits<std::uint32_t>::max())
-    throw WireError(fmt::format("a text of {} bytes is longer than a message may carry", text.size()));
+    throw WireError(
+        fmt::format("a text of {} bytes is longer than a message may carry", text.size()));
   put(static_cast<std::uint32_t>(text.size()));
   raw(text.data(), text.size());
 }
@@ -122,14 +132,16 @@ std::byte* Writer::extend(std::size_t size) {
   return reinterpret_cast<std::byte*>(bytes_.data() + at);
 }
 
-void Writer::align() { bytes_.resize((bytes_.size() + 7) / 8 * 8, '\0'); }
+void Writer::align() {
+  bytes_.resize((bytes_.size() + 7) / 8 * 8, '\0');
+}
 
 // ---- Reader ----
 
 const std::byte* Reader::take(std::size_t size, const char* what) {
   if (size > size_ - at_)
-    throw WireError(fmt::format("the message ends at byte {}, inside {} ({} bytes from byte {})", size_, what, size,
-                                at_));
+    throw WireError(fmt::format("the message ends at byte {}, inside {} ({} bytes from byte {})",
+                                size_, what, size, at_));
   const std::byte* at = data_ + at_;
   at_ += size;
   return at;
@@ -143,31 +155,39 @@ std::string Reader::text() {
 
 const char* Reader::optional_text() {
   const auto present = get<std::uint8_t>();
-  if (present > 1) throw WireError(fmt::format("byte {}: a text's presence flag is {}, not 0 or 1", at_ - 1, present));
+  if (present > 1)
+    throw WireError(
+        fmt::format("byte {}: a text's presence flag is {}, not 0 or 1", at_ - 1, present));
   if (!present) return nullptr;
   texts_.push_back(text());
   return texts_.back().c_str();
 }
 
-std::span<const std::byte> Reader::raw(std::size_t size) { return {take(size, "raw bytes"), size}; }
+std::span<const std::byte> Reader::raw(std::size_t size) {
+  return {take(size, "raw bytes"), size};
+}
 
 void Reader::align() {
   const std::size_t padding = (8 - at_ % 8) % 8;
   take(padding, "the padding before an array");
 }
 
-std::byte* Reader::in_segment(std::uint64_t offset, std::uint64_t count, std::size_t element, std::size_t alignment) {
+std::byte* Reader::in_segment(std::uint64_t offset, std::uint64_t count, std::size_t element,
+                              std::size_t alignment) {
   if (!segment_ || !segment_->data)
-    throw WireError(fmt::format("byte {}: an array in shared memory, but this session has no segment", at_));
+    throw WireError(
+        fmt::format("byte {}: an array in shared memory, but this session has no segment", at_));
   if (offset % alignment != 0)
-    throw WireError(fmt::format("byte {}: a shared array at offset {} is not aligned to {} bytes", at_, offset,
-                                alignment));
-  const std::uint64_t bytes = array_bytes(count, element, std::numeric_limits<std::uint64_t>::max(), "shared memory");
+    throw WireError(fmt::format("byte {}: a shared array at offset {} is not aligned to {} bytes",
+                                at_, offset, alignment));
+  const std::uint64_t bytes =
+      array_bytes(count, element, std::numeric_limits<std::uint64_t>::max(), "shared memory");
   const bool fits = offset <= segment_->size && bytes <= segment_->size - offset;
   if (!fits && !(segment_->grown && segment_->grown(segment_->owner, offset + bytes, *segment_) &&
                  offset <= segment_->size && bytes <= segment_->size - offset))
-    throw WireError(fmt::format("byte {}: a shared array of {} bytes at offset {} passes the segment's end ({} bytes)",
-                                at_, bytes, offset, segment_->size));
+    throw WireError(fmt::format(
+        "byte {}: a shared array of {} bytes at offset {} passes the segment's end ({} bytes)", at_,
+        bytes, offset, segment_->size));
   return segment_->data + offset;
 }
 
@@ -175,7 +195,8 @@ const void* Reader::input_bytes(std::size_t element, std::size_t alignment, std:
   const auto place = get<std::uint8_t>();
   count = 0;
   switch (static_cast<Place>(place)) {
-    case Place::none: return nullptr;
+    case Place::none:
+      return nullptr;
     case Place::message: {
       count = get<std::uint64_t>();
       align();
@@ -192,8 +213,8 @@ const void* Reader::input_bytes(std::size_t element, std::size_t alignment, std:
       return in_segment(offset, count, element, alignment);
     }
   }
-  throw WireError(fmt::format("byte {}: an array's place is {}, not 0 (none), 1 (message) or 2 (shared)", at_ - 1,
-                              place));
+  throw WireError(fmt::format(
+      "byte {}: an array's place is {}, not 0 (none), 1 (message) or 2 (shared)", at_ - 1, place));
 }
 
 std::byte* Reader::output_bytes(std::size_t element, std::size_t alignment, std::uint64_t& count) {
@@ -202,15 +223,21 @@ std::byte* Reader::output_bytes(std::size_t element, std::size_t alignment, std:
   OutputArray out;
   out.element_bytes = element;
   switch (static_cast<Place>(place)) {
-    case Place::none: break;
+    case Place::none:
+      break;
     case Place::message: {
       count = get<std::uint64_t>();
       // What the reply may carry: the message limit less what the other outputs take.
       std::uint64_t taken = 0;
       for (const OutputArray& o : outputs_) taken += o.in_message ? o.count * o.element_bytes : 0;
       const std::uint64_t bytes = array_bytes(count, element, kMaxMessageBytes - taken, "reply");
-      out.storage = std::make_unique_for_overwrite<std::byte[]>(bytes);  // untouched until written
-      out.data = out.storage.get();
+      if (slots_) {
+        out.data = slots_->get(outputs_.size(), bytes);
+      } else {
+        out.storage =
+            std::make_unique_for_overwrite<std::byte[]>(bytes);  // untouched until written
+        out.data = out.storage.get();
+      }
       out.in_message = true;
       break;
     }
@@ -221,8 +248,9 @@ std::byte* Reader::output_bytes(std::size_t element, std::size_t alignment, std:
       break;
     }
     default:
-      throw WireError(fmt::format("byte {}: an output array's place is {}, not 0 (none), 1 (message) or 2 (shared)",
-                                  at_ - 1, place));
+      throw WireError(fmt::format(
+          "byte {}: an output array's place is {}, not 0 (none), 1 (message) or 2 (shared)",
+          at_ - 1, place));
   }
   out.count = out.used = count;
   outputs_.push_back(std::move(out));
@@ -232,11 +260,25 @@ std::byte* Reader::output_bytes(std::size_t element, std::size_t alignment, std:
 void Reader::set_used(std::size_t k, std::uint64_t used) {
   if (k < outputs_.size() && !outputs_[k].data) return;
   if (k >= outputs_.size() || used > outputs_[k].count)
-    throw std::logic_error(fmt::format("output {} of {}: {} elements used", k, outputs_.size(), used));
+    throw std::logic_error(
+        fmt::format("output {} of {}: {} elements used", k, outputs_.size(), used));
   outputs_[k].used = used;
 }
 
+std::byte* OutputSlots::get(std::size_t k, std::size_t bytes) {
+  if (slots_.size() <= k) slots_.resize(k + 1);
+  Slot& slot = slots_[k];
+  if (slot.size < bytes || !slot.data) {
+    slot.data = std::make_unique_for_overwrite<std::byte[]>(std::max<std::size_t>(bytes, 1));
+    slot.size = bytes;
+  }
+  return slot.data.get();
+}
+
 void Reader::write_outputs(Writer& reply) const {
+  std::size_t bytes = reply.bytes().size();
+  for (const OutputArray& o : outputs_) bytes += o.data ? 16 + o.used * o.element_bytes : 0;
+  reply.bytes().reserve(bytes);  // one allocation for the whole reply
   for (const OutputArray& o : outputs_) {
     if (!o.data) continue;  // absent: the client expects nothing for it
     reply.put(o.used);
@@ -248,7 +290,8 @@ void Reader::write_outputs(Writer& reply) const {
 
 void Reader::expect_end() const {
   if (at_ != size_)
-    throw WireError(fmt::format("{} bytes follow the last field (byte {} of {})", size_ - at_, at_, size_));
+    throw WireError(
+        fmt::format("{} bytes follow the last field (byte {} of {})", size_ - at_, at_, size_));
 }
 
 // ---- Request ----
@@ -309,7 +352,8 @@ std::vector<std::uint64_t> Request::read_outputs(Reader& reply) {
   for (const Pending& o : outputs_) {
     const auto n = reply.get<std::uint64_t>();
     if (n > o.count)
-      throw WireError(fmt::format("the reply sends {} elements back into an array of {}", n, o.count));
+      throw WireError(
+          fmt::format("the reply sends {} elements back into an array of {}", n, o.count));
     const std::size_t bytes = n * o.element;
     if (o.in_message) {
       reply.align();
@@ -343,7 +387,8 @@ void write_reply_header(std::string& message, const ReplyHeader& header) {
   store(message, 8, header.status);
   store(message, 12, header.error_length);
   store(message, 16, header.request_id);
-  store(message, 24, static_cast<std::uint64_t>(message.size() - kReplyHeaderBytes - header.error_length));
+  store(message, 24,
+        static_cast<std::uint64_t>(message.size() - kReplyHeaderBytes - header.error_length));
 }
 
 std::uint32_t message_abi_version(const void* data, std::size_t size) {
@@ -362,8 +407,9 @@ RequestHeader read_request_header(const void* data, std::size_t size) {
   header.session = load<std::uint64_t>(bytes, 24);
   header.payload_length = load<std::uint64_t>(bytes, 32);
   if (header.payload_length != size - kRequestHeaderBytes)
-    throw WireError(fmt::format("the request header announces {} payload bytes, the message carries {}",
-                                header.payload_length, size - kRequestHeaderBytes));
+    throw WireError(
+        fmt::format("the request header announces {} payload bytes, the message carries {}",
+                    header.payload_length, size - kRequestHeaderBytes));
   return header;
 }
 
@@ -378,9 +424,10 @@ ReplyHeader read_reply_header(const void* data, std::size_t size) {
   header.payload_length = load<std::uint64_t>(bytes, 24);
   const std::uint64_t rest = size - kReplyHeaderBytes;
   if (header.error_length > rest || header.payload_length != rest - header.error_length)
-    throw WireError(fmt::format("the reply header announces {} bytes of error text and {} of payload, the message "
-                                "carries {} after its header",
-                                header.error_length, header.payload_length, rest));
+    throw WireError(fmt::format(
+        "the reply header announces {} bytes of error text and {} of payload, the message "
+        "carries {} after its header",
+        header.error_length, header.payload_length, rest));
   return header;
 }
 

@@ -112,9 +112,9 @@ class WireError : public std::runtime_error {
 
 // Where an array travels.
 enum class Place : std::uint8_t {
-  none = 0,    // not given (a NULL pointer)
-  message = 1, // its bytes follow in this message (inputs) or come back in the reply (outputs)
-  shared = 2,  // in the session's shared-memory segment at an offset
+  none = 0,     // not given (a NULL pointer)
+  message = 1,  // its bytes follow in this message (inputs) or come back in the reply (outputs)
+  shared = 2,   // in the session's shared-memory segment at an offset
 };
 
 // A mapped shared-memory segment as the reader sees it; `grown` re-maps it when an array reaches
@@ -130,7 +130,7 @@ struct SegmentView {
 class Writer {
  public:
   template <class T>
-    requires std::is_arithmetic_v<T> || std::is_enum_v<T>
+  requires std::is_arithmetic_v<T> || std::is_enum_v<T>
   void put(T value) {
     const std::size_t at = bytes_.size();
     bytes_.resize(at + sizeof(T));
@@ -166,13 +166,28 @@ class Writer {
   std::string bytes_;
 };
 
+// Memory for the outputs a reply carries, kept from request to request (a request's k-th output
+// uses slot k): a partner asks for the same arrays every step, and fresh ones of megabytes would
+// be mapped and faulted in every time.
+class OutputSlots {
+ public:
+  std::byte* get(std::size_t k, std::size_t bytes);
+
+ private:
+  struct Slot {
+    std::unique_ptr<std::byte[]> data;
+    std::size_t size = 0;
+  };
+  std::vector<Slot> slots_;
+};
+
 // An array a request names as an output: where the server writes it.
 struct OutputArray {
-  std::byte* data = nullptr;   // nullptr: not wanted
-  std::uint64_t count = 0;     // elements the caller has room for
-  std::uint64_t used = 0;      // elements to send back (set by the handler; starts at count)
+  std::byte* data = nullptr;  // nullptr: not wanted
+  std::uint64_t count = 0;    // elements the caller has room for
+  std::uint64_t used = 0;     // elements to send back (set by the handler; starts at count)
   std::size_t element_bytes = 0;
-  bool in_message = false;     // comes back in the reply (else it is in shared memory)
+  bool in_message = false;  // comes back in the reply (else it is in shared memory)
   std::unique_ptr<std::byte[]> storage;
 };
 
@@ -229,17 +244,24 @@ class Request {
 class Reader {
  public:
   // Reads message[start, size); alignment (align, arrays) counts from the message's first byte.
-  Reader(const void* message, std::size_t size, std::size_t start, SegmentView* segment = nullptr)
-      : data_(static_cast<const std::byte*>(message)), size_(size), at_(start), segment_(segment) {}
+  // Outputs for the reply go into `slots` if given (else into memory of this reader's own).
+  Reader(const void* message, std::size_t size, std::size_t start, SegmentView* segment = nullptr,
+         OutputSlots* slots = nullptr)
+      : data_(static_cast<const std::byte*>(message)),
+        size_(size),
+        at_(start),
+        segment_(segment),
+        slots_(slots) {}
 
   template <class T>
-    requires std::is_arithmetic_v<T> || std::is_enum_v<T>
-  T get() {
+  requires std::is_arithmetic_v<T> || std::is_enum_v<T> T get() {
     T value;
     std::memcpy(&value, take(sizeof(T), "a number"), sizeof(T));
     return value;
   }
-  void get(double (&vector)[3]) { std::memcpy(vector, take(sizeof vector, "a vector"), sizeof vector); }
+  void get(double (&vector)[3]) {
+    std::memcpy(vector, take(sizeof vector, "a vector"), sizeof vector);
+  }
   std::string text();
   // nullptr if absent; else a NUL-terminated copy that lives as long as the reader.
   const char* optional_text();
@@ -286,14 +308,16 @@ class Reader {
   const std::byte* take(std::size_t size, const char* what);
   const void* input_bytes(std::size_t element, std::size_t alignment, std::uint64_t& count);
   std::byte* output_bytes(std::size_t element, std::size_t alignment, std::uint64_t& count);
-  std::byte* in_segment(std::uint64_t offset, std::uint64_t count, std::size_t element, std::size_t alignment);
+  std::byte* in_segment(std::uint64_t offset, std::uint64_t count, std::size_t element,
+                        std::size_t alignment);
 
   const std::byte* data_;
   std::size_t size_;
   std::size_t at_;
   SegmentView* segment_;
-  std::deque<std::string> texts_;                       // optional_text copies
-  std::vector<std::unique_ptr<std::byte[]>> copies_;    // unaligned input arrays
+  OutputSlots* slots_;
+  std::deque<std::string> texts_;                     // optional_text copies
+  std::vector<std::unique_ptr<std::byte[]>> copies_;  // unaligned input arrays
   std::vector<OutputArray> outputs_;
 };
 

@@ -19,7 +19,9 @@ namespace {
 // A segment in ordinary memory: the client's allocator and the server's view over the same bytes.
 class FakeSegment final : public SegmentSpace {
  public:
-  explicit FakeSegment(std::size_t size) : bytes_(size) { view_ = SegmentView{bytes_.data(), bytes_.size(), nullptr, nullptr}; }
+  explicit FakeSegment(std::size_t size) : bytes_(size) {
+    view_ = SegmentView{bytes_.data(), bytes_.size(), nullptr, nullptr};
+  }
   std::uint64_t allocate(std::uint64_t bytes) override {
     const std::uint64_t offset = (next_ + 63) / 64 * 64;
     next_ = offset + bytes;
@@ -38,15 +40,17 @@ class FakeSegment final : public SegmentSpace {
 // A copy of the first `size` bytes on the heap, exactly that long (ASan sees any read past it).
 std::vector<std::byte> cut(const std::string& message, std::size_t size) {
   std::vector<std::byte> bytes(size);
-  std::memcpy(bytes.data(), message.data(), size);
+  if (size > 0) std::memcpy(bytes.data(), message.data(), size);
   return bytes;
 }
 
 quarry_settings example_settings() {
   quarry_settings s = {};
   s.time_step = 1e-5, s.rayleigh_fraction = 0.2, s.gravity[2] = -9.81;
-  s.domain_min[0] = -1.5, s.domain_max[2] = 2.25, s.end_time = 3.0, s.impact_speed = 0.5, s.skin = -1.0;
-  s.integrator = QUARRY_INTEGRATOR_SYMPLECTIC_EULER, s.sort_interval = 25, s.max_overlap_fraction = 0.1;
+  s.domain_min[0] = -1.5, s.domain_max[2] = 2.25, s.end_time = 3.0, s.impact_speed = 0.5,
+  s.skin = -1.0;
+  s.integrator = QUARRY_INTEGRATOR_SYMPLECTIC_EULER, s.sort_interval = 25,
+  s.max_overlap_fraction = 0.1;
   s.seed = 0xfedcba9876543210ull;
   return s;
 }
@@ -139,12 +143,14 @@ TEST(Wire, RequestHeaderRoundTrip) {
 }
 
 TEST(Wire, ReplyRoundTripWithErrorText) {
-  const std::string reply = error_reply(9, QUARRY_ERROR_NOT_FOUND, "quarry_find_surface: no surface is named 'x'");
+  const std::string reply =
+      error_reply(9, QUARRY_ERROR_NOT_FOUND, "quarry_find_surface: no surface is named 'x'");
   const ReplyHeader header = read_reply_header(reply.data(), reply.size());
   EXPECT_EQ(header.status, QUARRY_ERROR_NOT_FOUND);
   EXPECT_EQ(header.request_id, 9u);
   EXPECT_EQ(header.payload_length, 0u);
-  EXPECT_EQ(reply.substr(kReplyHeaderBytes, header.error_length), "quarry_find_surface: no surface is named 'x'");
+  EXPECT_EQ(reply.substr(kReplyHeaderBytes, header.error_length),
+            "quarry_find_surface: no surface is named 'x'");
 }
 
 TEST(Wire, StructFieldsRoundTrip) {
@@ -155,7 +161,9 @@ TEST(Wire, StructFieldsRoundTrip) {
   const auto read = protocol::read<quarry_settings>(in);
   in.expect_end();
   EXPECT_EQ(read.struct_size, sizeof(quarry_settings));
-  EXPECT_EQ(std::memcmp(&read.time_step, &settings.time_step, sizeof settings - offsetof(quarry_settings, time_step)), 0);
+  EXPECT_EQ(std::memcmp(&read.time_step, &settings.time_step,
+                        sizeof settings - offsetof(quarry_settings, time_step)),
+            0);
 }
 
 // The server reads the request and fills the output; the client's request copies it back.
@@ -165,7 +173,8 @@ void round_trip(Example& e, FakeSegment* segment, std::uint64_t shared_from) {
   const RequestHeader header = read_request_header(message.data(), message.size());
   EXPECT_EQ(header.request_id, 7u);
   EXPECT_EQ(header.session, 99u);
-  Reader in(message.data(), message.size(), kRequestHeaderBytes, segment ? &segment->view() : nullptr);
+  Reader in(message.data(), message.size(), kRequestHeaderBytes,
+            segment ? &segment->view() : nullptr);
   read_example(in);
   // The reply: the handler's own field, then the outputs.
   Writer reply;
@@ -207,7 +216,8 @@ TEST(Wire, EveryTruncationOfARequestIsRefused) {
       if (size < kRequestHeaderBytes) continue;
       // The payload parsed as if the header had said so: the reader stops at the cut.
       Reader in(bytes.data(), bytes.size(), kRequestHeaderBytes, &segment.view());
-      EXPECT_THROW(read_example(in), WireError) << "cut at byte " << size << " of " << message.size();
+      EXPECT_THROW(read_example(in), WireError)
+          << "cut at byte " << size << " of " << message.size();
     }
   }
 }
@@ -261,20 +271,25 @@ TEST(Wire, LengthsBeyondTheMessageAreRefusedBeforeAllocating) {
     in.input<double>(n);
   });
   // A text longer than the message.
-  refuses(payload([](Writer& w) { w.put(std::uint32_t{4000000000u}), w.raw("abc", 3); }), [](Reader& in) { in.text(); });
+  refuses(payload([](Writer& w) { w.put(std::uint32_t{4000000000u}), w.raw("abc", 3); }),
+          [](Reader& in) { in.text(); });
   // An output array larger than a reply may be.
-  refuses(payload([&](Writer& w) { w.put(Place::message), w.put(kMaxMessageBytes); }), [](Reader& in) {
-    std::uint64_t n = 0;
-    in.output<double>(n);
-  });
+  refuses(payload([&](Writer& w) { w.put(Place::message), w.put(kMaxMessageBytes); }),
+          [](Reader& in) {
+            std::uint64_t n = 0;
+            in.output<double>(n);
+          });
   // A shared array without a segment, or past its end, or misaligned.
-  refuses(payload([](Writer& w) { w.put(Place::shared), w.put(std::uint64_t{1}), w.put(std::uint64_t{0}); }),
+  refuses(payload([](Writer& w) {
+            w.put(Place::shared), w.put(std::uint64_t{1}), w.put(std::uint64_t{0});
+          }),
           [](Reader& in) {
             std::uint64_t n = 0;
             in.input<double>(n);
           });
   FakeSegment segment(256);
-  for (const auto& [count, offset] : {std::pair<std::uint64_t, std::uint64_t>{33, 0}, {1, 256}, {1, 4}, {huge, 8}}) {
+  for (const auto& [count, offset] :
+       {std::pair<std::uint64_t, std::uint64_t>{33, 0}, {1, 256}, {1, 4}, {huge, 8}}) {
     const std::string bytes =
         payload([&](Writer& w) { w.put(Place::shared), w.put(count), w.put(offset); });
     Reader in(bytes.data(), bytes.size(), 0, &segment.view());
@@ -286,12 +301,14 @@ TEST(Wire, LengthsBeyondTheMessageAreRefusedBeforeAllocating) {
     std::uint64_t n = 0;
     in.input<double>(n);
   });
-  refuses(payload([](Writer& w) { w.put(std::uint8_t{2}); }), [](Reader& in) { in.optional_text(); });
+  refuses(payload([](Writer& w) { w.put(std::uint8_t{2}); }),
+          [](Reader& in) { in.optional_text(); });
   // Bytes after the last field.
-  refuses(payload([](Writer& w) { w.put(std::uint32_t{1}), w.put(std::uint8_t{0}); }), [](Reader& in) {
-    in.get<std::uint32_t>();
-    in.expect_end();
-  });
+  refuses(payload([](Writer& w) { w.put(std::uint32_t{1}), w.put(std::uint8_t{0}); }),
+          [](Reader& in) {
+            in.get<std::uint32_t>();
+            in.expect_end();
+          });
 }
 
 TEST(Wire, RandomBytesNeverReadPastTheMessage) {
@@ -300,7 +317,8 @@ TEST(Wire, RandomBytesNeverReadPastTheMessage) {
   for (int trial = 0; trial < 2000; ++trial) {
     std::string message = example_request(e, nullptr, 0);
     for (int flips = 0; flips < 4; ++flips)
-      message[kRequestHeaderBytes + random() % (message.size() - kRequestHeaderBytes)] = static_cast<char>(random());
+      message[kRequestHeaderBytes + random() % (message.size() - kRequestHeaderBytes)] =
+          static_cast<char>(random());
     const std::vector<std::byte> bytes = cut(message, message.size());
     Reader in(bytes.data(), bytes.size(), kRequestHeaderBytes);
     try {

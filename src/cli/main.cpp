@@ -1,7 +1,10 @@
-// quarry: the command-line front end. A thin layer over io (deck) and sim (world, run loop):
+// quarry: the command-line front end. A thin layer over io (deck), sim (world, run loop) and api
+// (the coupling server):
 //   quarry run deck.yaml | check deck.yaml | estimate deck.yaml | restart checkpoint.qck
-// Exit codes: 0 success, 2 user error (deck, mesh, command line), 3 physics failure at run
-// time, 4 internal error, 130 stopped by a signal (after writing a checkpoint).
+//   quarry serve [deck.yaml] --endpoint ipc://PATH | tcp://HOST:PORT
+// Exit codes: 0 success (and `serve` stopped by SIGINT/SIGTERM: that is how it ends), 2 user
+// error (deck, mesh, command line, an endpoint it cannot listen at), 3 physics failure at run
+// time, 4 internal error, 130 a run stopped by a signal (after writing a checkpoint).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <omp.h>
@@ -10,6 +13,7 @@
 #include <csignal>
 #include <iostream>
 
+#include "api/server.h"
 #include "core/allocator.h"
 #include "io/deck.h"
 #include "sim/estimate.h"
@@ -84,6 +88,34 @@ int command_estimate(const std::string& deck) {
   return 0;
 }
 
+// Serves until SIGINT or SIGTERM; one line on stdout per event ("listening on ENDPOINT" first,
+// which is what scripts wait for).
+int command_serve(const std::string& deck, const std::string& endpoint, const Common& c) {
+  const auto say = [](const std::string& line) { std::cout << "quarry serve: " << line << std::endl; };
+  api::ServerOptions options;
+  options.endpoint = endpoint;
+  options.deck_path = deck;
+  options.output_directory = c.output_dir;
+  options.threads = c.threads;
+  options.stop = &g_stop_signal;
+  options.log = say;
+  try {
+    api::serve(options, [&](const std::string& bound) {
+      say(fmt::format("listening on {} ({}; one client at a time; SIGINT or SIGTERM stops it)", bound,
+                      deck.empty() ? "each client opens its simulation" : "the deck " + deck));
+    });
+  } catch (const UserError&) {
+    throw;
+  } catch (const PhysicsError&) {
+    throw;
+  } catch (const std::runtime_error& e) {  // cannot listen there; the deck's open refused
+    std::cerr << "quarry serve: error: " << e.what() << "\n";
+    return 2;
+  }
+  say(fmt::format("stopped (signal {})", g_stop_signal.load()));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -117,6 +149,15 @@ int main(int argc, char** argv) {
   CLI::App* restart = app.add_subcommand("restart", "continue a run from its checkpoint");
   restart->add_option("checkpoint", checkpoint, "checkpoint.qck written by 'quarry run'")->required();
   add_common(restart, true);
+  std::string endpoint;
+  CLI::App* serve = app.add_subcommand("serve", "run a simulation as a coupling server for a partner process "
+                                                "(quarry_open with an endpoint; docs/coupling_remote.md)");
+  serve->add_option("deck", deck, "a YAML deck opened at start (without one, each client's quarry_open decides)");
+  serve->add_option("--endpoint", endpoint, "ipc://PATH (same host: arrays in shared memory) or tcp://HOST:PORT "
+                                            "(port 0: a free one, printed)")
+      ->required();
+  serve->add_option("--output-dir", common.output_dir, "output folder of the simulations served");
+  add_common(serve, false);
 
   try {
     app.parse(argc, argv);
@@ -134,6 +175,7 @@ int main(int argc, char** argv) {
     if (check->parsed()) return command_check(deck);
     if (estimate->parsed()) return command_estimate(deck);
     if (restart->parsed()) return exit_code(sim::restart(checkpoint, run_options(common)));
+    if (serve->parsed()) return command_serve(deck, endpoint, common);
   } catch (const UserError& e) {
     std::cerr << e.diagnostics().format();
     return 2;
