@@ -1,0 +1,526 @@
+// `quarry serve` as a process, through the C ABI (issue 16 §3, §5): malformed messages answered
+// and a client served after them; the server killed (SIGKILL) during an advance and while idle,
+// or stopped (SIGSTOP), gives the client TRANSPORT or TIMEOUT within seconds, never a hang;
+// another ABI major gives VERSION on either side; a second client is told the server is busy; a
+// killed client's session ends; SIGTERM stops the server cleanly. Every process a test starts is
+// killed when the test ends, also on failure (and dies with the test process).
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <zmq.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "api/protocol.h"
+#include "api/wire.h"
+#include "quarry/quarry.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+namespace wire = quarry::api::wire;
+namespace protocol = quarry::api::protocol;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A process of the test's: SIGKILLed and reaped when the object goes, and by the kernel when
+// the test process dies (PR_SET_PDEATHSIG).
+class Child {
+ public:
+  // Runs argv with stdout and stderr into `log`.
+  Child(const std::vector<std::string>& argv, const fs::path& log) {
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(fd, 1), ::dup2(fd, 2);
+      std::vector<char*> args;
+      for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+      args.push_back(nullptr);
+      ::execv(args[0], args.data());
+      ::_exit(127);
+    }
+  }
+  // Runs `body` in a forked copy of the test (which must have no other threads yet), then waits
+  // to be killed.
+  template <class Body>
+  static Child forked(Body body) {
+    Child child;
+    child.pid_ = ::fork();
+    if (child.pid_ == 0) {
+      ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+      body();
+      for (;;) ::pause();
+    }
+    return child;
+  }
+  Child(Child&& other) noexcept : pid_(std::exchange(other.pid_, -1)) {}
+  ~Child() { kill(SIGKILL), wait_exit(5000); }
+
+  pid_t pid() const { return pid_; }
+  void kill(int signal_number) const {
+    if (pid_ > 0) ::kill(pid_, signal_number);
+  }
+  // Its exit code (128 + signal if killed), or −1 if it runs on after timeout_ms.
+  int wait_exit(int timeout_ms) {
+    if (pid_ <= 0) return exit_code_;
+    for (const auto start = Clock::now(); seconds_since(start) * 1000 < timeout_ms;
+         std::this_thread::sleep_for(10ms)) {
+      int status = 0;
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        return exit_code_;
+      }
+    }
+    return -1;
+  }
+
+ private:
+  Child() = default;
+  pid_t pid_ = -1;
+  int exit_code_ = -1;
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A unique ipc endpoint in the temporary directory (short: a unix socket path has 107 bytes).
+std::string ipc_endpoint() {
+  static int counter = 0;
+  return "ipc://" +
+         (fs::temp_directory_path() / ("quarry-serve-test-" + std::to_string(::getpid()) + "-" +
+                                       std::to_string(counter++) + ".ipc"))
+             .string();
+}
+
+// `quarry serve` running at an endpoint (tcp: a free loopback port), its log in the build folder.
+class Server {
+ public:
+  explicit Server(const std::string& wanted = ipc_endpoint(), std::vector<std::string> extra = {})
+      : log_(fs::current_path() / ("serve_test_" + std::to_string(::getpid()) + "_" +
+                                   std::to_string(count_++) + ".log")),
+        child_(arguments(wanted, extra), log_) {
+    EXPECT_TRUE(wait_for("listening on ", 20000)) << log();
+    const std::string text = log();
+    const std::size_t at = text.find("listening on ");
+    if (at != std::string::npos)
+      endpoint_ = text.substr(at + 13, text.find(' ', at + 13) - at - 13);
+  }
+  // A killed server leaves its socket file behind: it goes here.
+  ~Server() {
+    child_.kill(SIGKILL);
+    child_.wait_exit(5000);
+    if (endpoint_.rfind("ipc://", 0) == 0) fs::remove(endpoint_.substr(6));
+  }
+  const std::string& endpoint() const { return endpoint_; }
+  Child& process() { return child_; }
+  std::string log() const { return read_file(log_); }
+  bool wait_for(const std::string& text, int timeout_ms) const {
+    for (const auto start = Clock::now(); seconds_since(start) * 1000 < timeout_ms;
+         std::this_thread::sleep_for(20ms))
+      if (log().find(text) != std::string::npos) return true;
+    return false;
+  }
+
+ private:
+  static std::vector<std::string> arguments(const std::string& endpoint,
+                                            const std::vector<std::string>& extra) {
+    std::vector<std::string> argv{QUARRY_BIN, "serve", "--endpoint", endpoint, "--threads", "1"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    return argv;
+  }
+  static inline int count_ = 0;
+  fs::path log_;
+  Child child_;
+  std::string endpoint_;
+};
+
+std::string last_error(quarry_sim sim) {
+  char text[2048] = {};
+  quarry_last_error(sim, text, sizeof text, nullptr);
+  return text;
+}
+
+quarry_status open(const std::string& endpoint, quarry_sim& sim, int timeout_ms = 0,
+                   const char* deck = nullptr) {
+  quarry_open_info info = QUARRY_OPEN_INFO_INIT;
+  info.endpoint = endpoint.c_str();
+  info.timeout_ms = timeout_ms;
+  info.deck_path = deck;
+  return quarry_open(&info, &sim);
+}
+
+// An empty simulation with one particle at rest, built through the handle (dt = 1e-4 s).
+void build_one_particle(quarry_sim sim) {
+  quarry_settings settings = quarry_default_settings();
+  settings.time_step = 1e-4;
+  for (int k = 0; k < 3; ++k) settings.domain_min[k] = -1e6, settings.domain_max[k] = 1e6;
+  settings.gravity[2] = 0.0;
+  settings.impact_speed = 0.1;
+  ASSERT_EQ(quarry_set_settings(sim, &settings), QUARRY_OK) << last_error(sim);
+  quarry_material ore = {sizeof ore, "ore", 2500.0, 1e6, 0.3};
+  ASSERT_EQ(quarry_add_material(sim, &ore, nullptr), QUARRY_OK) << last_error(sim);
+  quarry_interaction contact = {sizeof contact,      "ore", "ore", 0.5, 0.5, 0.0,
+                                QUARRY_ROLLING_NONE, 0.0};
+  ASSERT_EQ(quarry_add_interaction(sim, &contact), QUARRY_OK) << last_error(sim);
+  quarry_particle_type grain = {sizeof grain, "grain", "ore", 1e-3, 0.0};
+  ASSERT_EQ(quarry_add_particle_type(sim, &grain, nullptr), QUARRY_OK) << last_error(sim);
+  ASSERT_EQ(quarry_start(sim), QUARRY_OK) << last_error(sim);
+  double position[3] = {0.0, 0.0, 0.0};
+  quarry_new_particles add = {sizeof add, 1,       nullptr, 0,      position,
+                              nullptr,    nullptr, nullptr, nullptr};
+  ASSERT_EQ(quarry_add_particles(sim, &add), QUARRY_OK) << last_error(sim);
+}
+
+// A raw REQ socket: sends bytes as they are, returns the reply's status and text.
+class RawClient {
+ public:
+  explicit RawClient(const std::string& endpoint) {
+    context_ = zmq_ctx_new();
+    socket_ = zmq_socket(context_, ZMQ_REQ);
+    const int linger = 0, wait_ms = 10000;
+    zmq_setsockopt(socket_, ZMQ_LINGER, &linger, sizeof linger);
+    zmq_setsockopt(socket_, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
+    zmq_connect(socket_, endpoint.c_str());
+  }
+  ~RawClient() {
+    zmq_close(socket_);
+    zmq_ctx_term(context_);
+  }
+  // Sends the frames (one, or more to break the one-frame rule) and reads the reply.
+  std::pair<quarry_status, std::string> send(const std::vector<std::string>& frames) {
+    for (std::size_t k = 0; k < frames.size(); ++k)
+      zmq_send(socket_, frames[k].data(), frames[k].size(),
+               k + 1 < frames.size() ? ZMQ_SNDMORE : 0);
+    zmq_msg_t reply;
+    zmq_msg_init(&reply);
+    if (zmq_msg_recv(&reply, socket_, 0) < 0) {
+      zmq_msg_close(&reply);
+      return {QUARRY_OK, "no reply within 10 s"};
+    }
+    const std::string bytes(static_cast<const char*>(zmq_msg_data(&reply)), zmq_msg_size(&reply));
+    zmq_msg_close(&reply);
+    const wire::ReplyHeader header = wire::read_reply_header(bytes.data(), bytes.size());
+    return {header.status, bytes.substr(wire::kReplyHeaderBytes, header.error_length)};
+  }
+  std::pair<quarry_status, std::string> send(const std::string& message) {
+    return send(std::vector{message});
+  }
+
+ private:
+  void* context_;
+  void* socket_;
+};
+
+std::string open_message(std::uint32_t header_version, std::uint32_t caller_version) {
+  protocol::OpenRequest open;
+  open.caller_abi_version = caller_version;
+  open.client_pid = ::getpid();
+  wire::Request r(wire::Op::open, nullptr);
+  protocol::fields(r.fields(), open);
+  std::string message = r.message(1, 0);
+  std::memcpy(message.data() + 4, &header_version, sizeof header_version);
+  return message;
+}
+
+std::string header_only(std::uint32_t op) {
+  std::string message(wire::kRequestHeaderBytes, '\0');
+  wire::RequestHeader header;
+  header.op = op;
+  wire::write_request_header(message, header);
+  return message;
+}
+
+TEST(Serve, MalformedMessagesGetErrorRepliesAndAClientIsServedAfter) {
+  Server server;
+  {
+    RawClient raw(server.endpoint());
+    std::mt19937_64 random(7);
+    std::string noise(1000, '\0');
+    for (char& c : noise) c = static_cast<char>(random());
+    std::string magic = header_only(static_cast<std::uint32_t>(wire::Op::num_types));
+    magic[0] = 'Z';
+    std::string huge = header_only(static_cast<std::uint32_t>(wire::Op::num_types));
+    const std::uint64_t length = std::uint64_t{1} << 50;
+    std::memcpy(huge.data() + 32, &length, sizeof length);
+    const std::string open = open_message(QUARRY_ABI_VERSION, QUARRY_ABI_VERSION);
+    for (const std::string& bad :
+         {std::string(), std::string("abc"), noise, magic, huge, open.substr(0, open.size() - 3),
+          header_only(999), header_only(static_cast<std::uint32_t>(wire::Op::step))}) {
+      const auto [status, text] = raw.send(bad);
+      EXPECT_NE(status, QUARRY_OK) << bad.size() << " bytes";
+      EXPECT_FALSE(text.empty());
+    }
+    EXPECT_EQ(raw.send(header_only(999)).first, QUARRY_ERROR_UNSUPPORTED);
+    EXPECT_EQ(raw.send(magic).first, QUARRY_ERROR_TRANSPORT);
+    const auto [status, text] = raw.send(std::vector<std::string>{"one", "two"});
+    EXPECT_EQ(status, QUARRY_ERROR_TRANSPORT);
+    EXPECT_NE(text.find("one frame"), std::string::npos) << text;
+  }
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  build_one_particle(sim);
+  EXPECT_EQ(quarry_step(sim, 10), QUARRY_OK) << last_error(sim);
+  std::uint64_t steps = 0;
+  EXPECT_EQ(quarry_get_time(sim, nullptr, nullptr, &steps), QUARRY_OK);
+  EXPECT_EQ(steps, 10u);
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+}
+
+class ServeKilled : public testing::TestWithParam<const char*> {};
+
+// The parameter "ipc" stands for a fresh ipc endpoint.
+std::string endpoint_of(const char* parameter) {
+  return std::string(parameter) == "ipc" ? ipc_endpoint() : parameter;
+}
+
+TEST_P(ServeKilled, DuringAnAdvanceTheClientGetsTransportWithinSeconds) {
+  Server server(endpoint_of(GetParam()));
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  build_one_particle(sim);
+  std::atomic<quarry_status> status{QUARRY_OK};
+  std::thread advance([&] { status = quarry_advance(sim, 1e5, nullptr); });  // 1e9 steps: hours
+  std::this_thread::sleep_for(500ms);
+  const auto killed = Clock::now();
+  server.process().kill(SIGKILL);
+  advance.join();
+  const double waited = seconds_since(killed);
+  EXPECT_EQ(status.load(), QUARRY_ERROR_TRANSPORT);
+  EXPECT_LT(waited, 5.0);
+  const std::string text = last_error(sim);
+  EXPECT_NE(text.find(server.endpoint()), std::string::npos) << text;
+  EXPECT_NE(text.find("quarry_advance"), std::string::npos) << text;
+  // The handle is clearly dead: every call says so at once; close still releases it.
+  EXPECT_EQ(quarry_get_time(sim, nullptr, nullptr, nullptr), QUARRY_ERROR_TRANSPORT);
+  EXPECT_EQ(quarry_close(sim), QUARRY_ERROR_TRANSPORT);
+  EXPECT_EQ(quarry_get_time(sim, nullptr, nullptr, nullptr), QUARRY_ERROR_INVALID_HANDLE);
+  std::printf("the advance returned %.3f s after the server was killed\n", waited);
+}
+
+TEST_P(ServeKilled, WhileIdleTheNextCallGetsTransport) {
+  Server server(endpoint_of(GetParam()));
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  EXPECT_EQ(quarry_get_time(sim, nullptr, nullptr, nullptr), QUARRY_OK) << last_error(sim);
+  server.process().kill(SIGKILL);
+  EXPECT_NE(server.process().wait_exit(5000), -1);
+  const auto start = Clock::now();
+  EXPECT_EQ(quarry_get_time(sim, nullptr, nullptr, nullptr), QUARRY_ERROR_TRANSPORT)
+      << last_error(sim);
+  EXPECT_LT(seconds_since(start), 5.0);
+  EXPECT_EQ(quarry_close(sim), QUARRY_ERROR_TRANSPORT);
+}
+
+INSTANTIATE_TEST_SUITE_P(Endpoints, ServeKilled, testing::Values("ipc", "tcp://127.0.0.1:0"),
+                         [](const auto& parameter) {
+                           return std::string(parameter.param).substr(0, 3);
+                         });
+
+TEST(Serve, AStoppedServerGivesTimeoutAndTheNextClientIsServedOnceItRuns) {
+  Server server;
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 500), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  server.process().kill(SIGSTOP);
+  const auto start = Clock::now();
+  EXPECT_EQ(quarry_get_time(sim, nullptr, nullptr, nullptr), QUARRY_ERROR_TIMEOUT);
+  const double waited = seconds_since(start);
+  EXPECT_GE(waited, 0.45);
+  EXPECT_LT(waited, 3.0);
+  EXPECT_NE(last_error(sim).find("within 500 ms"), std::string::npos) << last_error(sim);
+  // Its socket is closed: no late reply can be taken for another request's.
+  EXPECT_EQ(quarry_get_time(sim, nullptr, nullptr, nullptr), QUARRY_ERROR_TRANSPORT);
+  EXPECT_EQ(quarry_close(sim), QUARRY_ERROR_TRANSPORT);
+  server.process().kill(SIGCONT);
+  quarry_sim next;
+  ASSERT_EQ(open(server.endpoint(), next, 5000), QUARRY_OK)
+      << last_error(QUARRY_NO_SIM) << server.log();
+  EXPECT_EQ(quarry_close(next), QUARRY_OK);
+  EXPECT_TRUE(server.wait_for("session 1 ended: its connection closed", 2000)) << server.log();
+}
+
+TEST(Serve, NothingListeningGivesTimeoutWithAHint) {
+  quarry_sim sim;
+  const std::string endpoint = ipc_endpoint();
+  EXPECT_EQ(open(endpoint, sim, 300), QUARRY_ERROR_TIMEOUT);
+  const std::string text = last_error(QUARRY_NO_SIM);
+  EXPECT_NE(text.find("quarry serve --endpoint " + endpoint), std::string::npos) << text;
+}
+
+TEST(Serve, AnotherAbiMajorGivesVersionOnEitherSide) {
+  Server server;
+  {
+    RawClient raw(server.endpoint());
+    // A client library of major 2 (its header says so).
+    const auto [header_status, header_text] = raw.send(open_message(2u << 16, 2u << 16));
+    EXPECT_EQ(header_status, QUARRY_ERROR_VERSION);
+    EXPECT_NE(header_text.find("2.0"), std::string::npos) << header_text;
+    EXPECT_NE(header_text.find("1.0"), std::string::npos) << header_text;
+    // A caller compiled for major 2 against a library of major 1.
+    const auto [caller_status, caller_text] =
+        raw.send(open_message(QUARRY_ABI_VERSION, (2u << 16) | 3));
+    EXPECT_EQ(caller_status, QUARRY_ERROR_VERSION);
+    EXPECT_NE(caller_text.find("2.3"), std::string::npos) << caller_text;
+    EXPECT_NE(caller_text.find("1.0"), std::string::npos) << caller_text;
+  }
+  // A server of major 3 answering: the client names both versions.
+  const std::string endpoint = ipc_endpoint();
+  void* context = zmq_ctx_new();
+  void* rep = zmq_socket(context, ZMQ_REP);
+  ASSERT_EQ(zmq_bind(rep, endpoint.c_str()), 0);
+  std::thread fake([rep] {
+    char buffer[4096];
+    const int wait_ms = 5000;
+    zmq_setsockopt(rep, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
+    if (zmq_recv(rep, buffer, sizeof buffer, 0) < 0) return;
+    std::string reply = wire::error_reply(1, QUARRY_OK, "");
+    const std::uint32_t three = 3u << 16;
+    std::memcpy(reply.data() + 4, &three, sizeof three);
+    zmq_send(rep, reply.data(), reply.size(), 0);
+  });
+  quarry_sim sim;
+  EXPECT_EQ(open(endpoint, sim, 5000), QUARRY_ERROR_VERSION);
+  fake.join();
+  const std::string text = last_error(QUARRY_NO_SIM);
+  EXPECT_NE(text.find("3.0"), std::string::npos) << text;
+  EXPECT_NE(text.find("1.0"), std::string::npos) << text;
+  zmq_close(rep);
+  zmq_ctx_term(context);
+  fs::remove(endpoint.substr(6));
+}
+
+TEST(Serve, ASecondClientIsToldTheServerIsBusy) {
+  Server server;
+  quarry_sim first, second;
+  ASSERT_EQ(open(server.endpoint(), first, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  EXPECT_EQ(open(server.endpoint(), second, 5000), QUARRY_ERROR_WRONG_STATE);
+  const std::string text = last_error(QUARRY_NO_SIM);
+  EXPECT_NE(text.find("busy"), std::string::npos) << text;
+  EXPECT_EQ(quarry_close(first), QUARRY_OK);
+  ASSERT_EQ(open(server.endpoint(), second, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  EXPECT_EQ(quarry_close(second), QUARRY_OK);
+}
+
+TEST(Serve, AKilledClientsSessionEndsAndItsSegmentIsGone) {
+  Server server;
+  int ready[2];
+  ASSERT_EQ(::pipe(ready), 0);
+  const std::string endpoint = server.endpoint();
+  Child client = Child::forked([&] {
+    quarry_sim sim;
+    const bool ok = open(endpoint, sim, 5000) == QUARRY_OK;
+    if (ok) build_one_particle(sim);
+    const char answer = ok ? 'y' : 'n';
+    [[maybe_unused]] const auto written = ::write(ready[1], &answer, 1);
+  });
+  char answer = 0;
+  ASSERT_EQ(::read(ready[0], &answer, 1), 1);
+  ASSERT_EQ(answer, 'y');
+  EXPECT_TRUE(server.wait_for("arrays in shared memory", 2000)) << server.log();
+  // The server removed the segment's name when it mapped it: nothing of the client's in /dev/shm.
+  const std::string prefix = "quarry-" + std::to_string(client.pid()) + "-";
+  const auto named = [&] {
+    for (const auto& entry : fs::directory_iterator("/dev/shm"))
+      if (entry.path().filename().string().rfind(prefix, 0) == 0) return true;
+    return false;
+  };
+  EXPECT_FALSE(named());
+  client.kill(SIGKILL);
+  EXPECT_TRUE(server.wait_for("session 1 ended: its connection closed", 3000)) << server.log();
+  EXPECT_FALSE(named());
+  quarry_sim next;
+  ASSERT_EQ(open(server.endpoint(), next, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  EXPECT_EQ(quarry_close(next), QUARRY_OK);
+  ::close(ready[0]), ::close(ready[1]);
+}
+
+TEST(Serve, ADeckGivenToTheServerIsKeptAcrossClients) {
+  const std::string deck =
+      std::string(QUARRY_SOURCE_DIR) + "/examples/bouncing_sphere/bouncing_sphere.yaml";
+  Server server(ipc_endpoint(), {deck});
+  quarry_sim sim;
+  EXPECT_EQ(open(server.endpoint(), sim, 5000, deck.c_str()), QUARRY_ERROR_WRONG_STATE);
+  EXPECT_NE(last_error(QUARRY_NO_SIM).find("given on its command line"), std::string::npos);
+  for (std::uint64_t expected : {3u, 6u}) {
+    ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+    std::uint64_t particles = 0, steps = 0;
+    EXPECT_EQ(quarry_num_particles(sim, -1, &particles), QUARRY_OK);
+    EXPECT_GT(particles, 0u);
+    EXPECT_EQ(quarry_step(sim, 3), QUARRY_OK) << last_error(sim);
+    EXPECT_EQ(quarry_get_time(sim, nullptr, nullptr, &steps), QUARRY_OK);
+    EXPECT_EQ(steps, expected);
+    EXPECT_EQ(quarry_close(sim), QUARRY_OK);
+  }
+}
+
+TEST(Serve, HooksAreUnsupportedAndViewsAreCopies) {
+  Server server;
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  build_one_particle(sim);
+  EXPECT_EQ(quarry_set_hook(
+                sim, QUARRY_HOOK_POST_FORCE, [](quarry_sim, int32_t, void*) { return 0; }, nullptr),
+            QUARRY_ERROR_UNSUPPORTED);
+  EXPECT_NE(last_error(sim).find("quarry_set_external_loads"), std::string::npos)
+      << last_error(sim);
+  double velocity[3] = {1.0, 2.0, 3.0};
+  EXPECT_EQ(quarry_set_external_loads(sim, velocity, nullptr, 1, QUARRY_LOAD_REPLACE,
+                                      QUARRY_HOLD_NEXT_STEP),
+            QUARRY_OK);
+  EXPECT_EQ(quarry_step(sim, 2), QUARRY_OK);
+  double position[3];
+  quarry_particle_data data = {sizeof data, 1,       nullptr, nullptr, position, nullptr, nullptr,
+                               nullptr,     nullptr, nullptr, nullptr, nullptr,  0,       0};
+  ASSERT_EQ(quarry_get_particles(sim, &data), QUARRY_OK);
+  quarry_view view;
+  ASSERT_EQ(quarry_view_particles(sim, QUARRY_FIELD_POSITION, &view), QUARRY_OK);
+  ASSERT_EQ(view.count, 1u);
+  EXPECT_EQ(view.components, 3u);
+  EXPECT_EQ(view.writable, 0u);
+  EXPECT_EQ(std::memcmp(view.data, position, sizeof position), 0);
+  EXPECT_GT(position[0], 0.0);  // the force moved it
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK);
+}
+
+TEST(Serve, SigtermStopsTheServerDuringAnAdvanceAndRemovesItsSocket) {
+  Server server;
+  const std::string path = server.endpoint().substr(6);
+  EXPECT_TRUE(fs::exists(path));
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  build_one_particle(sim);
+  std::atomic<quarry_status> status{QUARRY_OK};
+  std::thread advance([&] { status = quarry_advance(sim, 1e5, nullptr); });
+  std::this_thread::sleep_for(300ms);
+  server.process().kill(SIGTERM);
+  advance.join();
+  EXPECT_EQ(status.load(), QUARRY_ERROR_TRANSPORT);
+  EXPECT_NE(last_error(sim).find("stopping"), std::string::npos) << last_error(sim);
+  EXPECT_EQ(server.process().wait_exit(5000), 0) << server.log();
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_TRUE(server.wait_for("stopped (signal 15)", 1000)) << server.log();
+  EXPECT_EQ(quarry_close(sim), QUARRY_ERROR_TRANSPORT);
+}
+
+}  // namespace
