@@ -126,6 +126,8 @@ std::string Server::call(const wire::RequestHeader& header, const std::byte* req
                          std::size_t size) {
   const auto op = static_cast<wire::Op>(header.op);
   const char* name = wire::op_name(header.op);
+  if (session_->segment)
+    session_->segment->release_retired();  // the last request's arrays are done
   wire::SegmentView* segment = session_->segment ? &session_->segment->view() : nullptr;
   wire::Reader in(request, size, wire::kRequestHeaderBytes, segment, &session_->outputs);
   wire::Writer out;

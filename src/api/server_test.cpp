@@ -186,6 +186,70 @@ TEST(Server, RandomBytesGetErrorReplies) {
   EXPECT_EQ(send(server, request(Op::num_types, 0)).status, QUARRY_ERROR_WRONG_STATE);  // no token
 }
 
+// Arrays in a real shared-memory segment that grows while one request is written: the server
+// re-maps it for the later arrays while the earlier ones still point into the old mapping.
+TEST(Server, SharedArraysThatGrowTheSegmentWithinOneRequest) {
+  Server server(ServerOptions{});
+  const auto segment = SharedSegment::create(1);  // one page to start
+  protocol::OpenRequest open;
+  open.client_pid = 1;
+  open.segment = segment->name().c_str();
+  const Answer opened = send(server, request(Op::open, 0, open));
+  ASSERT_EQ(opened.status, QUARRY_OK) << opened.error;
+  wire::Reader answer_in(opened.payload.data(), opened.payload.size(), 0);
+  const auto reply = protocol::read<protocol::OpenReply>(answer_in);
+  ASSERT_EQ(reply.shared_memory, 1);
+  std::vector<double> unused{0.0, 0.0, 0.5, 0.1, 0.0, 0.5};
+  const std::vector<std::string> building = building_requests(reply.session, unused);
+  for (int k = 0; k < 5; ++k)
+    ASSERT_EQ(send(server, building[k]).status, QUARRY_OK);  // up to quarry_start
+  constexpr std::uint64_t n = 400;
+  std::vector<double> positions(3 * n);
+  for (std::uint64_t k = 0; k < n; ++k)
+    positions[3 * k] = 3e-3 * static_cast<double>(k % 20),
+                  positions[3 * k + 1] = 3e-3 * static_cast<double>(k / 20);
+  std::vector<std::uint64_t> ids(n);
+  const auto shared_request = [&](Op op) {
+    segment->restart();
+    return wire::Request(op, segment.get(), 1);  // every array in the segment
+  };
+  wire::Request add = shared_request(Op::add_particles);
+  add.fields().put(n);
+  add.input<std::uint32_t>(nullptr, 0);
+  add.fields().put(std::uint32_t{0});
+  add.input(positions.data(), positions.size());
+  for (int k = 0; k < 3; ++k) add.input<double>(nullptr, 0);
+  add.output(ids.data(), ids.size());
+  const Answer added = send(server, add.message(2, reply.session));
+  ASSERT_EQ(added.status, QUARRY_OK) << added.error;
+  wire::Reader added_in(added.payload.data(), added.payload.size(), 0);
+  add.read_outputs(added_in);
+  // ids (3.2 kB), positions, velocities, forces, torques (9.6 kB each): 42 kB in a segment of
+  // 24 kB, which grows at the forces while ids, positions and velocities sit in its old mapping.
+  std::vector<std::uint64_t> got_ids(n);
+  std::vector<double> got_positions(3 * n), got_velocities(3 * n, -1.0), forces(3 * n), torques(3 * n);
+  const std::uint64_t size_before = segment->size();
+  wire::Request get = shared_request(Op::get_particles);
+  get.fields().put(n);
+  get.output(got_ids.data(), n);
+  get.output<std::uint32_t>(nullptr, 0);
+  get.output(got_positions.data(), 3 * n);
+  get.output(got_velocities.data(), 3 * n);
+  for (int k = 0; k < 4; ++k) get.output<double>(nullptr, 0);
+  get.output(forces.data(), 3 * n);
+  get.output(torques.data(), 3 * n);
+  const Answer got = send(server, get.message(3, reply.session));
+  ASSERT_EQ(got.status, QUARRY_OK) << got.error;
+  EXPECT_GT(segment->size(), size_before);
+  wire::Reader in(got.payload.data(), got.payload.size(), 0);
+  EXPECT_EQ(in.get<std::uint64_t>(), n);
+  in.get<std::uint64_t>();
+  get.read_outputs(in);
+  EXPECT_EQ(got_ids, std::vector<std::uint64_t>(ids.begin(), ids.end()));
+  EXPECT_EQ(got_positions, positions);
+  EXPECT_EQ(got_velocities, std::vector<double>(3 * n, 0.0));
+}
+
 TEST(Server, ForeignMessagesAreNamed) {
   Server server(ServerOptions{});
   const std::uint64_t session = attach(server);

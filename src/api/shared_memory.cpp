@@ -69,9 +69,15 @@ std::unique_ptr<SharedSegment> SharedSegment::attach(const std::string& name) {
 }
 
 SharedSegment::~SharedSegment() {
+  release_retired();
   if (data_) ::munmap(data_, size_);
   if (fd_ >= 0) ::close(fd_);
   unlink();
+}
+
+void SharedSegment::release_retired() {
+  for (const auto& [data, size] : retired_) ::munmap(data, size);
+  retired_.clear();
 }
 
 void SharedSegment::unlink() {
@@ -107,7 +113,7 @@ bool SharedSegment::remap_to_file_size(void* self, std::uint64_t needed, wire::S
     return false;
   void* data = ::mmap(nullptr, status.st_size, PROT_READ | PROT_WRITE, MAP_SHARED, segment.fd_, 0);
   if (data == MAP_FAILED) return false;
-  if (segment.data_) ::munmap(segment.data_, segment.size_);
+  if (segment.data_) segment.retired_.emplace_back(segment.data_, segment.size_);
   segment.data_ = static_cast<std::byte*>(data);
   segment.size_ = static_cast<std::uint64_t>(status.st_size);
   view.data = segment.data_;

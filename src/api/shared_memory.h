@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "api/wire.h"
 
@@ -34,8 +36,11 @@ class SharedSegment final : public wire::SegmentSpace {
   void restart() { next_ = 0; }
 
   // Server: the view a wire::Reader resolves shared arrays in (re-mapped when the client grew
-  // the segment).
+  // the segment). A re-map keeps the old mapping until release_retired(): the arrays of the
+  // same request read before it still point there.
   wire::SegmentView& view() { return view_; }
+  // Server, before each request: unmaps what re-maps left behind.
+  void release_retired();
 
   // Removes the name now (no error if it is gone already).
   void unlink();
@@ -52,6 +57,7 @@ class SharedSegment final : public wire::SegmentSpace {
   std::uint64_t next_ = 0;
   bool named_ = false;
   wire::SegmentView view_;
+  std::vector<std::pair<std::byte*, std::uint64_t>> retired_;  // old mappings (address, bytes)
 };
 
 }  // namespace quarry::api
