@@ -83,17 +83,20 @@ bool someone_listens(const std::string& path) {
 
 }  // namespace
 
-void check_endpoint(const std::string& endpoint, const char* call) {
+std::string endpoint_problem(const std::string& endpoint) {
   const bool ipc = endpoint.rfind("ipc://", 0) == 0 && endpoint.size() > 6;
   const std::size_t colon = endpoint.rfind(':');
   const bool tcp = endpoint.rfind("tcp://", 0) == 0 && colon != std::string::npos && colon > 6 &&
                    colon + 1 < endpoint.size();
-  if (!ipc && !tcp)
-    throw ApiError(
-        QUARRY_ERROR_BAD_VALUE,
-        fmt::format("{}: endpoint '{}' is neither ipc://PATH (both processes on this host) nor "
-                    "tcp://HOST:PORT",
-                    call, endpoint));
+  if (ipc || tcp) return "";
+  return fmt::format(
+      "endpoint '{}' is neither ipc://PATH (both processes on this host) nor tcp://HOST:PORT",
+      endpoint);
+}
+
+void check_endpoint(const std::string& endpoint, const char* call) {
+  if (const std::string problem = endpoint_problem(endpoint); !problem.empty())
+    throw ApiError(QUARRY_ERROR_BAD_VALUE, fmt::format("{}: {}", call, problem));
 }
 
 bool is_ipc(const std::string& endpoint) {
@@ -211,7 +214,8 @@ Message ClientConnection::exchange(std::string&& request, int timeout_ms, const 
 // ---- server ----
 
 ServerSocket::ServerSocket(const std::string& endpoint) {
-  check_endpoint(endpoint, "quarry serve");
+  if (const std::string problem = endpoint_problem(endpoint); !problem.empty())
+    throw std::runtime_error(problem);
   if (is_ipc(endpoint)) {
     const std::string path = endpoint.substr(6);
     if (someone_listens(path))

@@ -13,7 +13,9 @@
 
 namespace quarry::api {
 
-// "ipc://PATH" or "tcp://HOST:PORT"; anything else throws ApiError(BAD_VALUE) with the forms.
+// What is wrong with an endpoint that is neither "ipc://PATH" nor "tcp://HOST:PORT" (empty if
+// it is one); check_endpoint throws it as ApiError(BAD_VALUE) prefixed with the call.
+std::string endpoint_problem(const std::string& endpoint);
 void check_endpoint(const std::string& endpoint, const char* call);
 bool is_ipc(const std::string& endpoint);
 
