@@ -153,6 +153,18 @@ struct Timing {
   std::vector<double> get, set;  // s
 };
 
+// The exchange's second half, the forces (copied in: the ABI has no writable force view), and
+// the times of both halves (the first from start to got).
+void set_forces(quarry_sim sim, const Partner& partner, std::uint64_t n, Clock::time_point start,
+                Clock::time_point got, Timing& timing) {
+  check(sim,
+        quarry_set_external_loads(sim, partner.force.data(), nullptr, n, QUARRY_LOAD_REPLACE,
+                                  QUARRY_HOLD_NEXT_STEP),
+        "quarry_set_external_loads");
+  timing.get.push_back(std::chrono::duration<double>(got - start).count());
+  timing.set.push_back(since(got));
+}
+
 // Positions and velocities as copies (quarry_get_particles), then the forces.
 void exchange_by_copies(quarry_sim sim, Partner& partner, std::uint64_t n, Timing& timing) {
   quarry_particle_data data = {sizeof data,
@@ -172,16 +184,10 @@ void exchange_by_copies(quarry_sim sim, Partner& partner, std::uint64_t n, Timin
   const auto start = Clock::now();
   check(sim, quarry_get_particles(sim, &data), "quarry_get_particles");
   const auto got = Clock::now();
-  check(sim,
-        quarry_set_external_loads(sim, partner.force.data(), nullptr, n, QUARRY_LOAD_REPLACE,
-                                  QUARRY_HOLD_NEXT_STEP),
-        "quarry_set_external_loads");
-  timing.get.push_back(std::chrono::duration<double>(got - start).count());
-  timing.set.push_back(since(got));
+  set_forces(sim, partner, n, start, got, timing);
 }
 
-// Positions and velocities as views of the engine's arrays, then the forces (copied in: the ABI
-// has no writable force view).
+// Positions and velocities as views of the engine's arrays, then the forces.
 void exchange_by_views(quarry_sim sim, Partner& partner, std::uint64_t n, Timing& timing) {
   quarry_view position, velocity;
   const auto start = Clock::now();
@@ -190,12 +196,7 @@ void exchange_by_views(quarry_sim sim, Partner& partner, std::uint64_t n, Timing
   const auto got = Clock::now();
   if (position.count != n || velocity.count != n)
     throw std::runtime_error("a view of the wrong length");
-  check(sim,
-        quarry_set_external_loads(sim, partner.force.data(), nullptr, n, QUARRY_LOAD_REPLACE,
-                                  QUARRY_HOLD_NEXT_STEP),
-        "quarry_set_external_loads");
-  timing.get.push_back(std::chrono::duration<double>(got - start).count());
-  timing.set.push_back(since(got));
+  set_forces(sim, partner, n, start, got, timing);
 }
 
 // One way to do the exchange, and its times.
