@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <new>
 
+#include "api/wire.h"
 #include "core/diagnostics.h"
 
 namespace quarry::api {
@@ -23,6 +24,9 @@ Failure current_failure(const char* call) {
     return {QUARRY_ERROR_INPUT, named(e.diagnostics().format())};
   } catch (const PhysicsError& e) {
     return {QUARRY_ERROR_PHYSICS, named(e.what())};
+  } catch (const wire::WireError& e) {  // a reply that does not follow the framing (remote handles)
+    return {QUARRY_ERROR_TRANSPORT,
+            named(fmt::format("the server's reply is malformed: {}", e.what()))};
   } catch (const std::filesystem::filesystem_error& e) {
     return {QUARRY_ERROR_IO, named(e.what())};
   } catch (const std::bad_alloc&) {

@@ -33,8 +33,8 @@ struct Failure {
   std::string text;
 };
 // The failure of the exception being handled (call it inside a catch block): an ApiError's own
-// status, UserError → INPUT with the deck's diagnostics, PhysicsError → PHYSICS, a filesystem
-// error → IO, anything else → INTERNAL; each text begins with `call` ("quarry_step: ...") unless
+// status, UserError → INPUT with the deck's diagnostics, PhysicsError → PHYSICS, a malformed
+// reply from a server → TRANSPORT, a filesystem error → IO, anything else → INTERNAL; each text begins with `call` ("quarry_step: ...") unless
 // an ApiError's names its call already. Used by the C functions and by `quarry serve` alike.
 Failure current_failure(const char* call);
 

@@ -410,6 +410,43 @@ TEST(Serve, AnotherAbiMajorGivesVersionOnEitherSide) {
   fs::remove(endpoint.substr(6));
 }
 
+// A server that answers the open properly and the next request with a reply too short for it:
+// the client reports TRANSPORT (the server's reply is malformed), not an internal error.
+TEST(Serve, AMalformedReplyGivesTransport) {
+  const std::string endpoint = ipc_endpoint();
+  void* context = zmq_ctx_new();
+  void* rep = zmq_socket(context, ZMQ_REP);
+  ASSERT_EQ(zmq_bind(rep, endpoint.c_str()), 0);
+  std::thread fake([rep] {
+    const int wait_ms = 5000;
+    zmq_setsockopt(rep, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
+    char buffer[4096];
+    for (int k = 0; k < 2; ++k) {
+      if (zmq_recv(rep, buffer, sizeof buffer, 0) < 0) return;
+      std::uint64_t id = 0;
+      std::memcpy(&id, buffer + 16, sizeof id);
+      wire::Writer out;
+      out.bytes().assign(wire::kReplyHeaderBytes, '\0');
+      if (k == 0)
+        protocol::write_values(out, protocol::OpenReply{7, 0, "fake"});  // none for num_types
+      wire::ReplyHeader header;
+      header.request_id = id;
+      wire::write_reply_header(out.bytes(), header);
+      zmq_send(rep, out.bytes().data(), out.bytes().size(), 0);
+    }
+  });
+  quarry_sim sim;
+  ASSERT_EQ(open(endpoint, sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  std::uint32_t types = 0;
+  EXPECT_EQ(quarry_num_types(sim, &types), QUARRY_ERROR_TRANSPORT);
+  EXPECT_NE(last_error(sim).find("malformed"), std::string::npos) << last_error(sim);
+  fake.join();
+  zmq_close(rep);
+  zmq_ctx_term(context);
+  EXPECT_EQ(quarry_close(sim), QUARRY_ERROR_TRANSPORT);  // nothing behind it now; still released
+  fs::remove(endpoint.substr(6));
+}
+
 TEST(Serve, ASecondClientIsToldTheServerIsBusy) {
   Server server;
   quarry_sim first, second;
