@@ -430,18 +430,17 @@ sim::LoadHold load_hold(std::int32_t hold) {
   fail(QUARRY_ERROR_BAD_VALUE, fmt::format("hold {} is not QUARRY_HOLD_NEXT_STEP or QUARRY_HOLD_UNTIL_CHANGED", hold));
 }
 
-// 3 × count doubles as vectors into `out`, whose storage is kept from call to call (a partner
-// sets loads every step: fresh arrays would be mapped and faulted in every time); NULL: none.
-void vectors_into(const double* values, std::size_t count, std::vector<Vec3>& out) {
-  if (!values) return out.clear();
-  out.resize(count);  // every entry is written below: no clear first (it would zero them again)
-  for (std::size_t k = 0; k < count; ++k) out[k] = vec(values, k);
-}
-
 std::vector<Vec3> vectors_of(const double* values, std::size_t count) {
   std::vector<Vec3> out;
-  vectors_into(values, count, out);
+  if (!values) return out;
+  out.resize(count);
+  for (std::size_t k = 0; k < count; ++k) out[k] = vec(values, k);
   return out;
+}
+
+// A caller's 3 × count doubles as a span (empty for NULL).
+std::span<const double> triples(const double* values, std::size_t count) {
+  return values ? std::span<const double>(values, 3 * count) : std::span<const double>();
 }
 
 }  // namespace
@@ -459,12 +458,9 @@ void LocalBackend::set_external_loads(const double* force, const double* torque,
   // Type order; when it is the engine's (one type, or types already grouped) the loads go in
   // without an index list.
   const sim::TypeOrder& o = order();
-  if (o.identity) load_indices_.clear();
-  else load_indices_.assign(o.order.begin(), o.order.end());
-  vectors_into(force, count, load_forces_);
-  vectors_into(torque, count, load_torques_);
+  const std::span<const std::uint32_t> indices = o.identity ? std::span<const std::uint32_t>() : o.order;
   translated([&] {
-    sim::set_external_loads(world_, load_indices_, load_forces_, load_torques_, m, h);
+    sim::set_external_loads(world_, indices, triples(force, count), triples(torque, count), m, h);
     return 0;
   });
 }
@@ -483,10 +479,8 @@ void LocalBackend::set_external_loads_by_id(const std::uint64_t* ids, std::uint6
       fail(QUARRY_ERROR_NOT_FOUND, fmt::format("quarry_set_external_loads_by_id: particle id {} (entry {}) does not exist", ids[k], k));
     load_indices_[k] = found->second;
   }
-  vectors_into(force, count, load_forces_);
-  vectors_into(torque, count, load_torques_);
   translated([&] {
-    sim::set_external_loads(world_, load_indices_, load_forces_, load_torques_, m, h);
+    sim::set_external_loads(world_, load_indices_, triples(force, count), triples(torque, count), m, h);
     return 0;
   });
 }
@@ -496,7 +490,7 @@ void LocalBackend::clear_external_loads() {
   require_outside_hook("quarry_clear_external_loads");
   ParticleStore& p = world_.particles;
   if (!p.has_external_loads()) return;
-  const std::vector<Vec3> zeros(p.size());
+  const std::vector<double> zeros(3 * p.size(), 0.0);
   sim::set_external_loads(world_, {}, zeros, zeros, sim::LoadMode::replace, sim::LoadHold::until_changed);
   sim::set_external_loads(world_, {}, zeros, zeros, sim::LoadMode::replace, sim::LoadHold::next_step);
 }

@@ -109,9 +109,8 @@ class LocalBackend final : public Backend {
   };
   Hook hooks_[2];                    // post_force, end_of_step
   const std::atomic<int>* stop_ = nullptr;
-  // quarry_set_external_loads' arguments as the sim functions take them, kept between calls.
-  std::vector<std::size_t> load_indices_;
-  std::vector<Vec3> load_forces_, load_torques_;
+  // quarry_set_external_loads_by_id's engine indices, kept between calls.
+  std::vector<std::uint32_t> load_indices_;
 };
 
 }  // namespace quarry::api

@@ -77,34 +77,59 @@ void remove_particles(World& world, std::span<const ParticleId> ids) {
   mark_lists_stale(world);
 }
 
-void set_external_loads(World& world, std::span<const std::size_t> indices, std::span<const Vec3> forces,
-                        std::span<const Vec3> torques, LoadMode mode, LoadHold hold) {
+void set_external_loads(World& world, std::span<const std::uint32_t> indices, std::span<const double> forces,
+                        std::span<const double> torques, LoadMode mode, LoadHold hold) {
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   const std::size_t entries = indices.empty() ? n : indices.size();
-  if ((!forces.empty() && forces.size() != entries) || (!torques.empty() && torques.size() != entries))
-    throw std::invalid_argument(fmt::format("{} entries expected, got {} forces and {} torques", entries,
-                                            forces.size(), torques.size()));
+  if ((!forces.empty() && forces.size() != 3 * entries) || (!torques.empty() && torques.size() != 3 * entries))
+    throw std::invalid_argument(fmt::format("{} entries expected (3 values each), got {} force and {} torque values",
+                                            entries, forces.size(), torques.size()));
+  const int team = world.threading.team(entries);
+  // Checked in one branch-free pass (x·0 is 0 only for a finite x); the entry at fault is
+  // looked for only when there is one.
+  double zero = 0.0;
+  std::uint32_t largest_index = 0;
+#pragma omp parallel for schedule(static) num_threads(team) reduction(+ : zero) reduction(max : largest_index)
   for (std::size_t k = 0; k < entries; ++k) {
-    if (!indices.empty() && indices[k] >= n)
-      throw std::invalid_argument(fmt::format("entry {}: particle index {} does not exist ({} particles)", k, indices[k], n));
-    if ((!forces.empty() && !finite(forces[k])) || (!torques.empty() && !finite(torques[k])))
-      throw std::invalid_argument(fmt::format("entry {}: a force or torque is not a finite number", k));
+    for (int c = 0; c < 3; ++c) {
+      if (!forces.empty()) zero += forces[3 * k + c] * 0.0;
+      if (!torques.empty()) zero += torques[3 * k + c] * 0.0;
+    }
+    if (!indices.empty()) largest_index = std::max(largest_index, indices[k]);
+  }
+  if (!(zero == 0.0))
+    for (std::size_t k = 0; k < entries; ++k)
+      for (int c = 0; c < 3; ++c)
+        if ((!forces.empty() && !std::isfinite(forces[3 * k + c])) || (!torques.empty() && !std::isfinite(torques[3 * k + c])))
+          throw std::invalid_argument(fmt::format("entry {}: a force or torque is not a finite number", k));
+  if (!indices.empty()) {
+    if (largest_index >= n)
+      throw std::invalid_argument(fmt::format("particle index {} does not exist ({} particles)", largest_index, n));
+    // Each particle once: the entries are then applied in parallel.
+    std::vector<char> seen(n, 0);
+    for (std::size_t k = 0; k < entries; ++k) {
+      if (seen[indices[k]]) throw std::invalid_argument(fmt::format("entry {}: particle id {} is given twice", k, p.id[indices[k]]));
+      seen[indices[k]] = 1;
+    }
   }
   p.enable_external_loads();
-  std::vector<Vec3>& held_force = hold == LoadHold::until_changed ? p.external_force : p.external_force_once;
-  std::vector<Vec3>& held_torque = hold == LoadHold::until_changed ? p.external_torque : p.external_torque_once;
-  // The stored force of the step's configuration changes with the load (F + new − old), so
-  // that the next opening kick already sees it.
-  const auto apply = [mode](Vec3& load, Vec3& total, const Vec3& value) {
-    const Vec3 next = mode == LoadMode::add ? load + value : value;
-    total += next - load;
-    load = next;
+  Vec3* const load = (hold == LoadHold::until_changed ? p.external_force : p.external_force_once).data();
+  Vec3* const load_torque = (hold == LoadHold::until_changed ? p.external_torque : p.external_torque_once).data();
+  const bool add = mode == LoadMode::add;
+  // The stored force of the step's configuration changes with the load (F + new − old), so that
+  // the next opening kick already sees it.
+  const auto apply = [add](Vec3& held, Vec3& total, const double* value) {
+    const Vec3 given{value[0], value[1], value[2]};
+    const Vec3 next = add ? held + given : given;
+    total += next - held;
+    held = next;
   };
+#pragma omp parallel for schedule(static) num_threads(team)
   for (std::size_t k = 0; k < entries; ++k) {
     const std::size_t i = indices.empty() ? k : indices[k];
-    if (!forces.empty()) apply(held_force[i], p.force[i], forces[k]);
-    if (!torques.empty()) apply(held_torque[i], p.torque[i], torques[k]);
+    if (!forces.empty()) apply(load[i], p.force[i], &forces[3 * k]);
+    if (!torques.empty()) apply(load_torque[i], p.torque[i], &torques[3 * k]);
   }
 }
 

@@ -36,14 +36,16 @@ enum class LoadMode : std::uint8_t { add, replace };
 enum class LoadHold : std::uint8_t { next_step, until_changed };
 
 // External force (N) and torque (N·m) on particles, by engine index: entry k applies to particle
-// indices[k] (indices empty: entry k to particle k, and then the spans hold one entry per
-// particle). `forces` or `torques` may be empty (left as they are). With `replace` the value
-// replaces the particle's held (or one-step) load, with `add` it is added to it. Held loads act
-// until changed; one-step loads act in the next step only. particles.force and torque are
-// updated at once, so the next opening kick uses them. Throws std::invalid_argument on a size
-// mismatch, an index out of range or a non-finite value (nothing changed then). Cost: O(entries).
-void set_external_loads(World& world, std::span<const std::size_t> indices, std::span<const Vec3> forces,
-                        std::span<const Vec3> torques, LoadMode mode, LoadHold hold);
+// indices[k] (indices empty: entry k to particle k, and then there is one entry per particle).
+// `forces` and `torques` hold 3 doubles per entry (x, y, z), or are empty (left as they are).
+// With `replace` the value replaces the particle's held (or one-step) load, with `add` it is added
+// to it. Held loads act until changed; one-step loads act in the next step only.
+// particles.force and torque are updated at once, so the next opening kick uses them. Throws
+// std::invalid_argument on a size mismatch, an index out of range or given twice, or a
+// non-finite value (nothing changed then). Cost: one pass over the entries to check them and one
+// over the particles' loads and forces, on the world's threads.
+void set_external_loads(World& world, std::span<const std::uint32_t> indices, std::span<const double> forces,
+                        std::span<const double> torques, LoadMode mode, LoadHold hold);
 
 // The particles in type order (seed 004: all of type 0, then type 1, …; within a type by engine
 // index): order[k] is the engine index of the k-th particle; type_start[t] the first position of
