@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
   add_common(restart, true);
   std::string endpoint;
   CLI::App* serve = app.add_subcommand("serve", "run a simulation as a coupling server for a partner process "
-                                                "(quarry_open with an endpoint; docs/coupling_remote.md)");
+                                                "(quarry_open with an endpoint; docs/coupling.md)");
   serve->add_option("deck", deck, "a YAML deck opened at start (without one, each client's quarry_open decides)");
   serve->add_option("--endpoint", endpoint, "ipc://PATH (same host: arrays in shared memory) or tcp://HOST:PORT "
                                             "(port 0: a free one, printed)")
