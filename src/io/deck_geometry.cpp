@@ -8,26 +8,12 @@
 #include <cstdint>
 #include <filesystem>
 
+#include "io/deck_enums.h"
 #include "io/deck_sections.h"
 
 namespace quarry::deck_detail {
 
 namespace {
-
-const EnumChoices<SurfaceKind> kSurfaceKinds{"surface type",
-                                             {{"stl", SurfaceKind::stl},
-                                              {"plane", SurfaceKind::plane},
-                                              {"box", SurfaceKind::box},
-                                              {"cylinder", SurfaceKind::cylinder},
-                                              {"mesh", SurfaceKind::mesh}}};
-
-const EnumChoices<MotionKind> kMotionKinds{"motion type",
-                                           {{"rotation", MotionKind::rotation},
-                                            {"translation", MotionKind::translation},
-                                            {"vibration", MotionKind::vibration}}};
-
-const EnumChoices<RegionKind> kRegionKinds{
-    "region type", {{"box", RegionKind::box}, {"cylinder", RegionKind::cylinder}}};
 
 // A cylinder wall of fewer segments than this is not a cylinder (a triangle prism at best).
 constexpr int kMinimumCylinderResolution = 3;

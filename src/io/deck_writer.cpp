@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/deck_enums.h"
+
 namespace quarry {
 
 namespace {
@@ -76,120 +78,17 @@ const char* boolean(bool value) {
   return value ? "true" : "false";
 }
 
-// Spellings of the enumerated keys, as the parser's tables accept them (deck_settings.cpp,
-// deck_geometry.cpp); a switch so that a new enumerator is a compile-time warning here.
-const char* spelling(Integrator value) {
-  switch (value) {
-    case Integrator::velocity_verlet:
-      return "velocity_verlet";
-    case Integrator::symplectic_euler:
-      return "symplectic_euler";
-  }
-  return "";
-}
-const char* spelling(NormalModel value) {
-  switch (value) {
-    case NormalModel::hertz_mindlin:
-      return "hertz_mindlin";
-    case NormalModel::linear:
-      return "linear";
-  }
-  return "";
-}
-const char* spelling(RollingModel value) {
-  switch (value) {
-    case RollingModel::none:
-      return "none";
-    case RollingModel::constant_torque:
-      return "constant_torque";
-    case RollingModel::epsd:
-      return "epsd";
-  }
-  return "";
-}
-const char* spelling(SizeDistributionKind value) {
-  switch (value) {
-    case SizeDistributionKind::fixed:
-      return "fixed";
-    case SizeDistributionKind::uniform:
-      return "uniform";
-    case SizeDistributionKind::normal:
-      return "normal";
-    case SizeDistributionKind::log_normal:
-      return "log_normal";
-    case SizeDistributionKind::discrete:
-      return "discrete";
-  }
-  return "";
-}
-const char* spelling(SurfaceKind value) {
-  switch (value) {
-    case SurfaceKind::stl:
-      return "stl";
-    case SurfaceKind::plane:
-      return "plane";
-    case SurfaceKind::box:
-      return "box";
-    case SurfaceKind::cylinder:
-      return "cylinder";
-    case SurfaceKind::mesh:
-      return "mesh";
-  }
-  return "";
-}
-const char* spelling(MotionKind value) {
-  switch (value) {
-    case MotionKind::none:
-      return "none";
-    case MotionKind::translation:
-      return "translation";
-    case MotionKind::rotation:
-      return "rotation";
-    case MotionKind::vibration:
-      return "vibration";
-  }
-  return "";
-}
-const char* spelling(RegionKind value) {
-  switch (value) {
-    case RegionKind::box:
-      return "box";
-    case RegionKind::cylinder:
-      return "cylinder";
-  }
-  return "";
-}
-const char* spelling(ExportFormat value) {
-  switch (value) {
-    case ExportFormat::med:
-      return "med";
-    case ExportFormat::calculix:
-      return "calculix";
-    case ExportFormat::vtu:
-      return "vtu";
-    case ExportFormat::csv:
-      return "csv";
-  }
-  return "";
-}
-const char* spelling(CalculixAnalysis value) {
-  switch (value) {
-    case CalculixAnalysis::static_step:
-      return "static";
-    case CalculixAnalysis::dynamic:
-      return "dynamic";
-  }
-  return "";
-}
-const char* spelling(SupportFixity value) {
-  switch (value) {
-    case SupportFixity::clamped:
-      return "clamped";
-    case SupportFixity::pinned:
-      return "pinned";
-  }
-  return "";
-}
+// Spellings of the enumerated keys: the parser's own tables (deck_enums.h).
+const std::string& spelling(Integrator v) { return deck_detail::spelling(deck_detail::kIntegrators, v); }
+const std::string& spelling(NormalModel v) { return deck_detail::spelling(deck_detail::kContactModels, v); }
+const std::string& spelling(RollingModel v) { return deck_detail::spelling(deck_detail::kRollingModels, v); }
+const std::string& spelling(SizeDistributionKind v) { return deck_detail::spelling(deck_detail::kSizeDistributions, v); }
+const std::string& spelling(SurfaceKind v) { return deck_detail::spelling(deck_detail::kSurfaceKinds, v); }
+const std::string& spelling(MotionKind v) { return deck_detail::spelling(deck_detail::kMotionKinds, v); }
+const std::string& spelling(RegionKind v) { return deck_detail::spelling(deck_detail::kRegionKinds, v); }
+const std::string& spelling(ExportFormat v) { return deck_detail::spelling(deck_detail::kExportFormats, v); }
+const std::string& spelling(CalculixAnalysis v) { return deck_detail::spelling(deck_detail::kCalculixAnalyses, v); }
+const std::string& spelling(SupportFixity v) { return deck_detail::spelling(deck_detail::kSupportFixities, v); }
 
 // The median radius (m) to write for a log-normal size. The parser stores log_mean =
 // ln(median), so the median written must be a double whose logarithm is log_mean exactly; of
@@ -307,7 +206,7 @@ void write_interactions(DeckText& deck, const std::vector<InteractionSpec>& inte
 }
 
 std::string size_text(const SizeDistributionSpec& size) {
-  const char* kind = spelling(size.kind);
+  const std::string& kind = spelling(size.kind);
   switch (size.kind.value) {
     case SizeDistributionKind::fixed:
       return fmt::format("{{distribution: {}, radius: {}}}", kind, number(size.radius));
@@ -494,7 +393,7 @@ void write_export(DeckText& deck, const ExportSpec& fem_export) {
   if (!fem_export.formats.empty()) {
     std::string formats;
     for (const Located<ExportFormat>& format : fem_export.formats)
-      formats += (formats.empty() ? "" : ", ") + std::string(spelling(format));
+      formats += (formats.empty() ? "" : ", ") + spelling(format);
     deck.line(2, "formats: [{}]", formats);
   }
   if (fem_export.calculix) write_calculix(deck, *fem_export.calculix);
