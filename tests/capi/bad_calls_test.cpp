@@ -8,39 +8,18 @@
 #include <string>
 #include <vector>
 
+#include "capi/abi_test_support.h"
 #include "quarry/quarry.h"
 
 namespace {
 
-std::string error_of(quarry_sim sim) {
-  char text[4096];
-  quarry_last_error(sim, text, sizeof text, nullptr);
-  return text;
-}
+using quarry_test::error_of;
 
-// An empty simulation, started with one material, one type and two particles.
+// The shared small simulation with two particles, 0.1 m apart.
 quarry_sim started_simulation() {
-  quarry_open_info info = QUARRY_OPEN_INFO_INIT;
-  quarry_sim sim{};
-  EXPECT_EQ(quarry_open(&info, &sim), QUARRY_OK) << error_of(QUARRY_NO_SIM);
-  quarry_settings settings = quarry_default_settings();
-  for (int k = 0; k < 3; ++k) settings.domain_min[k] = -1.0, settings.domain_max[k] = 1.0;
-  settings.time_step = 1e-5;
-  settings.impact_speed = 0.1;
-  EXPECT_EQ(quarry_set_settings(sim, &settings), QUARRY_OK) << error_of(sim);
-  quarry_material material{sizeof(quarry_material), "ore", 2500.0, 1e7, 0.3};
-  EXPECT_EQ(quarry_add_material(sim, &material, nullptr), QUARRY_OK) << error_of(sim);
-  quarry_interaction interaction{sizeof(quarry_interaction), "ore", "ore", 0.5, 0.5, 0.0, QUARRY_ROLLING_NONE, 0.0};
-  EXPECT_EQ(quarry_add_interaction(sim, &interaction), QUARRY_OK) << error_of(sim);
-  quarry_particle_type type{sizeof(quarry_particle_type), "grain", "ore", 1e-3, 0.0};
-  EXPECT_EQ(quarry_add_particle_type(sim, &type, nullptr), QUARRY_OK) << error_of(sim);
-  EXPECT_EQ(quarry_start(sim), QUARRY_OK) << error_of(sim);
+  quarry_sim sim = quarry_test::started_simulation();
   const double position[6] = {0, 0, 0, 0.1, 0, 0};
-  quarry_new_particles add{};
-  add.struct_size = sizeof add;
-  add.count = 2;
-  add.position = position;
-  EXPECT_EQ(quarry_add_particles(sim, &add), QUARRY_OK) << error_of(sim);
+  quarry_test::add_particles(sim, position, 2);
   return sim;
 }
 
@@ -311,11 +290,7 @@ TEST(BadCalls, RestoredStateMovesTheEpochPastBoth) {
   ASSERT_EQ(quarry_save_state(sim, state.data(), state.size(), &needed), QUARRY_OK);
   ASSERT_EQ(quarry_epoch(sim, &saved_epoch), QUARRY_OK);
   const double position[3] = {0.2, 0.2, 0.2};
-  quarry_new_particles add{};
-  add.struct_size = sizeof add;
-  add.count = 1;
-  add.position = position;
-  ASSERT_EQ(quarry_add_particles(sim, &add), QUARRY_OK);  // epoch + 1: the saved one + 1
+  quarry_test::add_particles(sim, position, 1);  // epoch + 1: the saved one + 1
   ASSERT_EQ(quarry_epoch(sim, &current), QUARRY_OK);
   ASSERT_EQ(quarry_restore_state(sim, state.data(), state.size()), QUARRY_OK) << error_of(sim);
   ASSERT_EQ(quarry_epoch(sim, &after), QUARRY_OK);

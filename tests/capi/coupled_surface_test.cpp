@@ -10,17 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "capi/abi_test_support.h"
 #include "quarry/quarry.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string error_of(quarry_sim sim) {
-  char text[4096];
-  quarry_last_error(sim, text, sizeof text, nullptr);
-  return text;
-}
+using quarry_test::error_of;
 
 #define ASSERT_QUARRY_OK(sim, call) ASSERT_EQ((call), QUARRY_OK) << #call << ": " << error_of(sim)
 

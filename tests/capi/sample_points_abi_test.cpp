@@ -8,15 +8,12 @@
 #include <string>
 #include <vector>
 
+#include "capi/abi_test_support.h"
 #include "quarry/quarry.h"
 
 namespace {
 
-std::string error_of(quarry_sim sim) {
-  char text[4096];
-  quarry_last_error(sim, text, sizeof text, nullptr);
-  return text;
-}
+using quarry_test::error_of;
 
 // Fraction of a sphere of radius R below the plane z = h (centre at z = 0): the cap of height
 // R + h has volume π (R + h)² (3R − (R + h)) / 3 (Weisstein, "Spherical Cap", MathWorld).
@@ -26,28 +23,10 @@ double cap_fraction(double radius, double height) {
 }
 
 TEST(SamplePointsAbi, FractionInsideABoxConvergesToTheCapVolume) {
-  quarry_open_info info = QUARRY_OPEN_INFO_INIT;
-  quarry_sim sim{};
-  ASSERT_EQ(quarry_open(&info, &sim), QUARRY_OK) << error_of(QUARRY_NO_SIM);
-  quarry_settings settings = quarry_default_settings();
-  for (int k = 0; k < 3; ++k) settings.domain_min[k] = -1.0, settings.domain_max[k] = 1.0;
-  settings.time_step = 1e-5;
-  settings.impact_speed = 0.1;
-  ASSERT_EQ(quarry_set_settings(sim, &settings), QUARRY_OK) << error_of(sim);
-  quarry_material material{sizeof(quarry_material), "ore", 2500.0, 1e7, 0.3};
-  ASSERT_EQ(quarry_add_material(sim, &material, nullptr), QUARRY_OK);
-  quarry_interaction interaction{sizeof(quarry_interaction), "ore", "ore", 0.5, 0.5, 0.0, QUARRY_ROLLING_NONE, 0.0};
-  ASSERT_EQ(quarry_add_interaction(sim, &interaction), QUARRY_OK);
   const double radius = 0.004;  // m
-  quarry_particle_type type{sizeof(quarry_particle_type), "pellet", "ore", radius, 0.0};
-  ASSERT_EQ(quarry_add_particle_type(sim, &type, nullptr), QUARRY_OK);
-  ASSERT_EQ(quarry_start(sim), QUARRY_OK) << error_of(sim);
+  quarry_sim sim = quarry_test::started_simulation(radius);
   const double centre[3] = {0.21, -0.13, 0.05};  // m
-  quarry_new_particles add{};
-  add.struct_size = sizeof add;
-  add.count = 1;
-  add.position = centre;
-  ASSERT_EQ(quarry_add_particles(sim, &add), QUARRY_OK) << error_of(sim);
+  quarry_test::add_particles(sim, centre, 1);
 
   double rms_error[4] = {};
   int level = 0;
