@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <random>
 #include <string>
 
+#include "geometry/primitives.h"
+#include "geometry/stl_reader.h"
 #include "sim/run.h"
 #include "verification/test_support.h"
 
@@ -90,6 +94,57 @@ TEST(CheckpointDamage, InconsistentContentIsNamed) {
     damage(world);
     expect_refused(sim::checkpoint_bytes(world, 0), expected, expected);
   }
+}
+
+// A checkpoint holds the effective deck and every mesh: with the deck and its STL file gone it
+// restores and continues bit-identically, from any folder; an STL that is still there but
+// changed is an error naming it (a restart continues the same simulation).
+TEST(CheckpointDamage, RestoresWithoutTheDecksFilesAndRefusesAChangedMesh) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(::testing::TempDir()) / "quarry_checkpoint_without_files";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  write_stl_binary((folder / "floor.stl").string(), make_plane({0, 0, 0}, {0, 0, 1}, 0.2, 4));
+  std::ofstream(folder / "deck.yaml") << R"(simulation:
+  end_time: 0.05
+  time_step: 2.0e-6
+  impact_speed: 1.0
+  domain: {min: [-0.1, -0.1, -0.1], max: [0.1, 0.1, 0.2]}
+materials:
+  - {name: ball, density: 7800, youngs_modulus: 1.0e8, poisson_ratio: 0.3}
+interactions:
+  - {materials: [ball, ball], restitution: 0.5, static_friction: 0.3}
+particle_types:
+  - {name: sphere, material: ball, size: {distribution: fixed, radius: 0.004}}
+surfaces:
+  - {name: floor, type: stl, file: floor.stl, material: ball}
+factories:
+  - {name: drop, particle_type: sphere, region: {type: box, min: [-0.05, -0.05, 0.0041], max: [0.05, 0.05, 0.03]}, count: 40}
+)";
+  World world = testing_support::start_world(parse_deck((folder / "deck.yaml").string()));
+  sim::advance(world, 30000);  // 60 ms: the spheres land on the floor, wall contacts with history
+  ASSERT_FALSE(world.wall_contacts.empty());
+  const std::string checkpoint = (folder / "state.qck").string();
+  sim::write_checkpoint(world, checkpoint, 0);
+  // A changed mesh where the file still is: refused, naming it.
+  write_stl_binary((folder / "floor.stl").string(), make_plane({0, 0, 0.001}, {0, 0, 1}, 0.2, 4));
+  try {
+    sim::read_checkpoint(checkpoint);
+    ADD_FAILURE() << "a changed STL was not noticed";
+  } catch (const UserError& e) {
+    EXPECT_NE(e.diagnostics().format().find("floor.stl"), std::string::npos) << e.diagnostics().format();
+  }
+  // Deck and mesh gone, the checkpoint alone in another folder: it restores and continues.
+  fs::remove(folder / "floor.stl");
+  fs::remove(folder / "deck.yaml");
+  const fs::path moved = folder / "elsewhere" / "state.qck";
+  fs::create_directories(moved.parent_path());
+  fs::rename(checkpoint, moved);
+  sim::RestoredWorld restored = sim::read_checkpoint(moved.string());
+  EXPECT_EQ(sim::state_hash(restored.world), sim::state_hash(world));
+  sim::advance(world, 500);
+  sim::advance(restored.world, 500);
+  EXPECT_EQ(sim::state_hash(restored.world), sim::state_hash(world));
 }
 
 }  // namespace
