@@ -277,7 +277,9 @@ std::byte* OutputSlots::get(std::size_t k, std::size_t bytes) {
 
 void Reader::write_outputs(Writer& reply) const {
   std::size_t bytes = reply.bytes().size();
-  for (const OutputArray& o : outputs_) bytes += o.data ? 16 + o.used * o.element_bytes : 0;
+  // Arrays in shared memory take 8 bytes of the reply (their count), not their size: reserving
+  // that too made every reply of a large get a fresh mapping of megabytes, zeroed by the kernel.
+  for (const OutputArray& o : outputs_) bytes += o.data ? 16 + (o.in_message ? o.used * o.element_bytes : 0) : 0;
   reply.bytes().reserve(bytes);  // one allocation for the whole reply
   for (const OutputArray& o : outputs_) {
     if (!o.data) continue;  // absent: the client expects nothing for it
