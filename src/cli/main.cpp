@@ -10,6 +10,9 @@
 #include <omp.h>
 
 #include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <csignal>
 #include <iostream>
 
@@ -129,11 +132,21 @@ int main(int argc, char** argv) {
   Common common;
   std::string deck, checkpoint;
 
+  // Values the run cannot use are refused here (exit 2), not ignored.
+  const auto positive_finite_seconds = [](const std::string& text) -> std::string {
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || !(value > 0.0))
+      return fmt::format("'{}' is not a time: give a finite number of seconds > 0, e.g. --end-time 2.5", text);
+    return {};
+  };
   auto add_common = [&](CLI::App* sub, bool with_run_options) {
-    sub->add_option("--threads", common.threads, "OpenMP threads (default: all cores or the deck's)");
+    sub->add_option("--threads", common.threads, "OpenMP threads (default: all cores or the deck's)")
+        ->check(CLI::Range(0, 4096).description("0 (the default) or a number of threads up to 4096"));
     if (with_run_options) {
       sub->add_option("--output-dir", common.output_dir, "output folder (overrides output.directory)");
-      sub->add_option("--end-time", common.end_time, "end time in s (overrides simulation.end_time)");
+      sub->add_option("--end-time", common.end_time, "end time in s (overrides simulation.end_time)")
+          ->check(CLI::Validator(positive_finite_seconds, "SECONDS > 0"));
       sub->add_flag("--quiet", common.quiet, "no progress lines or stage table");
     }
   };
@@ -182,6 +195,14 @@ int main(int argc, char** argv) {
   } catch (const PhysicsError& e) {
     std::cerr << "quarry: error: " << e.what() << "\n";
     return 3;
+  } catch (const FileError& e) {
+    std::cerr << "quarry: error: " << e.what()
+              << "\n  hint: check that the folder exists, is writable, and that the disk has space\n";
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "quarry: error: " << e.what()
+              << "\n  hint: check that the path exists and is a folder where a folder is meant\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "quarry: internal error: " << e.what() << "\n";
     return 4;

@@ -73,6 +73,14 @@ class PhysicsError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A file or folder of the user's environment that cannot be read or written — disk full, no
+// permission, a file where a folder should be: not a bug of ours, so the CLI exits 2 and says
+// which path and why.
+class FileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // Levenshtein distance, for "did you mean" suggestions.
 int edit_distance(const std::string& a, const std::string& b);
 // The candidate closest to `word` if it is close enough to be a plausible typo, else "".

@@ -112,7 +112,7 @@ LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* cons
       const bool append = resume_time && fs::exists(csv, ignored);
       if (append) truncate_csv(csv, *resume_time);
       output->csv.open(csv, std::ios::binary | (append ? std::ios::app : std::ios::trunc));
-      if (!output->csv) throw std::runtime_error("cannot write " + csv.string());
+      if (!output->csv) throw FileError("cannot write '" + csv.string() + "'");
       if (!append) output->csv << kLoadsCsvHeader << '\n';
     }
     outputs_.push_back(std::move(output));
@@ -141,7 +141,7 @@ void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, d
     }
     output.csv << rows;
     output.csv.flush();
-    if (!output.csv) throw std::runtime_error("write failed for the loads CSV of " + output.name);
+    if (!output.csv) throw FileError("cannot write the loads CSV of surface '" + output.name + "' (disk full?)");
   }
   if (output.vtu_series) {
     const std::string file = fmt::format("{}_loads_{:06}.vtu", output.name, record - 1);

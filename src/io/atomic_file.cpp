@@ -1,6 +1,8 @@
 // Atomic file replacement: temporary file + fsync + rename + folder fsync (POSIX).
 #include "io/atomic_file.h"
 
+#include "core/diagnostics.h"
+
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/stat.h>
@@ -21,8 +23,7 @@ namespace {
 
 [[noreturn]] void throw_io_error(const std::string& what, const std::filesystem::path& path,
                                  int error_number) {
-  throw std::runtime_error(
-      fmt::format("cannot {} '{}': {}", what, path.string(), std::strerror(error_number)));
+  throw FileError(fmt::format("cannot {} '{}': {}", what, path.string(), std::strerror(error_number)));
 }
 
 // Closes a file descriptor on every path out of a scope (errors from close on the success
@@ -86,15 +87,14 @@ void fsync_folder(const std::filesystem::path& folder, const std::filesystem::pa
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
   if (path.empty() || !path.has_filename()) {
-    throw std::runtime_error(fmt::format("cannot write '{}': not a file name", path.string()));
+    throw FileError(fmt::format("cannot write '{}': not a file name", path.string()));
   }
   const std::filesystem::path folder = path.parent_path();
   if (!folder.empty()) {
     std::error_code error;
     std::filesystem::create_directories(folder, error);
     if (error) {
-      throw std::runtime_error(
-          fmt::format("cannot create the folder of '{}': {}", path.string(), error.message()));
+      throw FileError(fmt::format("cannot create the folder of '{}': {}", path.string(), error.message()));
     }
   }
 

@@ -222,6 +222,12 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
 }  // namespace
 
 SimulationSpec parse_deck(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw UserError({path, 0, 0}, "this is a folder, not a deck file", "give the path of the YAML deck itself");
+  if (std::filesystem::exists(path, error) && !std::filesystem::is_regular_file(path, error))
+    throw UserError({path, 0, 0}, "this is not a regular file (a device or a pipe), not a deck file",
+                    "give the path of the YAML deck itself");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw UserError({path, 0, 0}, "cannot open the deck file",

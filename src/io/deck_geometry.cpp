@@ -128,7 +128,10 @@ void read_stl_file(MapReader& map, const DeckParseOptions& options, Located<std:
   std::error_code ignored;
   const fs::path resolved = fs::absolute(path, ignored).lexically_normal();
   if (options.require_files && !fs::is_regular_file(resolved, ignored)) {
-    map.context().error(file.where, fmt::format("STL file \"{}\" not found", file.value),
+    const bool folder = fs::is_directory(resolved, ignored);
+    map.context().error(file.where,
+                        folder ? fmt::format("STL file \"{}\" is a folder, not a file", file.value)
+                               : fmt::format("STL file \"{}\" not found", file.value),
                         fmt::format("looked for \"{}\"; relative paths start at the deck's folder",
                                     resolved.string()));
     return;
