@@ -640,6 +640,10 @@ std::uint32_t LocalBackend::add_surface(const quarry_surface_desc& d) {
     for (std::uint32_t v : q) index_ok(v, "quad", k);
     s.mesh_quads.push_back(q);
   }
+  if (!usable_in_file_names(d.name))
+    fail(QUARRY_ERROR_BAD_VALUE, fmt::format("quarry_add_surface: the name \"{}\" cannot be part of a file name (it names "
+                                             "the surface's output files): no '/', '\\' or control characters, and no '.' "
+                                             "first", d.name));
   const auto& names = started_ ? world_.spec.surfaces : spec_.surfaces;
   for (const SurfaceSpec& other : names)
     if (other.name.value == s.name.value)

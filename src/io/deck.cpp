@@ -180,11 +180,35 @@ Diagnostics in_file_order(const Diagnostics& diagnostics) {
   return sorted;
 }
 
+// The line (1-based) of the `---` that starts the deck's second document: the first `---` line
+// after a line with content (a `---` before any content only opens the first document).
+int second_document_line(const std::string& text) {
+  std::istringstream lines(text);
+  std::string line;
+  bool content = false;
+  for (int number = 1; std::getline(lines, line); ++number) {
+    const bool marker = line.rfind("---", 0) == 0 && (line.size() == 3 || line[3] == ' ' || line[3] == '\t' || line[3] == '\r');
+    if (marker && content) return number;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (!marker && first != std::string::npos && line[first] != '#') content = true;
+  }
+  return 0;
+}
+
 SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& display_name,
                           const DeckParseOptions& options) {
   YAML::Node root;
   try {
-    root = YAML::Load(yaml_text);
+    const std::vector<YAML::Node> documents = YAML::LoadAll(yaml_text);
+    if (documents.size() > 1) {
+      // A second `---` starts a second document, which a plain load would drop without a word.
+      const int line = second_document_line(yaml_text);
+      throw UserError({display_name, line, 1},
+                      "a second YAML document starts here: a deck is one document, and "
+                      "everything from this line on would be ignored",
+                      "remove this '---' line, or the text after it that belongs to another deck");
+    }
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& error) {
     // A syntax error stops the YAML reader; nothing after it can be trusted.
     const SourceLocation where =
@@ -220,6 +244,14 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
 }
 
 }  // namespace
+
+bool usable_in_file_names(const std::string& name) {
+  if (name.empty() || name.front() == '.') return false;
+  return std::none_of(name.begin(), name.end(), [](char c) {
+    const auto byte = static_cast<unsigned char>(c);
+    return c == '/' || c == '\\' || byte < 0x20 || byte == 0x7f;
+  });
+}
 
 SimulationSpec parse_deck(const std::string& path) {
   std::error_code error;

@@ -36,4 +36,9 @@ struct DeckParseOptions {
 SimulationSpec parse_deck_string(const std::string& yaml_text, const std::string& display_name,
                                  const DeckParseOptions& options);
 
+// True if `name` can stand in a file name of the output folder (a surface's name names its output
+// files): not empty, not starting with '.', and no '/', '\\' or control characters — so no name
+// reaches outside the folder or hides its files.
+bool usable_in_file_names(const std::string& name);
+
 }  // namespace quarry

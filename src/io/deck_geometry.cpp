@@ -328,7 +328,11 @@ void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
           break;
       }
     }
-    map.read("name", surface.name, Presence::required);
+    if (map.read("name", surface.name, Presence::required) && !usable_in_file_names(surface.name.value))
+      context.error(surface.name.where,
+                    fmt::format("surface name \"{}\" cannot be part of a file name", surface.name.value),
+                    "a surface's name names its output files (NAME_000001.vtu, NAME.pvd): no '/', '\\' or "
+                    "control characters, and no '.' first");
     map.read("material", surface.material, Presence::required);
     read_motion(map, surface.motion);
     map.read("conveyor_velocity", surface.conveyor_velocity);

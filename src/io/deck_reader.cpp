@@ -101,10 +101,15 @@ std::string suggestion_hint(const std::string& word, const std::vector<std::stri
 }
 
 namespace {
-// A quoted scalar (`"2500"`) is text in YAML; yaml-cpp gives it the non-specific tag "!".
+// A quoted scalar (`"2500"`) is text in YAML (yaml-cpp gives it the non-specific tag "!"), and so
+// is one tagged `!!str` (the tag resolves to the core schema's str).
 bool is_quoted(const YAML::Node& node) {
   return node.Tag() == "!";
 }
+bool is_tagged_text(const YAML::Node& node) {
+  return node.Tag() == "tag:yaml.org,2002:str";
+}
+bool is_text(const YAML::Node& node) { return is_quoted(node) || is_tagged_text(node); }
 }  // namespace
 
 std::optional<double> read_number(DeckContext& context, const YAML::Node& value,
@@ -116,10 +121,10 @@ std::optional<double> read_number(DeckContext& context, const YAML::Node& value,
                   fmt::format("expected a number for \"{}\", got {}", key, describe_node(value)));
     return std::nullopt;
   }
-  if (is_quoted(value)) {
+  if (is_text(value)) {
     context.error(
         at, fmt::format("expected a number for \"{}\", got the text {}", key, describe_node(value)),
-        "remove the quotes");
+        is_quoted(value) ? "remove the quotes" : "remove the !!str tag: it makes the value text");
     return std::nullopt;
   }
   if (!std::isfinite(number)) {
@@ -133,7 +138,7 @@ std::optional<double> read_number(DeckContext& context, const YAML::Node& value,
 std::optional<std::int64_t> read_integer(DeckContext& context, const YAML::Node& value,
                                          const YAML::Node& fallback, const std::string& key) {
   long long number = 0;
-  if (!value.IsScalar() || is_quoted(value) || !YAML::convert<long long>::decode(value, number)) {
+  if (!value.IsScalar() || is_text(value) || !YAML::convert<long long>::decode(value, number)) {
     context.error(context.where(value, fallback),
                   fmt::format("expected an integer for \"{}\", got {}", key, describe_node(value)));
     return std::nullopt;
@@ -144,7 +149,7 @@ std::optional<std::int64_t> read_integer(DeckContext& context, const YAML::Node&
 std::optional<bool> read_boolean(DeckContext& context, const YAML::Node& value,
                                  const YAML::Node& fallback, const std::string& key) {
   bool flag = false;
-  if (!value.IsScalar() || is_quoted(value) || !YAML::convert<bool>::decode(value, flag)) {
+  if (!value.IsScalar() || is_text(value) || !YAML::convert<bool>::decode(value, flag)) {
     context.error(
         context.where(value, fallback),
         fmt::format("expected true or false for \"{}\", got {}", key, describe_node(value)));
