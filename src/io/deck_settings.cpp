@@ -13,6 +13,15 @@ namespace quarry::deck_detail {
 
 namespace {
 
+// Bounds of physical magnitudes, far outside any DEM simulation but inside what double arithmetic
+// and a 64-bit step count hold: a value beyond them is a typo, and the time step, the Rayleigh
+// and Hertz times and the step count computed from it would be meaningless (1e308 Pa gave
+// "use a time step <= 0 s"; 1e-320 s a negative step count).
+const Range kTimeStepRange = interval(1e-12, true, 10.0, true);       // s
+const Range kEndTimeRange = interval(0.0, false, 1e7, true);          // s, 116 days
+const Range kDensityRange = interval(0.0, false, 1e5, true);          // kg/m³ (osmium: 22,590)
+const Range kYoungsModulusRange = interval(0.0, false, 1e13, true);   // Pa (diamond: 1.2e12)
+
 // Mass fractions of a discrete distribution must sum to one within this tolerance (1).
 constexpr double kMassFractionSumTolerance = 1e-6;
 // Default clip bounds of normal and log-normal sizes: mean ± this many standard deviations.
@@ -31,7 +40,7 @@ void read_time_step(MapReader& simulation, SimulationSettings& settings) {
     return;
   }
   Located<double> fixed;
-  if (simulation.read("time_step", fixed, positive(), "s")) settings.fixed_time_step = fixed;
+  if (simulation.read("time_step", fixed, kTimeStepRange, "s")) settings.fixed_time_step = fixed;
 }
 
 void read_domain(MapReader& simulation, Located<Aabb>& domain) {
@@ -304,7 +313,7 @@ void read_simulation_section(MapReader& root, SimulationSettings& settings) {
   map.reject_unknown_keys({"end_time", "time_step", "impact_speed", "gravity", "domain",
                            "integrator", "threads", "skin", "sort_interval", "max_overlap_fraction",
                            "seed"});
-  map.read("end_time", settings.end_time, positive(), "s", Presence::required);
+  map.read("end_time", settings.end_time, kEndTimeRange, "s", Presence::required);
   read_time_step(map, settings);
   Located<double> impact_speed;
   if (map.read("impact_speed", impact_speed, positive(), "m/s"))
@@ -349,8 +358,8 @@ void read_materials_section(MapReader& root, std::vector<MaterialSpec>& material
     MaterialSpec material;
     map.reject_unknown_keys({"name", "density", "youngs_modulus", "poisson_ratio"});
     map.read("name", material.name, Presence::required);
-    map.read("density", material.density, positive(), "kg/m³", Presence::required);
-    map.read("youngs_modulus", material.youngs_modulus, positive(), "Pa", Presence::required);
+    map.read("density", material.density, kDensityRange, "kg/m³", Presence::required);
+    map.read("youngs_modulus", material.youngs_modulus, kYoungsModulusRange, "Pa", Presence::required);
     // Isotropic elasticity requires −1 < ν < 0.5; granular solids have ν ≥ 0.
     map.read("poisson_ratio", material.poisson_ratio, interval(0.0, true, 0.5, false), "1",
              Presence::required);

@@ -100,6 +100,15 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
                                "give simulation.time_step or define a particle type"});
     return choice;
   }
+  // The run counts its steps in 64 bits and its time in doubles: beyond 1e15 steps the time no
+  // longer advances by dt exactly enough to schedule outputs (and no run would end).
+  constexpr double kMostSteps = 1e15;
+  const double steps = spec.simulation.end_time.value / choice.dt;
+  if (steps > kMostSteps)
+    choice.problems.push_back({Severity::error, spec.simulation.end_time.where,
+                               fmt::format("end time {:.4g} s is {:.3g} steps of {:.4g} s (at most {:.0e})",
+                                           spec.simulation.end_time.value, steps, choice.dt, kMostSteps),
+                               "shorten simulation.end_time or use a larger time step"});
   if (std::isfinite(choice.hertz_time)) {
     choice.steps_per_contact = choice.hertz_time / choice.dt;
     const std::string what = fmt::format(
