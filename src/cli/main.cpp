@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -73,6 +74,10 @@ int command_check(const std::string& deck) {
   if (d.has_errors()) throw UserError(d);
   std::cerr << d.format();
   World world = build_world(spec);
+  // The world's own notes (e.g. facets an STL reader removed); the time step's are printed above.
+  for (const std::string& note : world.warnings)
+    if (std::none_of(choice.problems.begin(), choice.problems.end(), [&](const Diagnostic& p) { return p.message == note; }))
+      std::cerr << "quarry: warning: " << note << "\n";
   std::size_t triangles = 0;
   for (const auto& s : world.surfaces) triangles += s.mesh.triangle_count();
   std::cout << fmt::format(

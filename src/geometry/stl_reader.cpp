@@ -9,7 +9,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <algorithm>
+#include <array>
 #include <fstream>
+#include <set>
 #include <iterator>
 #include <vector>
 
@@ -47,6 +50,15 @@ bool is_text(const std::string& bytes) {
     if (!whitespace && (c < 32 || c > 126)) return false;
   }
   return true;
+}
+
+// An ASCII STL whose text holds bytes outside printable ASCII (a solid or a comment named in
+// UTF-8): it begins with "solid" and has the ASCII structure's keywords. Its size does not fit
+// the binary layout (checked before), so reading it as binary would only fail.
+bool looks_like_ascii_stl(const std::string& bytes) {
+  const std::size_t first = bytes.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos || bytes.compare(first, 5, "solid") != 0) return false;
+  return bytes.find("facet") != std::string::npos && bytes.find("vertex") != std::string::npos;
 }
 
 Vec3 transformed(double x, double y, double z, double scale, const Vec3& offset) {
@@ -229,7 +241,7 @@ std::vector<Vec3> parse_ascii(const std::string& text, const std::string& path, 
 
 }  // namespace
 
-Surface read_stl(const std::string& path, double scale, const Vec3& offset) {
+Surface read_stl(const std::string& path, double scale, const Vec3& offset, std::vector<std::string>* notes) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw UserError(SourceLocation{path, 0, 0}, fmt::format("cannot open STL file \"{}\"", path),
@@ -242,8 +254,8 @@ Surface read_stl(const std::string& path, double scale, const Vec3& offset) {
   if (bytes.size() >= binary_header_bytes &&
       bytes.size() == binary_header_bytes + binary_facet_bytes * std::size_t{read_u32_le(bytes.data() + 80)})
     binary = true;  // exact size match: binary, even when the header begins with "solid"
-  else if (is_text(bytes))
-    binary = false;  // text: ASCII (a text file not starting with "solid" fails on its first token)
+  else if (is_text(bytes) || looks_like_ascii_stl(bytes))
+    binary = false;  // text, or "solid …" with facets whose name line has non-ASCII bytes (UTF-8)
 
   std::vector<Vec3> corners =
       binary ? parse_binary(bytes, path, scale, offset) : parse_ascii(bytes, path, scale, offset);
@@ -255,7 +267,59 @@ Surface read_stl(const std::string& path, double scale, const Vec3& offset) {
       throw UserError(SourceLocation{path, 0, 0},
                       "STL coordinates overflow after applying scale and offset",
                       "check the scale factor");
-  return surface_from_triangle_soup(corners, std::string{});
+  Surface surface = surface_from_triangle_soup(corners, std::string{});
+  const StlCleanup cleanup = drop_degenerate_and_duplicate_facets(surface);
+  if (surface.triangle_count() == 0)
+    throw UserError(SourceLocation{path, 0, 0},
+                    fmt::format("STL file \"{}\" has no facet with an area: its {} facets are degenerate or "
+                                "copies of one another",
+                                path, corners.size() / 3),
+                    "export the surface again; check the units and the export tolerance");
+  if (notes && (cleanup.degenerate > 0 || cleanup.duplicates > 0))
+    notes->push_back(fmt::format("STL file \"{}\": {} degenerate facet(s) (no area after merging "
+                                 "coincident corners) and {} duplicate facet(s) (the same three corners "
+                                 "again) removed; element ids count the {} facets kept, in file order",
+                                 path, cleanup.degenerate, cleanup.duplicates, surface.triangle_count()));
+  return surface;
+}
+
+StlCleanup drop_degenerate_and_duplicate_facets(Surface& surface) {
+  StlCleanup cleanup;
+  std::set<std::array<std::uint32_t, 3>> seen;  // sorted corners of the facets kept
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
+    const auto& tri = surface.triangles[t];
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] || !(surface.triangle_areas[t] > 0.0)) {
+      ++cleanup.degenerate;
+      continue;
+    }
+    std::array<std::uint32_t, 3> key = tri;
+    std::sort(key.begin(), key.end());
+    if (!seen.insert(key).second) {
+      ++cleanup.duplicates;  // either orientation: a second wall in the same place
+      continue;
+    }
+    kept.push_back(tri);
+  }
+  if (cleanup.degenerate == 0 && cleanup.duplicates == 0) return cleanup;
+  // Vertices no kept facet uses go too, so that node ids stay those of the mesh's own nodes.
+  std::vector<std::uint32_t> new_index(surface.vertices.size(), ~0u);
+  std::vector<Vec3> vertices;
+  for (auto& tri : kept)
+    for (auto& v : tri) {
+      if (new_index[v] == ~0u) {
+        new_index[v] = static_cast<std::uint32_t>(vertices.size());
+        vertices.push_back(surface.vertices[v]);
+      }
+      v = new_index[v];
+    }
+  surface.vertices = std::move(vertices);
+  surface.reference_vertices = surface.vertices;
+  surface.vertex_velocities.assign(surface.vertices.size(), Vec3{});
+  surface.triangles = std::move(kept);
+  surface.update_normals_and_areas();
+  surface.reset_loads();
+  return cleanup;
 }
 
 void write_stl_binary(const std::string& path, const Surface& surface) {

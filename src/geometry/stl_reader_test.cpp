@@ -8,6 +8,7 @@
 #include <cstring>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "core/diagnostics.h"
 #include "geometry/primitives.h"
@@ -68,7 +69,13 @@ TEST(StlReader, ReadsAsciiWeldsAndAppliesScaleThenOffset) {
 }
 
 TEST(StlReader, ReadsSeveralSolidsInOneAsciiFile) {
-  const std::string path = temp_file("two_solids.stl", std::string(two_facets) + two_facets);
+  // The second solid is the first one 1 m higher (its copy in the same place would be removed
+  // as duplicates, DuplicateFacetsAreRemovedInEitherOrientation).
+  std::string raised = two_facets;
+  for (const char* level : {" 0\n", " 0\r\n"})
+    for (std::size_t at = raised.find(level); at != std::string::npos; at = raised.find(level, at + 3))
+      raised.replace(at, 2, " 1");
+  const std::string path = temp_file("two_solids.stl", std::string(two_facets) + raised);
   EXPECT_EQ(read_stl(path, 1.0, {}).triangle_count(), 4u);
 }
 
@@ -104,14 +111,56 @@ TEST(StlReader, LargeBinaryFileReadsAndWelds) {
   EXPECT_EQ(read.vertex_count(), 225u * 225u);
 }
 
-TEST(StlReader, DegenerateFacetIsKeptWithZeroArea) {
+// A facet whose corners lie on a line bounds nothing: it is removed and counted (the mesh's
+// element ids then count the facets kept).
+TEST(StlReader, DegenerateFacetIsRemovedAndCounted) {
   const std::string text =
       "solid d\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 2 0 0\nendloop\nendfacet\n"
       "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid d\n";
-  const Surface surface = read_stl(temp_file("degenerate.stl", text), 1.0, {});
-  ASSERT_EQ(surface.triangle_count(), 2u);
-  EXPECT_EQ(surface.triangle_areas[0], 0.0);
-  EXPECT_DOUBLE_EQ(surface.triangle_areas[1], 0.5);
+  std::vector<std::string> notes;
+  const Surface surface = read_stl(temp_file("degenerate.stl", text), 1.0, {}, &notes);
+  ASSERT_EQ(surface.triangle_count(), 1u);
+  EXPECT_DOUBLE_EQ(surface.triangle_areas[0], 0.5);
+  EXPECT_EQ(surface.vertex_count(), 3u);  // the point (2, 0, 0) only the degenerate facet used is gone
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("1 degenerate facet(s)"), std::string::npos) << notes[0];
+}
+
+// The same facet twice (once reversed) is one wall, not two: a sphere on a doubled plate had
+// every contact counted twice (restitution 0.59 instead of 0.69). The copies are removed.
+TEST(StlReader, DuplicateFacetsAreRemovedInEitherOrientation) {
+  Surface square = make_plane({0, 0, 0}, {0, 0, 1}, 1.0, 2);  // 8 triangles
+  const std::size_t once = square.triangle_count();
+  for (std::size_t t = 0; t < once; ++t) {
+    auto copy = square.triangles[t];
+    if (t % 2) std::swap(copy[1], copy[2]);  // every other copy reversed
+    square.triangles.push_back(copy);
+  }
+  square.update_normals_and_areas();
+  const std::string path = testing::TempDir() + "doubled.stl";
+  write_stl_binary(path, square);
+  std::vector<std::string> notes;
+  const Surface read = read_stl(path, 1.0, {}, &notes);
+  EXPECT_EQ(read.triangle_count(), once);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("8 duplicate facet(s)"), std::string::npos) << notes[0];
+}
+
+TEST(StlReader, MeshOfOnlyDegenerateFacetsIsAUserError) {
+  const std::string text =
+      "solid d\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 2 0 0\nendloop\nendfacet\nendsolid d\n";
+  EXPECT_THROW(read_stl(temp_file("only_degenerate.stl", text), 1.0, {}), UserError);
+}
+
+// An ASCII file whose solid is named in UTF-8 is not text in the 7-bit sense, and its size does
+// not fit the binary layout: it is read as ASCII, not as a binary file announcing 774909216
+// facets.
+TEST(StlReader, AsciiWithANonAsciiNameIsReadAsAscii) {
+  const std::string text = std::string("solid Ladefläche_\xc3\xa9\n") +
+                           "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+                           "endfacet\nendsolid\n";
+  const Surface surface = read_stl(temp_file("utf8_name.stl", text), 1.0, {});
+  EXPECT_EQ(surface.triangle_count(), 1u);
 }
 
 TEST(StlReader, MissingFileIsAUserError) {

@@ -77,10 +77,10 @@ std::vector<std::uint32_t> mesh_element_map(const SurfaceSpec& s) {
   return element_of_triangle;
 }
 
-Surface make_surface(const SurfaceSpec& s) {
+Surface make_surface(const SurfaceSpec& s, std::vector<std::string>& notes) {
   switch (s.kind.value) {
     case SurfaceKind::mesh: return make_mesh_surface(s);
-    case SurfaceKind::stl: return read_stl(s.file.value, s.scale.value, s.offset.value);
+    case SurfaceKind::stl: return read_stl(s.file.value, s.scale.value, s.offset.value, &notes);
     case SurfaceKind::plane: return make_plane(s.point.value, s.normal.value, s.size.value, 1);
     case SurfaceKind::box: return make_box(s.min.value, s.max.value, 1);
     case SurfaceKind::cylinder:
@@ -163,7 +163,7 @@ std::size_t add_surface(World& world, const SurfaceSpec& s, const Surface* given
     surface.reference_vertices = given->reference_vertices;
     surface.triangles = given->triangles;
   } else {
-    surface = make_surface(s);
+    surface = make_surface(s, world.warnings);
   }
   record.element_of_triangle = mesh_element_map(s);
   record.element_count = record.element_of_triangle.empty() ? surface.triangle_count()
