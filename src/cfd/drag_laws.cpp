@@ -12,15 +12,15 @@
 namespace quarry::cfd {
 namespace {
 
-constexpr double pi = std::numbers::pi;
+constexpr double kPi = std::numbers::pi;
 
 // Gidaspow's switch between Ergun and Wen-Yu, on ε (Gidaspow 1994).
-constexpr double gidaspow_switch_porosity = 0.8;
+constexpr double kGidaspowSwitchPorosity = 0.8;
 // Schiller-Naumann's switch to the Newton regime, on Re.
-constexpr double newton_regime_reynolds = 1000.0;
-constexpr double newton_drag_coefficient = 0.44;
+constexpr double kNewtonRegimeReynolds = 1000.0;
+constexpr double kNewtonDragCoefficient = 0.44;
 // Koch-Hill's switch of F0 to Carman-Kozeny, on φ.
-constexpr double koch_hill_dense_solid_fraction = 0.4;
+constexpr double kKochHillDenseSolidFraction = 0.4;
 
 bool finite(const Vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
@@ -38,8 +38,8 @@ bool finite(const Vec3& v) {
 
 // C_d·Re of Schiller-Naumann: 24 (1 + 0.15 Re^0.687) below Re = 1000, 0.44 Re from there.
 double schiller_naumann_cd_times_re(double reynolds) {
-  if (reynolds < newton_regime_reynolds) return 24.0 * (1.0 + 0.15 * std::pow(reynolds, 0.687));
-  return newton_drag_coefficient * reynolds;
+  if (reynolds < kNewtonRegimeReynolds) return 24.0 * (1.0 + 0.15 * std::pow(reynolds, 0.687));
+  return kNewtonDragCoefficient * reynolds;
 }
 
 // C_d·Re of Dallavalle: (0.63 √Re + 4.8)².
@@ -52,7 +52,7 @@ double dallavalle_cd_times_re(double reynolds) {
 double koch_hill_f0(double solid_fraction) {
   const double phi = solid_fraction;
   if (phi == 0.0) return 1.0;  // the limit: φ ln φ → 0 (ln 0 would give 0·∞)
-  if (phi < koch_hill_dense_solid_fraction) {
+  if (phi < kKochHillDenseSolidFraction) {
     const double numerator =
         1.0 + 3.0 * std::sqrt(phi / 2.0) + (135.0 / 64.0) * phi * std::log(phi) + 16.14 * phi;
     const double denominator = 1.0 + 0.681 * phi - 8.48 * phi * phi + 8.16 * phi * phi * phi;
@@ -102,7 +102,7 @@ double superficial_reynolds_number(const DragInput& input) {
 }
 
 double particle_volume(const DragInput& input) {
-  return pi / 6.0 * input.diameter * input.diameter * input.diameter;
+  return kPi / 6.0 * input.diameter * input.diameter * input.diameter;
 }
 
 double volumetric_exchange_coefficient(double particle_coefficient, const DragInput& input) {
@@ -145,14 +145,14 @@ double beetstra_dimensionless_drag(double solid_fraction, double reynolds) {
 DragResult stokes_drag(const DragInput& input) {
   check_drag_input(input);
   // β_p = 3π ε d μ (seed 001).
-  return along_slip(input, 3.0 * pi * input.porosity * input.diameter * input.fluid_viscosity);
+  return along_slip(input, 3.0 * kPi * input.porosity * input.diameter * input.fluid_viscosity);
 }
 
 DragResult schiller_naumann_drag(const DragInput& input) {
   check_drag_input(input);
   // β_p = ½ ρ_f C_d (π d²/4) |u − v| = (π/8) μ d (C_d Re), since ρ_f |u − v| d = Re μ.
   const double reynolds = slip_reynolds_number(input);
-  return along_slip(input, pi / 8.0 * input.fluid_viscosity * input.diameter *
+  return along_slip(input, kPi / 8.0 * input.fluid_viscosity * input.diameter *
                                schiller_naumann_cd_times_re(reynolds));
 }
 
@@ -162,7 +162,7 @@ DragResult di_felice_drag(const DragInput& input) {
   // since ρ_f |u − v| d = Re_p μ / ε.
   const double reynolds = superficial_reynolds_number(input);
   const double exponent = di_felice_exponent(reynolds);
-  return along_slip(input, pi / 8.0 * input.fluid_viscosity * input.diameter *
+  return along_slip(input, kPi / 8.0 * input.fluid_viscosity * input.diameter *
                                std::pow(input.porosity, 1.0 - exponent) *
                                dallavalle_cd_times_re(reynolds));
 }
@@ -172,7 +172,7 @@ DragResult gidaspow_drag(const DragInput& input) {
   const double porosity = input.porosity;
   const double viscosity = input.fluid_viscosity;
   const double diameter = input.diameter;
-  if (porosity < gidaspow_switch_porosity) {
+  if (porosity < kGidaspowSwitchPorosity) {
     // Ergun: β_p = β V_p/(1 − ε) = V_p [150 (1 − ε) μ / (ε d²) + 1.75 ρ_f |u − v| / d].
     const double slip = norm(slip_velocity(input));
     const double per_volume =
@@ -183,7 +183,7 @@ DragResult gidaspow_drag(const DragInput& input) {
   // Wen-Yu: β_p = ½ C_d ρ_f (π d²/4) ε^(−1.65) |u − v| = (π/8) μ d ε^(−2.65) (C_d Re_p),
   // since ρ_f |u − v| d = Re_p μ / ε.
   const double reynolds = superficial_reynolds_number(input);
-  return along_slip(input, pi / 8.0 * viscosity * diameter * std::pow(porosity, -2.65) *
+  return along_slip(input, kPi / 8.0 * viscosity * diameter * std::pow(porosity, -2.65) *
                                schiller_naumann_cd_times_re(reynolds));
 }
 
@@ -193,8 +193,8 @@ DragResult koch_hill_drag(const DragInput& input) {
   const double porosity = input.porosity;
   const double dimensionless =
       koch_hill_dimensionless_drag(1.0 - porosity, superficial_reynolds_number(input));
-  return along_slip(input, 3.0 * pi * input.fluid_viscosity * input.diameter * porosity * porosity *
-                               dimensionless);
+  return along_slip(input, 3.0 * kPi * input.fluid_viscosity * input.diameter * porosity *
+                               porosity * dimensionless);
 }
 
 DragResult beetstra_drag(const DragInput& input) {
@@ -204,18 +204,18 @@ DragResult beetstra_drag(const DragInput& input) {
   const double dimensionless =
       beetstra_dimensionless_drag(1.0 - porosity, superficial_reynolds_number(input));
   return along_slip(input,
-                    3.0 * pi * input.fluid_viscosity * input.diameter * porosity * dimensionless);
+                    3.0 * kPi * input.fluid_viscosity * input.diameter * porosity * dimensionless);
 }
 
 std::string_view drag_law_name(DragLaw law) {
-  for (const DragLawName& entry : drag_law_names)
+  for (const DragLawName& entry : kDragLawNames)
     if (entry.law == law) return entry.name;
   throw std::invalid_argument(
       fmt::format("drag law: no law has the value {}", static_cast<int>(law)));
 }
 
 std::optional<DragLaw> drag_law_from_name(std::string_view name) {
-  for (const DragLawName& entry : drag_law_names)
+  for (const DragLawName& entry : kDragLawNames)
     if (entry.name == name) return entry.law;
   return std::nullopt;
 }

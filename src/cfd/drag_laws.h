@@ -135,7 +135,7 @@ DragResult koch_hill_drag(const DragInput& input);
 // it tends to Stokes with relative excess ≈ 0.1446 Re_p^1.157 as Re_p → 0.
 DragResult beetstra_drag(const DragInput& input);
 
-// The laws, for the deck key `drag_law:` (spellings in drag_law_names).
+// The laws, for the deck key `drag_law:` (spellings in kDragLawNames).
 enum class DragLaw { stokes, schiller_naumann, di_felice, gidaspow, koch_hill, beetstra };
 
 struct DragLawName {
@@ -143,7 +143,7 @@ struct DragLawName {
   DragLaw law;
 };
 // One spelling per law, in the enum's order.
-inline constexpr std::array<DragLawName, 6> drag_law_names{{
+inline constexpr std::array<DragLawName, 6> kDragLawNames{{
     {"stokes", DragLaw::stokes},
     {"schiller_naumann", DragLaw::schiller_naumann},
     {"di_felice", DragLaw::di_felice},

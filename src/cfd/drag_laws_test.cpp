@@ -16,9 +16,9 @@
 namespace quarry::cfd {
 namespace {
 
-constexpr double pi = std::numbers::pi;
+constexpr double kPi = std::numbers::pi;
 
-constexpr std::array<DragLaw, 6> all_laws{DragLaw::stokes,    DragLaw::schiller_naumann,
+constexpr std::array<DragLaw, 6> kAllLaws{DragLaw::stokes,    DragLaw::schiller_naumann,
                                           DragLaw::di_felice, DragLaw::gidaspow,
                                           DragLaw::koch_hill, DragLaw::beetstra};
 
@@ -148,7 +148,7 @@ TEST(DragReference, Beetstra) {
 // β_p over Stokes' 3π μ d, at ε and slip.
 double ratio_to_stokes(DragLaw law, double porosity, double slip) {
   const DragInput input = reference_input(porosity, slip);
-  return drag_force(law, input).coefficient / (3.0 * pi * input.fluid_viscosity * input.diameter);
+  return drag_force(law, input).coefficient / (3.0 * kPi * input.fluid_viscosity * input.diameter);
 }
 
 TEST(DragLimits, StokesLimitAtEpsilon1AndItsOrderInRe) {
@@ -191,8 +191,8 @@ TEST(DragLimits, ZeroSlipGivesZeroForceAndTheCreepingFlowCoefficient) {
     input.fluid_velocity = Vec3{0.3, -0.1, 2.0};
     input.particle_velocity = input.fluid_velocity;
     const double phi = 1.0 - porosity;
-    const double stokes = 3.0 * pi * input.fluid_viscosity * input.diameter;  // kg/s
-    double koch_hill_f0 = 1.0;                                                // φ = 0
+    const double stokes = 3.0 * kPi * input.fluid_viscosity * input.diameter;  // kg/s
+    double koch_hill_f0 = 1.0;                                                 // φ = 0
     if (phi > 0.0 && phi < 0.4)
       koch_hill_f0 =
           (1.0 + 3.0 * std::sqrt(phi / 2.0) + 135.0 / 64.0 * phi * std::log(phi) + 16.14 * phi) /
@@ -208,9 +208,9 @@ TEST(DragLimits, ZeroSlipGivesZeroForceAndTheCreepingFlowCoefficient) {
         porosity * (10.0 * phi / (porosity * porosity) +
                     porosity * porosity * (1.0 + 1.5 * std::sqrt(phi))),
     };
-    for (std::size_t i = 0; i < all_laws.size(); ++i) {
-      SCOPED_TRACE(std::string(drag_law_name(all_laws[i])) + " at ε = " + std::to_string(porosity));
-      const DragResult result = drag_force(all_laws[i], input);
+    for (std::size_t i = 0; i < kAllLaws.size(); ++i) {
+      SCOPED_TRACE(std::string(drag_law_name(kAllLaws[i])) + " at ε = " + std::to_string(porosity));
+      const DragResult result = drag_force(kAllLaws[i], input);
       EXPECT_EQ(result.force, Vec3{});
       EXPECT_TRUE(std::isfinite(result.coefficient));
       EXPECT_NEAR(result.coefficient / stokes, expected[i], 1e-13 * expected[i]);
@@ -303,7 +303,7 @@ TEST(DragSwitches, KochHillF0JumpsBy1PercentAtPhi04) {
 TEST(DragDirection, ForceIsAlongTheSlipAndDependsOnlyOnIt) {
   const Vec3 slips[] = {{1e-3, 0.0, 0.0}, {0.0, -0.02, 0.0}, {0.3, -0.4, 1.2}, {-2.0, 1.0, -0.5}};
   const Vec3 frame{0.7, -1.3, 4.0};  // m/s added to both velocities
-  for (const DragLaw law : all_laws) {
+  for (const DragLaw law : kAllLaws) {
     for (const double porosity : {0.5, 0.85, 1.0}) {
       for (const Vec3& slip : slips) {
         SCOPED_TRACE(std::string(drag_law_name(law)) + " at ε = " + std::to_string(porosity));
@@ -360,7 +360,7 @@ TEST(DragInputChecks, NonPhysicalOrNonFiniteInputIsRejectedWithTheValueNamed) {
       {[](DragInput& in) { in.fluid_velocity.z = -std::numeric_limits<double>::infinity(); },
        "fluid velocity", "-inf)"},
   };
-  for (const DragLaw law : all_laws) {
+  for (const DragLaw law : kAllLaws) {
     for (const Case& c : cases) {
       DragInput input = reference_input(0.7, 0.1);
       input.fluid_velocity = Vec3{0.0, 0.0, 0.1};
@@ -374,7 +374,7 @@ TEST(DragInputChecks, NonPhysicalOrNonFiniteInputIsRejectedWithTheValueNamed) {
 }
 
 TEST(DragLawNames, EverySpellingRoundTripsAndUnknownOnesAreRefused) {
-  for (const DragLaw law : all_laws) EXPECT_EQ(drag_law_from_name(drag_law_name(law)), law);
+  for (const DragLaw law : kAllLaws) EXPECT_EQ(drag_law_from_name(drag_law_name(law)), law);
   EXPECT_EQ(drag_law_name(DragLaw::schiller_naumann), "schiller_naumann");
   EXPECT_EQ(drag_law_from_name("koch_hill"), DragLaw::koch_hill);
   EXPECT_FALSE(drag_law_from_name("Stokes").has_value());
