@@ -39,6 +39,7 @@ struct Common {
   std::string output_dir;
   double end_time = -1.0;
   bool quiet = false;
+  bool overwrite = false;
 };
 
 void apply_threads(int threads) {
@@ -52,6 +53,7 @@ sim::RunOptions run_options(const Common& c) {
   o.quiet = c.quiet;
   o.stop = &g_stop_signal;
   o.threads = c.threads;
+  o.overwrite = c.overwrite;
   return o;
 }
 
@@ -153,6 +155,8 @@ int main(int argc, char** argv) {
       sub->add_option("--end-time", common.end_time, "end time in s (overrides simulation.end_time)")
           ->check(CLI::Validator(positive_finite_seconds, "SECONDS > 0"));
       sub->add_flag("--quiet", common.quiet, "no progress lines or stage table");
+      sub->add_flag("--overwrite", common.overwrite,
+                    "replace an earlier run's output in the output folder (only the files it wrote)");
     }
   };
   CLI::App* run = app.add_subcommand("run", "run a simulation from a YAML deck");

@@ -68,9 +68,14 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }
 }  // namespace
 
-void write_monitor_plots(const std::string& directory, const std::vector<std::string>& columns,
-                         const std::vector<std::vector<double>>& rows) {
+std::vector<std::string> write_monitor_plots(const std::string& directory, const std::vector<std::string>& columns,
+                                             const std::vector<std::vector<double>>& rows) {
   namespace fs = std::filesystem;
+  std::vector<std::string> written;
+  const auto plot = [&](const std::string& file, const PlotSpec& spec) {
+    write_line_plot_png(fs::path(directory) / file, spec);
+    written.push_back(file);
+  };
   const auto index_of = [&](const std::string& name) {
     for (std::size_t k = 0; k < columns.size(); ++k)
       if (columns[k] == name) return k;
@@ -80,25 +85,26 @@ void write_monitor_plots(const std::string& directory, const std::vector<std::st
   for (std::size_t k = 0; k < columns.size(); ++k)
     if (ends_with(columns[k], "_F_N"))
       forces.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 4)));
-  if (!forces.series.empty()) write_line_plot_png(fs::path(directory) / "surface_forces.png", forces);
+  if (!forces.series.empty()) plot("surface_forces.png", forces);
 
   PlotSpec speed{"Mean particle speed", "time (s)", "speed (m/s)",
                  {column_series(rows, index_of("mean_speed_m_s"), "mean speed")}};
-  write_line_plot_png(fs::path(directory) / "mean_speed.png", speed);
+  plot("mean_speed.png", speed);
 
   PlotSpec count{"Particles in the simulation", "time (s)", "count",
                  {column_series(rows, index_of("particles"), "particles")}};
-  write_line_plot_png(fs::path(directory) / "particle_count.png", count);
+  plot("particle_count.png", count);
 
   PlotSpec energy{"Kinetic energy", "time (s)", "energy (J)",
                   {column_series(rows, index_of("kinetic_energy_J"), "kinetic energy")}};
-  write_line_plot_png(fs::path(directory) / "kinetic_energy.png", energy);
+  plot("kinetic_energy.png", energy);
 
   PlotSpec masses{"Mass in monitor regions", "time (s)", "mass (kg)", {}};
   for (std::size_t k = 0; k < columns.size(); ++k)
     if (ends_with(columns[k], "_mass_kg"))
       masses.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 8)));
-  if (!masses.series.empty()) write_line_plot_png(fs::path(directory) / "region_mass.png", masses);
+  if (!masses.series.empty()) plot("region_mass.png", masses);
+  return written;
 }
 
 }  // namespace quarry::sim

@@ -16,7 +16,8 @@ std::vector<std::string> monitor_columns(const World& world, std::size_t surface
 std::vector<double> monitor_row(const World& world, std::size_t surface_count);
 // PNG plots next to the CSV: force on each surface, mean particle speed, particle count and
 // kinetic energy against time.
-void write_monitor_plots(const std::string& directory, const std::vector<std::string>& columns,
-                         const std::vector<std::vector<double>>& rows);
+// Returns the files written (names in `directory`).
+std::vector<std::string> write_monitor_plots(const std::string& directory, const std::vector<std::string>& columns,
+                                             const std::vector<std::vector<double>>& rows);
 
 }  // namespace quarry::sim

@@ -4,9 +4,11 @@
 #include "sim/output.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <iostream>
+#include <sstream>
 
 #include "export/load_exporter.h"
 #include "io/atomic_file.h"
@@ -24,6 +26,9 @@ std::uint64_t every_steps(double interval, double dt) {
   return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(interval / dt)));
 }
 
+// A temporary file of write_file_atomically (NAME.tmp.PID.N) that a killed run left.
+bool is_stale_temporary(const std::string& name) { return name.find(".tmp.") != std::string::npos; }
+
 std::vector<const Surface*> meshes_of(const World& world) {
   std::vector<const Surface*> meshes;
   for (const WorldSurface& s : world.surfaces) meshes.push_back(&s.mesh);
@@ -31,6 +36,62 @@ std::vector<const Surface*> meshes_of(const World& world) {
 }
 
 }  // namespace
+
+void prepare_output_folder(const std::filesystem::path& directory, bool resume, bool overwrite) {
+  namespace fs = std::filesystem;
+  fs::create_directories(directory);
+  std::error_code error;
+  std::vector<std::string> earlier;  // what an earlier run left (for the message)
+  for (const auto& entry : fs::directory_iterator(directory, error)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file(error) && is_stale_temporary(name)) {
+      fs::remove(entry.path(), error);
+      continue;
+    }
+    if (name == kOutputManifest || name == "checkpoint.qck" || name == "monitors.csv" || name == "particles.pvd")
+      earlier.push_back(name);
+  }
+  if (resume || earlier.empty()) return;
+  if (!overwrite)
+    throw UserError(SourceLocation{directory.string(), 0, 0},
+                    fmt::format("the output folder holds an earlier run's output ({}); a new run would mix "
+                                "its files with that run's",
+                                fmt::join(earlier, ", ")),
+                    "add --overwrite to replace that run's files (only those), or choose another folder "
+                    "with --output-dir; 'quarry restart' continues a run in its own folder");
+  // Remove what the earlier run wrote: its manifest's files, else (a folder of a Quarry without
+  // manifests) its checkpoint, monitors, plots and series.
+  std::vector<fs::path> remove;
+  if (const std::optional<std::string> listed = read_file(directory / kOutputManifest)) {
+    std::istringstream lines(*listed);
+    for (std::string line; std::getline(lines, line);) {
+      const fs::path relative(line);
+      if (line.empty() || relative.is_absolute() || line.find("..") != std::string::npos) continue;  // not ours
+      remove.push_back(directory / relative);
+    }
+    remove.push_back(directory / kOutputManifest);
+  } else {
+    for (const auto& entry : fs::directory_iterator(directory)) {
+      const std::string name = entry.path().filename().string();
+      const std::string extension = entry.path().extension().string();
+      if (name == "checkpoint.qck" || name == "monitors.csv" || extension == ".pvd" ||
+          (extension == ".vtu" && name.size() > 11 && name[name.size() - 11] == '_') ||
+          (extension == ".png" && entry.is_regular_file()))
+        remove.push_back(entry.path());
+    }
+  }
+  for (const fs::path& path : remove) {
+    fs::remove_all(path, error);
+    if (error) throw FileError(fmt::format("cannot remove '{}' of the earlier run: {}", path.string(), error.message()));
+  }
+}
+
+void Output::wrote(const std::string& relative) {
+  if (!manifest_.insert(relative).second) return;
+  std::string text;
+  for (const std::string& name : manifest_) text += name + "\n";
+  write_file_atomically(directory_ / kOutputManifest, text);
+}
 
 Output::Output(World& world, const OutputOptions& options)
     : log_(options.log ? *options.log : std::cerr),
@@ -41,7 +102,12 @@ Output::Output(World& world, const OutputOptions& options)
       monitors_(directory_ / "monitors.csv", monitor_columns(world, world.surfaces.size())),
       particle_series_(directory_ / "particles.pvd"),
       checkpoint_path_((directory_ / "checkpoint.qck").string()) {
-  std::filesystem::create_directories(directory_);
+  prepare_output_folder(directory_, options.resume_time.has_value(), options.overwrite);
+  if (const std::optional<std::string> listed = read_file(directory_ / kOutputManifest)) {
+    std::istringstream lines(*listed);  // a restart keeps the run's list and goes on with it
+    for (std::string line; std::getline(lines, line);)
+      if (!line.empty()) manifest_.insert(line);
+  }
   const auto& out = world.spec.output;
   output_every_ = every_steps(out.interval.value, world.dt);
   monitor_every_ = every_steps(out.monitor_interval.value > 0 ? out.monitor_interval.value : out.interval.value, world.dt);
@@ -62,6 +128,10 @@ Output::Output(World& world, const OutputOptions& options)
   }
   exporter_ = std::make_unique<fem_export::LoadExporter>(world.spec.fem_export, meshes_of(world), directory_,
                                                          world.dt, options.resume_time);
+  if (exporter_->active()) wrote(std::filesystem::relative(exporter_->directory(), directory_).string());
+  wrote("monitors.csv");
+  wrote("particles.pvd");
+  for (const WorldSurface& s : world.surfaces) wrote(s.mesh.name + ".pvd");
   for (const auto& note : exporter_->notes()) log_ << "quarry: " << note << "\n";
 }
 
@@ -89,7 +159,8 @@ void Output::finish(World& world, bool interrupted) {
   for (std::size_t k = notes_before; k < exporter_->notes().size(); ++k) log_ << "quarry: " << exporter_->notes()[k] << "\n";
   monitors_.flush();
   if (world.spec.output.plots.value && !monitors_.rows().empty())
-    write_monitor_plots(directory_.string(), monitors_.columns(), monitors_.rows());
+    for (const std::string& plot : write_monitor_plots(directory_.string(), monitors_.columns(), monitors_.rows()))
+      wrote(plot);
 }
 
 void Output::stopped_by_error(World& world) {
@@ -100,6 +171,7 @@ void Output::stopped_by_error(World& world) {
 
 std::string Output::write_checkpoint_now(World& world) {
   monitors_.flush();
+  wrote("checkpoint.qck");
   write_checkpoint(world, checkpoint_path_, frame_index_);
   checkpoint_written_ = true;
   return checkpoint_path_;
@@ -108,6 +180,7 @@ std::string Output::write_checkpoint_now(World& world) {
 void Output::write_frame(World& world) {
   const std::string tag = fmt::format("{:06}", frame_index_);
   const std::string particle_file = "particles_" + tag + ".vtu";
+  wrote(particle_file);
   write_file_atomically(directory_ / particle_file, particles_vtu(world.particles, world.type_names));
   particle_series_.add(world.time, particle_file);
   LoadFrame means;
@@ -115,6 +188,7 @@ void Output::write_frame(World& world) {
     WorldSurface& surface = world.surfaces[s];
     surface.output_window.take_means(surface.mesh, world.time, means);
     const std::string file = surface.mesh.name + "_" + tag + ".vtu";
+    wrote(file);
     write_file_atomically(directory_ / file, surface_vtu(surface.mesh, means.pressure, means.shear_stress,
                                                          means.force, means.nodal_force));
     surface_series_[s].add(world.time, file);

@@ -9,6 +9,7 @@
 #include <iosfwd>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,21 @@ struct OutputOptions {
   // kept and continued; later records are dropped.
   std::optional<double> resume_time;
   std::uint64_t frame_index = 0;
+  // A fresh run into a folder that holds an earlier run's output: false refuses (UserError),
+  // true removes what that run wrote first (the files its manifest lists, nothing else).
+  bool overwrite = false;
 };
+
+// The output folder's manifest: the files a run wrote there, one relative path a line, so that
+// a later run can tell the folder is taken and --overwrite can remove exactly those files.
+inline constexpr const char* kOutputManifest = ".quarry_outputs";
+
+// Makes `directory` ready for a run's output: creates it, removes the temporary files a killed
+// run left (NAME.tmp.PID.N), and for a fresh run (not `resume`) refuses a folder holding an
+// earlier run's output unless `overwrite`, which removes the files that run's manifest lists
+// (and, for a folder of a Quarry without manifests, its checkpoint, monitors and series).
+// Throws UserError naming the folder and what is there, FileError when it cannot remove them.
+void prepare_output_folder(const std::filesystem::path& directory, bool resume, bool overwrite);
 
 class Output {
  public:
@@ -62,6 +77,8 @@ class Output {
  private:
   void write_frame(World& world);
   void record_monitors(World& world);
+  // Adds a file (relative to the folder) to the manifest, which is rewritten atomically.
+  void wrote(const std::string& relative);
 
   std::ostream& log_;
   std::filesystem::path directory_;
@@ -76,6 +93,7 @@ class Output {
   bool checkpoint_written_ = false;
   bool frame_pending_ = false;     // a step was taken since the last frame
   std::unique_ptr<fem_export::LoadExporter> exporter_;
+  std::set<std::string> manifest_;  // the files of this folder the run wrote (relative)
 };
 
 }  // namespace quarry::sim

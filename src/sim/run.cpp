@@ -114,6 +114,7 @@ OutputOptions output_options(const World& world, const RunOptions& options, doub
                                                  : fs::path(options.output_directory);
   o.end_time = end_time;
   o.log = options.log;
+  o.overwrite = options.overwrite;
   return o;
 }
 

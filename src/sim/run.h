@@ -19,6 +19,7 @@ struct RunOptions {
   std::optional<double> end_time;    // s, overrides simulation.end_time
   bool quiet = false;                // no progress lines
   int threads = 0;                   // > 0: overrides the deck's simulation.threads
+  bool overwrite = false;            // a folder with an earlier run's output: replace its files
   std::ostream* log = nullptr;       // progress/summary stream (default std::cerr)
   // Read after every step: non-zero (a signal number) asks the run to stop with a checkpoint.
   // The CLI's SIGINT/SIGTERM handler sets it; null: the run is never asked.
