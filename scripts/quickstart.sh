@@ -6,4 +6,5 @@ cd "$(dirname "$0")/.."
 bash scripts/install_deps.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
-./build/release/src/cli/quarry run examples/truck_bed/truck_bed.yaml --output-dir out/truck_bed "$@"
+# --overwrite: running the quickstart again replaces its own earlier output.
+./build/release/src/cli/quarry run examples/truck_bed/truck_bed.yaml --output-dir out/truck_bed --overwrite "$@"
