@@ -103,7 +103,8 @@ void Factory::draw_due_radii(double time) {
 }
 
 InsertionReport Factory::insert_due(double time, ParticleStore& particles, ParticleId& next_id,
-                                    const SurfaceOverlapQuery& touches_surface) {
+                                    const SurfaceOverlapQuery& touches_surface,
+                                    const std::function<bool()>& stop_requested) {
   InsertionReport report;
   if (closed_ || time < spec_.start_time.value) return report;
   draw_due_radii(std::min(time, spec_.stop_time.value));
@@ -134,7 +135,14 @@ InsertionReport Factory::insert_due(double time, ParticleStore& particles, Parti
 
   std::vector<double> still_waiting;
   const int attempts = spec_.max_attempts.value;
-  for (const double radius : waiting_radii_) {
+  for (std::size_t k = 0; k < waiting_radii_.size(); ++k) {
+    if (stop_requested && k % 1024 == 0 && k > 0 && stop_requested()) {
+      still_waiting.insert(still_waiting.end(),
+                           waiting_radii_.begin() + static_cast<std::ptrdiff_t>(k),
+                           waiting_radii_.end());
+      break;
+    }
+    const double radius = waiting_radii_[k];
     bool placed = false;
     for (int attempt = 0; attempt < attempts && !placed; ++attempt) {
       const Vec3 centre = region_.sample_point(random_, radius);

@@ -58,9 +58,12 @@ class Factory {
   // Inserts the particles due at `time` (s) into `particles` with ids next_id, next_id + 1, …
   // (next_id is advanced), initial velocity from the spec, creation time `time`.
   // Cost: O(particles.size()) to find those near the region, plus O(due × max_attempts) local
-  // overlap tests and surface queries.
+  // overlap tests and surface queries. `stop_requested`, if given, is asked every 1024
+  // particles: when it says yes the call returns at once, the rest still due (placed by a later
+  // call), so that a stop asked for during a long insertion is taken.
   InsertionReport insert_due(double time, ParticleStore& particles, ParticleId& next_id,
-                             const SurfaceOverlapQuery& touches_surface);
+                             const SurfaceOverlapQuery& touches_surface,
+                             const std::function<bool()>& stop_requested = {});
 
   // Target reached (everything drawn and placed), or a call at time ≥ stop_time has happened.
   bool finished() const;

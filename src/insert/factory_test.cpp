@@ -103,6 +103,29 @@ TEST(Factory, CountTargetInsertsEverythingAtStartWithoutOverlap) {
             0);  // nothing more is due
 }
 
+// A stop asked for during a long insertion ends the call after the current block of 1024
+// particles; the rest stay waiting and a later call places them (issue 19: SIGTERM was ignored
+// until a two-million-particle insertion had finished).
+TEST(Factory, StopRequestEndsTheInsertionEarlyAndTheRestIsPlacedLater) {
+  FactorySpec spec = box_factory({0, 0, 0}, {0.4, 0.4, 0.4});
+  spec.target_count = Located<std::int64_t>(5000);
+  Factory factory(spec, uniform_type(2e-3, 3e-3), 42);
+  ParticleStore particles;
+  ParticleId next_id = 0;
+  int asked = 0;
+  const auto stop_at_second_question = [&asked] { return ++asked >= 2; };
+  const InsertionReport first =
+      factory.insert_due(0.0, particles, next_id, kNoSurfaces, stop_at_second_question);
+  EXPECT_EQ(first.inserted, 2048);  // asked at 1024 (no) and 2048 (yes)
+  EXPECT_EQ(factory.waiting_count(), 5000 - 2048);
+  EXPECT_FALSE(factory.finished());
+  const InsertionReport second = factory.insert_due(1e-5, particles, next_id, kNoSurfaces);
+  EXPECT_EQ(second.inserted, 5000 - 2048);
+  EXPECT_EQ(particles.size(), 5000u);
+  EXPECT_TRUE(factory.finished());
+  EXPECT_LE(largest_overlap(particles), 0.0);
+}
+
 TEST(Factory, NewParticlesAvoidExistingOnes) {
   // A lattice of large existing particles through the region and beyond its faces.
   ParticleStore particles;

@@ -123,6 +123,7 @@ OutputOptions output_options(const World& world, const RunOptions& options, doub
 RunSummary run(World& world, const RunOptions& options) {
   const double end_time = options.end_time ? *options.end_time : world.spec.simulation.end_time.value;
   if (options.threads > 0) world.threading.threads = options.threads;
+  world.stop_request = options.stop;
   world.output = std::make_unique<Output>(world, output_options(world, options, end_time));
   initialize(world);  // also the first monitor row and frame
   RunSummary summary = run_loop(world, options, end_time);
@@ -144,6 +145,7 @@ RunSummary restart(const std::string& checkpoint_path, const RunOptions& options
   output.resume_time = world.time;
   output.frame_index = restored.frame_index;
   world.output = std::make_unique<Output>(world, output);
+  world.stop_request = options.stop;
   RunSummary summary = run_loop(world, o, end_time);
   world.output.reset();
   return summary;

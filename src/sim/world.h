@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -256,6 +257,9 @@ struct World {
   std::vector<std::string> warnings;  // reported once (e.g. factory shortfall)
 
   Threading threading;
+  // Non-zero (a signal number) asks long phases — a factory placing many particles — to end
+  // early; the run loop then stops with a checkpoint. Set by sim::run; null: never asked.
+  const std::atomic<int>* stop_request = nullptr;
   std::vector<StepHook> hooks;
   NotCopied<sim::Output> output;      // null: the step writes nothing
   StageTimers timers;

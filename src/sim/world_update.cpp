@@ -21,7 +21,8 @@ double max_surface_displacement(const World& world) {
     if (!s.moving()) continue;
     const auto& now = s.mesh.vertices;
     if (s.vertices_at_build.size() != now.size()) return 1e300;
-    for (std::size_t v = 0; v < now.size(); ++v) worst = std::max(worst, norm2(now[v] - s.vertices_at_build[v]));
+    for (std::size_t v = 0; v < now.size(); ++v)
+      worst = std::max(worst, norm2(now[v] - s.vertices_at_build[v]));
   }
   return std::sqrt(worst);
 }
@@ -96,10 +97,13 @@ void drive_surfaces(World& world, double time) {
   for (WorldSurface& s : world.surfaces) {
     SurfaceDriver& driver = s.driver;
     switch (driver.kind) {
-      case SurfaceDriverKind::fixed: break;
-      case SurfaceDriverKind::prescribed: apply_motion(driver.motion, time, s.mesh); break;
+      case SurfaceDriverKind::fixed:
+        break;
+      case SurfaceDriverKind::prescribed:
+        apply_motion(driver.motion, time, s.mesh);
+        break;
       case SurfaceDriverKind::coupled: {
-        if (driver.set_positions.empty()) break;  // nothing set yet: the surface rests
+        if (driver.set_positions.empty()) break;      // nothing set yet: the surface rests
         const double since = time - driver.set_time;  // s
         for (std::size_t v = 0; v < s.mesh.vertices.size(); ++v) {
           s.mesh.vertices[v] = driver.set_positions[v] + driver.set_velocities[v] * since;
@@ -117,12 +121,16 @@ void set_surface_vertices(World& world, std::size_t surface, std::span<const Vec
   WorldSurface& s = world.surfaces.at(surface);
   const std::size_t n = s.mesh.vertex_count();
   if (s.driver.kind != SurfaceDriverKind::coupled)
-    throw std::logic_error("surface '" + s.mesh.name + "' is not coupled; its vertices are moved by its own driver");
+    throw std::logic_error("surface '" + s.mesh.name +
+                           "' is not coupled; its vertices are moved by its own driver");
   if (positions.size() != n || (!velocities.empty() && velocities.size() != n))
-    throw std::invalid_argument("surface '" + s.mesh.name + "' has " + std::to_string(n) + " vertices");
+    throw std::invalid_argument("surface '" + s.mesh.name + "' has " + std::to_string(n) +
+                                " vertices");
   s.driver.set_positions.assign(positions.begin(), positions.end());
-  if (velocities.empty()) s.driver.set_velocities.assign(n, Vec3{});
-  else s.driver.set_velocities.assign(velocities.begin(), velocities.end());
+  if (velocities.empty())
+    s.driver.set_velocities.assign(n, Vec3{});
+  else
+    s.driver.set_velocities.assign(velocities.begin(), velocities.end());
   s.driver.set_time = world.time;
   // The surface is where the partner says now: the state between steps is complete.
   s.mesh.vertices = s.driver.set_positions;
@@ -156,7 +164,8 @@ void insert_and_remove(World& world, const DriftScan& scan) {
     if (scan.any_outside) {
       std::vector<char> outside(n, 0);
       for (std::size_t i = 0; i < n; ++i) outside[i] = !domain.contains(p.position[i]);
-      world.removed_outside += static_cast<std::uint64_t>(std::count(outside.begin(), outside.end(), 1));
+      world.removed_outside +=
+          static_cast<std::uint64_t>(std::count(outside.begin(), outside.end(), 1));
       drop_wall_contacts_of_removed(world, outside);
       p.remove_flagged(outside);
       world.lists_stale = true;
@@ -178,8 +187,11 @@ void insert_and_remove(World& world, const DriftScan& scan) {
     }
     return false;
   };
+  const std::atomic<int>* stop = world.stop_request;
+  const auto stop_requested = [stop] { return stop && stop->load(std::memory_order_relaxed) != 0; };
   for (auto& factory : world.factories) {
-    const InsertionReport report = factory.insert_due(world.time, p, world.next_id, touches_surface);
+    const InsertionReport report =
+        factory.insert_due(world.time, p, world.next_id, touches_surface, stop_requested);
     if (report.inserted > 0) world.lists_stale = true;
   }
 }
