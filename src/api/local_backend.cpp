@@ -701,8 +701,8 @@ void LocalBackend::set_surface_driver(std::uint32_t surface, std::int32_t driver
     // A fixed surface rests where it is, and its search grid is made for that pose.
     for (Vec3& v : s.mesh.vertex_velocities) v = Vec3{};
     world_.lists_stale = true;
-    s.grid.build(s.mesh, 2.0 * world_.max_radius + world_.skin);
     s.vertices_at_build = s.mesh.vertices;
+    build_search_grid(world_, s);
   }
 }
 

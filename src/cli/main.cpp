@@ -21,6 +21,7 @@
 #include "core/allocator.h"
 #include "io/deck.h"
 #include "sim/estimate.h"
+#include "sim/memory_estimate.h"
 #include "sim/run.h"
 #include "sim/time_step_choice.h"
 #include "sim/world.h"
@@ -82,13 +83,15 @@ int command_check(const std::string& deck) {
       std::cerr << "quarry: warning: " << note << "\n";
   std::size_t triangles = 0;
   for (const auto& s : world.surfaces) triangles += s.mesh.triangle_count();
+  const sim::MemoryEstimate memory = sim::estimate_memory(spec);
   std::cout << fmt::format(
       "{}: ok — {} materials, {} particle types, {} surfaces ({} triangles), {} factories; "
-      "dt = {:.4g} s ({} steps to {:.4g} s)\n",
+      "dt = {:.4g} s ({} steps to {:.4g} s); memory about {} of {}\n",
       deck, spec.materials.size(), spec.particle_types.size(), world.surfaces.size(), triangles,
       spec.factories.size(), world.dt,
       static_cast<long long>(spec.simulation.end_time.value / world.dt + 0.5),
-      spec.simulation.end_time.value);
+      spec.simulation.end_time.value, sim::format_bytes(memory.bytes),
+      sim::format_bytes(static_cast<double>(sim::machine_memory_bytes())));
   return 0;
 }
 

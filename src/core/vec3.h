@@ -55,7 +55,18 @@ struct Aabb {
   constexpr bool contains(const Vec3& p) const {
     return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
   }
-  constexpr bool empty() const { return lo.x > hi.x; }
+  constexpr bool empty() const { return lo.x > hi.x || lo.y > hi.y || lo.z > hi.z; }
 };
+
+// Closed boxes that share at least a point (false if either is empty).
+constexpr bool overlaps(const Aabb& a, const Aabb& b) {
+  return !a.empty() && !b.empty() && a.lo.x <= b.hi.x && a.hi.x >= b.lo.x && a.lo.y <= b.hi.y &&
+         a.hi.y >= b.lo.y && a.lo.z <= b.hi.z && a.hi.z >= b.lo.z;
+}
+
+// The common part of two boxes (empty when they do not overlap).
+constexpr Aabb intersection(const Aabb& a, const Aabb& b) {
+  return Aabb{cwise_max(a.lo, b.lo), cwise_min(a.hi, b.hi)};
+}
 
 }  // namespace quarry

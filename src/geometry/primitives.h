@@ -3,6 +3,8 @@
 // velocities, normals, areas and zeroed loads, exactly like a surface read from STL.
 #pragma once
 
+#include <cstdint>
+
 #include "core/vec3.h"
 #include "geometry/surface.h"
 
@@ -28,5 +30,9 @@ Surface make_box(const Vec3& lo, const Vec3& hi, int divisions = 1);
 // radius ≤ 0, length ≤ 0, zero axis or segments < 3.
 Surface make_cylinder(const Vec3& base, const Vec3& axis, double radius, double length, int segments,
                       bool capped, bool inward = true);
+
+// The number of triangles make_cylinder makes for these values, without making them (the
+// memory estimate of `check`). Pre: radius, length > 0, segments ≥ 3.
+std::int64_t cylinder_triangle_count(double radius, double length, int segments, bool capped);
 
 }  // namespace quarry

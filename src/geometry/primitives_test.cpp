@@ -20,7 +20,9 @@ double total_area(const Surface& s) {
 }
 
 Vec3 centroid(const Surface& s, std::size_t t) {
-  return (s.vertices[s.triangles[t][0]] + s.vertices[s.triangles[t][1]] + s.vertices[s.triangles[t][2]]) / 3.0;
+  return (s.vertices[s.triangles[t][0]] + s.vertices[s.triangles[t][1]] +
+          s.vertices[s.triangles[t][2]]) /
+         3.0;
 }
 
 // Divergence theorem: V = (1/3) Σ (x_centroid · n) A over a closed surface with OUTWARD normals
@@ -35,7 +37,8 @@ double signed_volume(const Surface& s) {
 // Closed 2-manifold: every edge has exactly two triangles, and V − E + F = 2 (sphere topology).
 void expect_closed(const Surface& s) {
   const MeshTopology topology = build_topology(s);
-  for (std::uint32_t e = 0; e < topology.edge_count(); ++e) ASSERT_EQ(topology.triangles_of_edge(e).size(), 2u);
+  for (std::uint32_t e = 0; e < topology.edge_count(); ++e)
+    ASSERT_EQ(topology.triangles_of_edge(e).size(), 2u);
   EXPECT_EQ(static_cast<long>(s.vertex_count()) - static_cast<long>(topology.edge_count()) +
                 static_cast<long>(s.triangle_count()),
             2);
@@ -58,7 +61,8 @@ TEST(Primitives, PlaneIsAFlatSquareFacingItsNormal) {
     EXPECT_NEAR(norm(plane.triangle_normals[t] - normal / 3.0), 0.0, 1e-15);
     // The right-hand rule of the stored vertex order agrees with the reported normal.
     const auto& tri = plane.triangles[t];
-    EXPECT_GT(dot(cross(plane.vertices[tri[1]] - plane.vertices[tri[0]], plane.vertices[tri[2]] - plane.vertices[tri[0]]),
+    EXPECT_GT(dot(cross(plane.vertices[tri[1]] - plane.vertices[tri[0]],
+                        plane.vertices[tri[2]] - plane.vertices[tri[0]]),
                   normal),
               0.0);
   }
@@ -73,7 +77,8 @@ TEST(Primitives, BoxIsClosedWithInwardNormals) {
   EXPECT_NEAR(total_area(box), 2.0 * (2 * 0.5 + 0.5 * 0.25 + 2 * 0.25), 1e-13);
   EXPECT_NEAR(signed_volume(box), -(2 * 0.5 * 0.25), 1e-13);  // inward: −V
   const Vec3 middle = (lo + hi) / 2.0;
-  for (std::size_t t = 0; t < box.triangle_count(); ++t) EXPECT_GT(dot(box.triangle_normals[t], middle - centroid(box, t)), 0.0);
+  for (std::size_t t = 0; t < box.triangle_count(); ++t)
+    EXPECT_GT(dot(box.triangle_normals[t], middle - centroid(box, t)), 0.0);
 }
 
 TEST(Primitives, OpenCylinderHasThePolygonPrismSideArea) {
@@ -81,7 +86,8 @@ TEST(Primitives, OpenCylinderHasThePolygonPrismSideArea) {
   const double radius = 0.3, length = 1.1;
   const Surface side = make_cylinder({0, 0, 0}, {0, 0, 5}, radius, length, segments, false);
   // Side of the inscribed prism: segments · chord · length, chord = 2R sin(π/segments).
-  EXPECT_NEAR(total_area(side), segments * 2 * radius * std::sin(std::numbers::pi / segments) * length, 1e-12);
+  EXPECT_NEAR(total_area(side),
+              segments * 2 * radius * std::sin(std::numbers::pi / segments) * length, 1e-12);
   for (std::size_t t = 0; t < side.triangle_count(); ++t) {
     const Vec3 c = centroid(side, t);
     EXPECT_LT(dot(side.triangle_normals[t], Vec3{c.x, c.y, 0}), 0.0);  // towards the axis
@@ -94,7 +100,8 @@ TEST(Primitives, CappedCylinderEnclosesThePrismVolumeInBothOrientations) {
   const double radius = 0.25, length = 0.8;
   const Vec3 base{0.5, -0.2, 1.0}, axis{1, 1, 0};
   // Inscribed regular polygon area (segments/2) R² sin(2π/segments) times the length.
-  const double volume = 0.5 * segments * radius * radius * std::sin(2 * std::numbers::pi / segments) * length;
+  const double volume =
+      0.5 * segments * radius * radius * std::sin(2 * std::numbers::pi / segments) * length;
   const Surface inward = make_cylinder(base, axis, radius, length, segments, true, true);
   const Surface outward = make_cylinder(base, axis, radius, length, segments, true, false);
   expect_closed(inward);
@@ -113,6 +120,29 @@ TEST(Primitives, InvalidArgumentsAreUserErrors) {
   EXPECT_THROW(make_box({0, 0, 0}, {1, 0, 1}), UserError);
   EXPECT_THROW(make_cylinder({}, {0, 0, 1}, 1.0, 1.0, 2, false), UserError);
   EXPECT_THROW(make_cylinder({}, {0, 0, 0}, 1.0, 1.0, 8, false), UserError);
+}
+
+}  // namespace
+}  // namespace quarry
+
+namespace quarry {
+namespace {
+
+// The count the memory estimate uses is the count make_cylinder makes, for short, long, thin and
+// fat cylinders, open and capped.
+TEST(Primitives, CylinderTriangleCountIsTheCountMade) {
+  struct Case {
+    double radius, length;
+    int segments;
+  };
+  for (const Case c :
+       {Case{0.3, 0.6, 48}, Case{0.01, 2.0, 3}, Case{1.0, 0.01, 200}, Case{0.5, 0.5, 7}})
+    for (const bool capped : {false, true})
+      EXPECT_EQ(cylinder_triangle_count(c.radius, c.length, c.segments, capped),
+                static_cast<std::int64_t>(
+                    make_cylinder({0, 0, 0}, {0, 0, 1}, c.radius, c.length, c.segments, capped)
+                        .triangle_count()))
+          << c.radius << " " << c.length << " " << c.segments << " " << capped;
 }
 
 }  // namespace

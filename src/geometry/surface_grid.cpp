@@ -17,8 +17,9 @@ std::int64_t SurfaceGrid::cell_coordinate(double value, int axis) const {
   return static_cast<std::int64_t>(scaled);
 }
 
-void SurfaceGrid::build(const Surface& surface, double cell_size) {
-  if (!(cell_size > 0.0)) throw std::invalid_argument("SurfaceGrid::build: cell_size must be positive");
+void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& clip) {
+  if (!(cell_size > 0.0))
+    throw std::invalid_argument("SurfaceGrid::build: cell_size must be positive");
   cell_keys_.clear();
   cell_offsets_.assign(1, 0);
   cell_triangles_.clear();
@@ -31,6 +32,7 @@ void SurfaceGrid::build(const Surface& surface, double cell_size) {
     all.expand(box.lo);
     all.expand(box.hi);
   }
+  if (!clip.empty()) all = intersection(all, clip);
   cell_size_ = cell_size;
   if (all.empty()) {
     dims_[0] = dims_[1] = dims_[2] = 1;
@@ -56,6 +58,7 @@ void SurfaceGrid::build(const Surface& surface, double cell_size) {
   const double half_cell = 0.5 * cell_size_;
   for (std::uint32_t t = 0; t < surface.triangles.size(); ++t) {
     const Aabb& box = triangle_boxes_[t];
+    if (!overlaps(box, all)) continue;  // wholly outside the clip box: never queried
     const Vec3& a = surface.vertices[surface.triangles[t][0]];
     const Vec3 normal_unnormalised = cross(surface.vertices[surface.triangles[t][1]] - a,
                                            surface.vertices[surface.triangles[t][2]] - a);
@@ -63,7 +66,8 @@ void SurfaceGrid::build(const Surface& surface, double cell_size) {
     const Vec3 normal = normal_length > 0.0 ? normal_unnormalised / normal_length : Vec3{};
     // Projected half-width of a cell onto the normal (plane–box overlap test, Akenine-Möller
     // 2001), with 1e-9 slack so a plane lying exactly on a cell face lands in both cells.
-    const double reach = half_cell * (std::abs(normal.x) + std::abs(normal.y) + std::abs(normal.z)) * (1.0 + 1e-9);
+    const double reach =
+        half_cell * (std::abs(normal.x) + std::abs(normal.y) + std::abs(normal.z)) * (1.0 + 1e-9);
     const std::int64_t i0 = cell_coordinate(box.lo.x, 0), i1 = cell_coordinate(box.hi.x, 0);
     const std::int64_t j0 = cell_coordinate(box.lo.y, 1), j1 = cell_coordinate(box.hi.y, 1);
     const std::int64_t k0 = cell_coordinate(box.lo.z, 2), k1 = cell_coordinate(box.hi.z, 2);
@@ -71,7 +75,8 @@ void SurfaceGrid::build(const Surface& surface, double cell_size) {
       for (std::int64_t j = j0; j <= j1; ++j)
         for (std::int64_t i = i0; i <= i1; ++i) {
           if (normal_length > 0.0) {
-            const Vec3 centre = origin_ + Vec3{(i + 0.5) * cell_size_, (j + 0.5) * cell_size_, (k + 0.5) * cell_size_};
+            const Vec3 centre = origin_ + Vec3{(i + 0.5) * cell_size_, (j + 0.5) * cell_size_,
+                                               (k + 0.5) * cell_size_};
             if (std::abs(dot(normal, centre - a)) > reach) continue;
           }
           entries.emplace_back(key(i, j, k), t);
@@ -93,7 +98,8 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
   triangles_out.clear();
   if (cell_keys_.empty() || box.empty()) return;
   // A box entirely outside the grid touches nothing (cell_coordinate clamps, so test first).
-  const Vec3 grid_hi = origin_ + Vec3{dims_[0] * cell_size_, dims_[1] * cell_size_, dims_[2] * cell_size_};
+  const Vec3 grid_hi =
+      origin_ + Vec3{dims_[0] * cell_size_, dims_[1] * cell_size_, dims_[2] * cell_size_};
   for (int a = 0; a < 3; ++a)
     if (box.hi[a] < origin_[a] || box.lo[a] > grid_hi[a]) return;
   const std::int64_t i0 = cell_coordinate(box.lo.x, 0), i1 = cell_coordinate(box.hi.x, 0);
@@ -109,8 +115,8 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
         for (std::uint32_t e = cell_offsets_[cell]; e < cell_offsets_[cell + 1]; ++e) {
           const std::uint32_t t = cell_triangles_[e];
           const Aabb& tb = triangle_boxes_[t];
-          if (tb.lo.x <= box.hi.x && tb.hi.x >= box.lo.x && tb.lo.y <= box.hi.y && tb.hi.y >= box.lo.y &&
-              tb.lo.z <= box.hi.z && tb.hi.z >= box.lo.z)
+          if (tb.lo.x <= box.hi.x && tb.hi.x >= box.lo.x && tb.lo.y <= box.hi.y &&
+              tb.hi.y >= box.lo.y && tb.lo.z <= box.hi.z && tb.hi.z >= box.lo.z)
             triangles_out.push_back(t);
         }
       }

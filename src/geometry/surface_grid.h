@@ -16,9 +16,13 @@ class SurfaceGrid {
   // Bins every triangle of `surface` (current vertices) into the cells of edge `cell_size` (m,
   // > 0; typically particle diameter + skin) that its plane passes through within its bounding
   // box. If the surface's box would need more than max_cells cells the cell is enlarged until it
-  // fits (see cell_size()). Cost: O(cells touched by the triangles · log), e.g. 1e5 triangles
-  // at about one cell each in a few tens of ms. Throws std::invalid_argument if cell_size ≤ 0.
-  void build(const Surface& surface, double cell_size);
+  // fits (see cell_size()). `clip` (m), if not empty, bounds the grid: only the parts of the
+  // triangles inside it are binned, and queries must lie inside it (the world passes the domain
+  // grown by one cell: particles leave it when their centre does). Without it a plane of side
+  // 100 m in a 0.2 m domain filled 2²⁴ cells (17.7 s, 724 MB). Cost: O(cells touched by the
+  // triangles inside `clip` · log), e.g. 1e5 triangles at about one cell each in a few tens of
+  // ms. Throws std::invalid_argument if cell_size ≤ 0.
+  void build(const Surface& surface, double cell_size, const Aabb& clip = {});
 
   // Candidate triangles for `box` (m), sorted ascending and unique: every triangle that
   // intersects the box is included, and only triangles whose bounding box overlaps it. Clears triangles_out first. Thread-safe (const).

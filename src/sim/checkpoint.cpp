@@ -386,12 +386,8 @@ RestoredWorld read_payload(std::istream& in, std::uint64_t payload_bytes) {
   if (!r.at_end()) bad("bytes remain after the last section");
   validate(world);
   // The search grids of moving surfaces are those of the last list build.
-  for (WorldSurface& s : world.surfaces) {
-    if (!s.moving()) continue;
-    Surface at_build = s.mesh;
-    at_build.vertices = s.vertices_at_build;
-    s.grid.build(at_build, 2.0 * world.max_radius + world.skin);
-  }
+  for (WorldSurface& s : world.surfaces)
+    if (s.moving()) build_search_grid(world, s);
   world.initialized = true;
   return restored;
 }

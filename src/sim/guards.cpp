@@ -8,6 +8,7 @@
 
 #include "integrate/integrator.h"
 #include "sim/step.h"
+#include "sim/time_step_choice.h"
 
 namespace quarry::sim {
 
@@ -21,11 +22,53 @@ bool finite_state(const ParticleStore& p, std::size_t i) {
 std::string show(const Vec3& v) {
   return fmt::format("({:.6g}, {:.6g}, {:.6g})", v.x, v.y, v.z);
 }
+
+// Whether an excessive overlap is physics or a blow-up (issue 19). An elastic contact keeps
+// ½ m* v_n² + U(δ) constant, U = 8/15 E* sqrt(R*) δ^(5/2) (Hertz, Johnson 1985 eq. 11.23) or
+// ½ k δ² (linear): the pair holds the energy of an impact at v_eq = sqrt(v_n² + 2U/m*). At
+// or below the deck's expected impact speed the overlap is what theory predicts for the
+// material and the speed; far above it, energy was created: the time step is too large.
+struct OverlapDiagnosis {
+  std::string what, hint;
+};
+
+OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameters& p,
+                                  double effective_mass, double effective_radius,
+                                  double reference_radius, double overlap, double normal_speed) {
+  const double elastic = p.normal_model == NormalModel::linear
+                             ? 0.5 * p.linear_normal_stiffness * overlap * overlap
+                             : 8.0 / 15.0 * p.effective_youngs_modulus *
+                                   std::sqrt(effective_radius) * std::pow(overlap, 2.5);  // J
+  const double equivalent =
+      std::sqrt(normal_speed * normal_speed + 2.0 * elastic / effective_mass);  // m/s
+  const double expected = choose_time_step(world.spec).impact_speed;            // m/s
+  const double guard = world.spec.simulation.max_overlap_fraction.value;
+  if (equivalent <= 1.25 * expected)
+    return {
+        fmt::format(
+            "the pair holds the energy of an impact at {:.3g} m/s, within the expected {:.3g} m/s: "
+            "this overlap is what contact theory predicts for this material at this speed, not "
+            "an instability",
+            equivalent, expected),
+        fmt::format("stiffen the material (a {:.2g}-fold Young's modulus at least), raise "
+                    "simulation.max_overlap_fraction (now {:.3g}), or lower the impact speed; "
+                    "`quarry check` compares the Hertz peak overlap with the guard",
+                    std::pow(overlap / (guard * reference_radius), 2.5), guard)};
+  return {fmt::format("the pair holds the energy of an impact at {:.3g} m/s, far above the "
+                      "expected {:.3g} m/s: "
+                      "energy was created numerically (the run is going unstable)",
+                      equivalent, expected),
+          fmt::format(
+              "reduce simulation.time_step (now {:.4g} s); if impacts really are that fast, say so "
+              "with simulation.impact_speed so that the time step is chosen for them",
+              world.dt)};
+}
 }  // namespace
 
 // Per-thread tallies of the parallel opening pass, merged (exact: flags and a maximum, so any
 // merge order gives the same result).
-#pragma omp declare reduction(merge : OpeningTally : omp_out.merge(omp_in)) initializer(omp_priv = OpeningTally{})
+#pragma omp declare reduction(merge:OpeningTally \
+                              : omp_out.merge(omp_in)) initializer(omp_priv = OpeningTally{})
 
 DriftScan kick_drift_scan(World& world, double h, double dt) {
   ParticleStore& p = world.particles;
@@ -37,7 +80,8 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
   const Vec3* const reference = compare ? list.reference_positions.data() : nullptr;  // m
   const ParticleId* const id_at_build = compare ? list.ids_at_build.data() : nullptr;
   OpeningTally tally;
-#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) reduction(merge : tally)
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) reduction(merge \
+                                                                                         : tally)
   for (std::size_t i = 0; i < n; ++i) {
     integrate::kick_drift_particle(p, i, h, dt);
     const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
@@ -50,7 +94,8 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
     if (reference) {
       // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
       const double d2 = norm2(x - reference[i]);  // m²
-      tally.largest_displacement_squared = d2 > tally.largest_displacement_squared ? d2 : tally.largest_displacement_squared;
+      tally.largest_displacement_squared =
+          d2 > tally.largest_displacement_squared ? d2 : tally.largest_displacement_squared;
       tally.ids_changed |= p.id[i] != id_at_build[i];
     }
   }
@@ -71,7 +116,9 @@ void check_finite(const World& world) {
   const std::size_t n = p.size();
   // The first offending index (the same for any thread count), or n: a parallel min-reduction.
   std::size_t first_bad = n;
-#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) reduction(min : first_bad)
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) \
+    reduction(min                                                              \
+              : first_bad)
   for (std::size_t i = 0; i < n; ++i)
     if (!finite_state(p, i)) first_bad = std::min(first_bad, i);
   DriftScan scan;
@@ -110,27 +157,40 @@ void check_overlaps(const World& world) {
       if (overlap <= 0.0) continue;
       const double smaller = std::min(p.radius[i], p.radius[j]);
       if (overlap <= limit * smaller) continue;
+      const Vec3 n = normalized(p.position[i] - p.position[j]);
+      const OverlapDiagnosis why =
+          diagnose_overlap(world, world.materials.between(p.material[i], p.material[j]),
+                           1.0 / (p.inv_mass[i] + p.inv_mass[j]),
+                           p.radius[i] * p.radius[j] / (p.radius[i] + p.radius[j]), smaller,
+                           overlap, dot(p.velocity[i] - p.velocity[j], n));
       throw PhysicsError(fmt::format(
           "step {} (t = {:.6g} s): particles id {} and id {} overlap by {:.4g} m = {:.1f} % of the "
-          "smaller radius {:.4g} m (limit {:.0f} %); relative speed {:.4g} m/s\n"
-          "  hint: reduce simulation.time_step (now {:.4g} s), raise the Young's modulus, or lower "
-          "the impact speed; simulation.max_overlap_fraction sets the limit",
+          "smaller radius {:.4g} m (limit {:.3g} %); relative speed {:.4g} m/s; {}\n  hint: {}",
           world.step_count, world.time, p.id[i], p.id[j], overlap, 100.0 * overlap / smaller,
-          smaller, 100.0 * limit, norm(p.velocity[i] - p.velocity[j]), world.dt));
+          smaller, 100.0 * limit, norm(p.velocity[i] - p.velocity[j]), why.what, why.hint));
     }
   }
   for (const WallContact& contact : world.wall_contacts) {
     const std::size_t i = contact.particle;
     const double overlap = p.radius[i] - norm(p.position[i] - contact.point);
     if (overlap <= limit * p.radius[i]) continue;
+    const Surface& mesh = world.surfaces[contact.surface].mesh;
+    Vec3 wall_velocity;  // m/s, the triangle's mean vertex velocity
+    if (!mesh.vertex_velocities.empty())
+      for (int k = 0; k < 3; ++k)
+        wall_velocity += mesh.vertex_velocities[mesh.triangles[contact.triangle][k]] / 3.0;
+    const OverlapDiagnosis why = diagnose_overlap(
+        world, world.materials.between(p.material[i], mesh.material), 1.0 / p.inv_mass[i],
+        p.radius[i], p.radius[i], overlap, dot(p.velocity[i] - wall_velocity, contact.normal));
     throw PhysicsError(fmt::format(
         "step {} (t = {:.6g} s): particle id {} penetrates surface '{}' (element {}) by {:.4g} m "
-        "= {:.1f} % of its radius {:.4g} m (limit {:.0f} %); speed {:.4g} m/s\n"
-        "  hint: reduce simulation.time_step (now {:.4g} s) or raise the Young's modulus; a "
-        "surface moving faster than particles can follow also causes this",
-        world.step_count, world.time, p.id[i], world.surfaces[contact.surface].mesh.name,
-        contact.triangle, overlap, 100.0 * overlap / p.radius[i], p.radius[i], 100.0 * limit,
-        norm(p.velocity[i]), world.dt));
+        "= {:.1f} % of its radius {:.4g} m (limit {:.3g} %); speed {:.4g} m/s; {}\n  hint: {}{}",
+        world.step_count, world.time, p.id[i], mesh.name, contact.triangle, overlap,
+        100.0 * overlap / p.radius[i], p.radius[i], 100.0 * limit, norm(p.velocity[i]), why.what,
+        why.hint,
+        mesh.vertex_velocities.empty()
+            ? ""
+            : "; a surface moving faster than particles can follow also causes this"));
   }
 }
 

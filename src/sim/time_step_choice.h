@@ -20,6 +20,10 @@ struct TimeStepChoice {
   double dt = 0.0;                    // s
   bool fixed = false;                 // dt given in the deck
   double steps_per_contact = 0.0;     // T_h / dt
+  // Hertz peak overlap of the softest impact at impact_speed, over the smaller radius (1), and
+  // the contact it is for; compared with simulation.max_overlap_fraction (a warning above it).
+  double peak_overlap_fraction = 0.0;
+  std::string peak_overlap_limiter;
   std::vector<Diagnostic> problems;   // warnings (< 10 steps) and errors (< 6 steps)
 };
 

@@ -10,8 +10,9 @@
 #include "geometry/motion.h"
 #include "geometry/primitives.h"
 #include "geometry/stl_reader.h"
-#include "sim/output.h"
 #include "insert/size_distribution.h"
+#include "sim/memory_estimate.h"
+#include "sim/output.h"
 #include "sim/time_step_choice.h"
 
 namespace quarry {
@@ -37,7 +38,8 @@ MaterialTable build_material_table(const SimulationSpec& spec) {
     const std::size_t a = material_index(spec, inter.material_a.value);
     const std::size_t b = material_index(spec, inter.material_b.value);
     if (a >= n || b >= n) continue;  // the deck parser reports unknown names
-    const InteractionParameters p = make_interaction(table.properties[a], table.properties[b], inter);
+    const InteractionParameters p =
+        make_interaction(table.properties[a], table.properties[b], inter);
     table.pairs[a * n + b] = p;
     table.pairs[b * n + a] = p;
     defined[a * n + b] = defined[b * n + a] = 1;
@@ -47,7 +49,8 @@ MaterialTable build_material_table(const SimulationSpec& spec) {
   for (std::size_t a = 0; a < n; ++a)
     for (std::size_t b = 0; b < n; ++b)
       if (!defined[a * n + b])
-        table.pairs[a * n + b] = make_interaction(table.properties[a], table.properties[b], InteractionSpec{});
+        table.pairs[a * n + b] =
+            make_interaction(table.properties[a], table.properties[b], InteractionSpec{});
   return table;
 }
 
@@ -73,16 +76,21 @@ std::vector<std::uint32_t> mesh_element_map(const SurfaceSpec& s) {
   if (s.mesh_quads.empty()) return element_of_triangle;
   for (std::uint32_t t = 0; t < s.mesh_triangles.size(); ++t) element_of_triangle.push_back(t);
   const auto first_quad = static_cast<std::uint32_t>(s.mesh_triangles.size());
-  for (std::uint32_t q = 0; q < s.mesh_quads.size(); ++q) element_of_triangle.insert(element_of_triangle.end(), 2, first_quad + q);
+  for (std::uint32_t q = 0; q < s.mesh_quads.size(); ++q)
+    element_of_triangle.insert(element_of_triangle.end(), 2, first_quad + q);
   return element_of_triangle;
 }
 
 Surface make_surface(const SurfaceSpec& s, std::vector<std::string>& notes) {
   switch (s.kind.value) {
-    case SurfaceKind::mesh: return make_mesh_surface(s);
-    case SurfaceKind::stl: return read_stl(s.file.value, s.scale.value, s.offset.value, &notes);
-    case SurfaceKind::plane: return make_plane(s.point.value, s.normal.value, s.size.value, 1);
-    case SurfaceKind::box: return make_box(s.min.value, s.max.value, 1);
+    case SurfaceKind::mesh:
+      return make_mesh_surface(s);
+    case SurfaceKind::stl:
+      return read_stl(s.file.value, s.scale.value, s.offset.value, &notes);
+    case SurfaceKind::plane:
+      return make_plane(s.point.value, s.normal.value, s.size.value, 1);
+    case SurfaceKind::box:
+      return make_box(s.min.value, s.max.value, 1);
     case SurfaceKind::cylinder:
       return make_cylinder(s.base.value, s.axis.value, s.radius.value, s.length.value,
                            s.resolution.value, s.capped.value, true);
@@ -115,7 +123,8 @@ World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 
 bool World::has_moving_surfaces() const {
-  return std::any_of(surfaces.begin(), surfaces.end(), [](const WorldSurface& s) { return s.moving(); });
+  return std::any_of(surfaces.begin(), surfaces.end(),
+                     [](const WorldSurface& s) { return s.moving(); });
 }
 
 std::size_t World::pair_contact_count() const {
@@ -131,14 +140,18 @@ std::size_t World::pair_contact_count() const {
   return count;
 }
 
-std::size_t World::wall_contact_count() const { return wall_contacts.size(); }
+std::size_t World::wall_contact_count() const {
+  return wall_contacts.size();
+}
 
 void reindex_wall_contacts(World& world, const std::vector<std::size_t>& order) {
   std::vector<std::uint32_t> new_index(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) new_index[order[k]] = static_cast<std::uint32_t>(k);
+  for (std::size_t k = 0; k < order.size(); ++k)
+    new_index[order[k]] = static_cast<std::uint32_t>(k);
   for (WallContact& c : world.wall_contacts) c.particle = new_index[c.particle];
-  std::stable_sort(world.wall_contacts.begin(), world.wall_contacts.end(),
-                   [](const WallContact& a, const WallContact& b) { return a.particle < b.particle; });
+  std::stable_sort(
+      world.wall_contacts.begin(), world.wall_contacts.end(),
+      [](const WallContact& a, const WallContact& b) { return a.particle < b.particle; });
 }
 
 void drop_wall_contacts_of_removed(World& world, const std::vector<char>& removed) {
@@ -148,15 +161,59 @@ void drop_wall_contacts_of_removed(World& world, const std::vector<char>& remove
     new_index[i] = kept;
     kept += removed[i] ? 0 : 1;
   }
-  std::erase_if(world.wall_contacts, [&](const WallContact& c) { return removed[c.particle] != 0; });
+  std::erase_if(world.wall_contacts,
+                [&](const WallContact& c) { return removed[c.particle] != 0; });
   for (WallContact& c : world.wall_contacts) c.particle = new_index[c.particle];
 }
+
+namespace {
+
+// Geometry the particles can never reach (issue 19): a fixed surface wholly outside the domain
+// is an error (a misplaced or mis-scaled mesh: a file in mm read as m), triangles wholly outside
+// are counted in a warning. Moving and coupled surfaces may come in later: warnings only.
+void report_geometry_outside_domain(World& world, const SurfaceSpec& s,
+                                    const WorldSurface& record) {
+  const Aabb& domain = world.spec.simulation.domain.value;
+  const Surface& mesh = record.mesh;
+  std::size_t outside = 0;
+  Aabb whole;
+  for (const auto& t : mesh.triangles) {
+    Aabb box;
+    for (int k = 0; k < 3; ++k) box.expand(mesh.vertices[t[k]]);
+    whole.expand(box.lo);
+    whole.expand(box.hi);
+    if (!overlaps(box, domain)) ++outside;
+  }
+  if (outside == 0) return;
+  const auto corner = [](const Vec3& v) {
+    return fmt::format("[{:.4g}, {:.4g}, {:.4g}]", v.x, v.y, v.z);
+  };
+  if (outside == mesh.triangle_count() && !record.moving())
+    throw UserError(
+        s.name.where,
+        fmt::format("surface '{}' lies wholly outside the domain: its box is {} to {} m, "
+                    "the domain {} to {} m; particles can never touch it",
+                    s.name.value, corner(whole.lo), corner(whole.hi), corner(domain.lo),
+                    corner(domain.hi)),
+        s.kind.value == SurfaceKind::stl
+            ? "check the STL's units (scale: 0.001 reads a file in mm) and offset, or enlarge "
+              "simulation.domain"
+            : "move the surface into the domain or enlarge simulation.domain");
+  world.warnings.push_back(fmt::format(
+      "surface '{}': {} of its {} triangles lie wholly outside the domain{}; particles never touch "
+      "them",
+      s.name.value, outside, mesh.triangle_count(), record.moving() ? " now (it moves)" : ""));
+}
+
+}  // namespace
 
 std::size_t add_surface(World& world, const SurfaceSpec& s, const Surface* given) {
   const std::size_t material = material_index(world.spec, s.material.value);
   if (material >= world.materials.count())
-    throw UserError(s.material.where, fmt::format("unknown material '{}' for surface '{}'", s.material.value, s.name.value),
-                    "define the material first");
+    throw UserError(
+        s.material.where,
+        fmt::format("unknown material '{}' for surface '{}'", s.material.value, s.name.value),
+        "define the material first");
   WorldSurface record;
   Surface& surface = record.mesh;
   if (given) {
@@ -166,8 +223,9 @@ std::size_t add_surface(World& world, const SurfaceSpec& s, const Surface* given
     surface = make_surface(s, world.warnings);
   }
   record.element_of_triangle = mesh_element_map(s);
-  record.element_count = record.element_of_triangle.empty() ? surface.triangle_count()
-                                                            : s.mesh_triangles.size() + s.mesh_quads.size();
+  record.element_count = record.element_of_triangle.empty()
+                             ? surface.triangle_count()
+                             : s.mesh_triangles.size() + s.mesh_quads.size();
   if (surface.reference_vertices.empty()) surface.reference_vertices = surface.vertices;
   surface.vertices = surface.reference_vertices;
   surface.name = s.name.value;
@@ -183,28 +241,44 @@ std::size_t add_surface(World& world, const SurfaceSpec& s, const Surface* given
   } else if (s.coupled.value) {
     record.driver.kind = SurfaceDriverKind::coupled;  // at rest until the partner sets its vertices
   }
+  report_geometry_outside_domain(world, s, record);
   record.topology = build_topology(surface);
   // Search grid: cells about one particle diameter plus skin (fixed surfaces keep theirs for
   // the whole run; moving ones are rebuilt with the lists).
-  record.grid.build(surface, 2.0 * world.max_radius + world.skin);
   record.vertices_at_build = surface.vertices;
+  build_search_grid(world, record);
   world.surfaces.push_back(std::move(record));
   world.spec.surfaces.push_back(s);
   world.lists_stale = true;
   return world.surfaces.size() - 1;
 }
 
+void build_search_grid(const World& world, WorldSurface& s) {
+  const double cell = 2.0 * world.max_radius + world.skin;  // m
+  Aabb clip = world.spec.simulation.domain.value;
+  clip.lo = clip.lo - Vec3{cell, cell, cell};
+  clip.hi = clip.hi + Vec3{cell, cell, cell};
+  if (s.vertices_at_build == s.mesh.vertices) {
+    s.grid.build(s.mesh, cell, clip);
+  } else {
+    Surface at_build = s.mesh;
+    at_build.vertices = s.vertices_at_build;
+    s.grid.build(at_build, cell, clip);
+  }
+}
+
 World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes) {
   if (!meshes.empty() && meshes.size() != spec.surfaces.size())
     throw std::invalid_argument("build_world: one mesh per surface of the spec, or none");
+  sim::refuse_if_it_cannot_fit(spec);  // before anything is allocated
   World world;
   world.spec = spec;
   world.threading.threads = spec.simulation.threads.value;
   world.materials = build_material_table(spec);
   // Rolling-torque history exists only for the EPSD model (contact_law.h).
-  world.pairs.keep_rolling_history =
-      std::any_of(world.materials.pairs.begin(), world.materials.pairs.end(),
-                  [](const InteractionParameters& p) { return p.rolling_model == RollingModel::epsd; });
+  world.pairs.keep_rolling_history = std::any_of(
+      world.materials.pairs.begin(), world.materials.pairs.end(),
+      [](const InteractionParameters& p) { return p.rolling_model == RollingModel::epsd; });
   world.types = particle_type_infos(spec);
   for (const auto& t : spec.particle_types) {
     world.type_names.push_back(t.name.value);
@@ -241,10 +315,13 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   for (std::size_t f = 0; f < spec.factories.size(); ++f) {
     const auto& fs = spec.factories[f];
     std::size_t type = 0;
-    while (type < spec.particle_types.size() && spec.particle_types[type].name.value != fs.particle_type.value) ++type;
+    while (type < spec.particle_types.size() &&
+           spec.particle_types[type].name.value != fs.particle_type.value)
+      ++type;
     if (type >= world.types.size()) continue;
     // Each factory gets its own random stream derived from the deck seed.
-    world.factories.emplace_back(fs, world.types[type], spec.simulation.seed + 0x9E3779B97F4A7C15ull * (f + 1));
+    world.factories.emplace_back(fs, world.types[type],
+                                 spec.simulation.seed + 0x9E3779B97F4A7C15ull * (f + 1));
   }
   // Factories are polled every 2 ms of simulated time (or every step if dt is larger).
   world.insertion_interval_steps = std::max(1, static_cast<int>(std::lround(2e-3 / world.dt)));

@@ -269,6 +269,11 @@ struct World {
   std::size_t wall_contact_count() const;
 };
 
+// Builds s.grid over s.vertices_at_build: cells of one particle diameter plus skin, clipped to
+// the domain grown by one cell (particles leave the domain when their centre does, so no query
+// reaches beyond it; geometry outside costs nothing).
+void build_search_grid(const World& world, WorldSurface& s);
+
 // Builds the world: material table, surfaces (STL or primitives), factories, time step.
 // `meshes`, if not empty, are the surfaces' meshes as they were built before (one per
 // spec.surfaces entry, reference vertices and triangles): files are then not read again (a

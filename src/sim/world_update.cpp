@@ -34,11 +34,10 @@ void build_surface_candidates(World& world) {
   const ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   SurfaceCandidates& c = world.candidates;
-  const double cell = 2.0 * world.max_radius + world.skin;
   for (WorldSurface& s : world.surfaces) {
     if (!s.moving()) continue;
-    s.grid.build(s.mesh, cell);
     s.vertices_at_build = s.mesh.vertices;
+    build_search_grid(world, s);
   }
   c.particles.clear();
   c.offsets.assign(1, 0);

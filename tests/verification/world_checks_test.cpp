@@ -1,0 +1,211 @@
+// What `check` and build_world verify about a deck before a run (issue 19): the memory it needs
+// against this machine's, and geometry no particle can reach.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "io/deck.h"
+#include "sim/exchange.h"
+#include "sim/memory_estimate.h"
+#include "sim/step.h"
+#include "sim/time_step_choice.h"
+#include "sim/world.h"
+
+namespace quarry {
+namespace {
+
+// A deck with one factory and one surface line given by the caller.
+SimulationSpec deck_with(const std::string& factory, const std::string& surface) {
+  return parse_deck_string(R"(simulation:
+  end_time: 0.5
+  domain: {min: [-0.1, -0.1, 0], max: [0.1, 0.1, 0.3]}
+materials:
+  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25}
+interactions:
+  - {materials: [glass, glass]}
+particle_types:
+  - {name: bead, material: glass, size: {distribution: fixed, radius: 0.005}}
+surfaces:
+  - )" + surface + R"(
+factories:
+  - )" + factory + "\n",
+                           "deck.yaml");
+}
+
+const std::string kPour =
+    "{name: pour, particle_type: bead, region: {type: box, min: [-0.05, -0.05, 0.1], max: [0.05, "
+    "0.05, 0.2]}, ";
+const std::string kFloor =
+    "{name: floor, type: plane, point: [0, 0, 0], normal: [0, 0, 1], material: glass}";
+
+// The estimate counts what the deck asks for: a count target as given; a mass target over the
+// mean particle mass (2500 kg/m³ · 4/3 π (5 mm)³ = 1.309e-3 kg, so 1.309 kg is 1000 particles);
+// a cylinder's triangles as make_cylinder makes them.
+TEST(MemoryEstimate, CountsTheParticlesAndTrianglesTheDeckAsksFor) {
+  const sim::MemoryEstimate counted =
+      sim::estimate_memory(deck_with(kPour + "count: 20000}", kFloor));
+  EXPECT_EQ(counted.particles, 20000.0);
+  EXPECT_EQ(counted.triangles, 2.0);
+  EXPECT_DOUBLE_EQ(counted.bytes,
+                   sim::kBaseBytes + 20000 * sim::kBytesPerParticle + 2 * sim::kBytesPerTriangle);
+  const double bead_mass = 2500.0 * 4.0 / 3.0 * 3.14159265358979323846 * 0.005 * 0.005 * 0.005;
+  const sim::MemoryEstimate by_mass = sim::estimate_memory(
+      deck_with(kPour + "mass: " + std::to_string(1000 * bead_mass) + "}", kFloor));
+  EXPECT_NEAR(by_mass.particles, 1000.0, 1e-3);
+  const std::string drum =
+      "{name: drum, type: cylinder, base: [0, 0, 0], axis: [0, 0, 1], radius: 0.08, length: 0.25, "
+      "capped: true, resolution: 64, material: glass}";
+  const SimulationSpec spec = deck_with(kPour + "count: 20}", drum);
+  EXPECT_EQ(sim::estimate_memory(spec).triangles,
+            static_cast<double>(build_world(spec).surfaces[0].mesh.triangle_count()));
+}
+
+// Refused above the memory given, with the figure, the machine's memory and the largest part,
+// at that part's deck location; accepted below it.
+TEST(MemoryEstimate, ADeckThatCannotFitIsRefusedAtItsLargestPart) {
+  const SimulationSpec spec = deck_with(kPour + "count: 100000}", kFloor);
+  const double need = sim::estimate_memory(spec).bytes;  // about 86 MB
+  EXPECT_NO_THROW(sim::refuse_if_it_cannot_fit(spec, static_cast<std::uint64_t>(need) + 1));
+  try {
+    sim::refuse_if_it_cannot_fit(spec, static_cast<std::uint64_t>(need / 2));
+    FAIL() << "expected a UserError";
+  } catch (const UserError& e) {
+    const std::string text = e.diagnostics().format();
+    EXPECT_NE(text.find("deck.yaml:13:"), std::string::npos) << text;  // the factory's line
+    EXPECT_NE(text.find("needs about 86 MB of memory"), std::string::npos) << text;
+    EXPECT_NE(text.find("more than this machine's 43 MB"), std::string::npos) << text;
+    EXPECT_NE(text.find("factory 'pour' (1e+05 particles)"), std::string::npos) << text;
+    EXPECT_NE(text.find("hint:"), std::string::npos) << text;
+  }
+  EXPECT_GT(sim::machine_memory_bytes(), std::uint64_t{1} << 28);  // any machine that builds this
+}
+
+// A fixed surface wholly outside the domain is an error naming both boxes; one partly outside
+// is built, with a warning counting the triangles no particle can reach.
+TEST(WorldChecks, GeometryOutsideTheDomainIsReported) {
+  try {
+    build_world(deck_with(
+        kPour + "count: 20}",
+        "{name: floor, type: plane, point: [0, 0, -10], normal: [0, 0, 1], material: glass}"));
+    FAIL() << "expected a UserError";
+  } catch (const UserError& e) {
+    const std::string text = e.diagnostics().format();
+    EXPECT_NE(text.find("deck.yaml:11:"), std::string::npos) << text;
+    EXPECT_NE(text.find("surface 'floor' lies wholly outside the domain"), std::string::npos)
+        << text;
+    EXPECT_NE(text.find("[-0.1, -0.1, 0] to [0.1, 0.1, 0.3] m"), std::string::npos) << text;
+  }
+  // A drum 1 m long through a 0.2 m domain: most of its side rings lie outside.
+  const World world = build_world(deck_with(kPour + "count: 20}",
+                                            "{name: drum, type: cylinder, base: [-0.5, 0, 0.15], "
+                                            "axis: [1, 0, 0], radius: 0.1, length: 1.0, "
+                                            "capped: false, resolution: 32, material: glass}"));
+  const Surface& drum = world.surfaces[0].mesh;
+  std::size_t outside = 0;
+  for (const auto& t : drum.triangles) {
+    Aabb box;
+    for (int k = 0; k < 3; ++k) box.expand(drum.vertices[t[k]]);
+    outside += overlaps(box, world.spec.simulation.domain.value) ? 0 : 1;
+  }
+  ASSERT_GT(outside, 0u);
+  ASSERT_LT(outside, drum.triangle_count());
+  const std::string expected = "surface 'drum': " + std::to_string(outside) + " of its " +
+                               std::to_string(drum.triangle_count()) +
+                               " triangles lie wholly outside the domain";
+  bool warned = false;
+  for (const std::string& w : world.warnings) warned |= w.find(expected) != std::string::npos;
+  EXPECT_TRUE(warned) << expected;
+}
+
+// A deck of soft spheres (issue 19: E = 5 MPa, R = 4 mm, impacts at 1.5 m/s) whose sound
+// impacts overlap more than the 10 % guard: check warns with the Hertz peak, the guard and the
+// modulus that would meet it. Peak overlap of two equal spheres, δ = (15 m* v² / (16 E* √R*))^(2/5)
+// with m* = m/2, R* = R/2, E* = E / (2 (1 − ν²)) (Johnson 1985, eq. 11.23): 12.7 % of R.
+TEST(WorldChecks, CheckWarnsWhenHertzPredictsAnOverlapAboveTheGuard) {
+  const std::string deck = R"(simulation:
+  end_time: 0.5
+  impact_speed: 1.5
+  domain: {min: [-0.1, -0.1, 0], max: [0.1, 0.1, 0.3]}
+materials:
+  - {name: soft, density: 2500, youngs_modulus: 5.0e6, poisson_ratio: 0.25}
+  - {name: steel, density: 7800, youngs_modulus: 2.0e11, poisson_ratio: 0.3}
+interactions:
+  - {materials: [soft, soft]}
+  - {materials: [soft, steel]}
+particle_types:
+  - {name: bead, material: soft, size: {distribution: fixed, radius: 0.004}}
+surfaces:
+  - {name: floor, type: plane, point: [0, 0, 0], normal: [0, 0, 1], material: steel}
+)";
+  const double radius = 0.004, v = 1.5;
+  const double mass = 2500.0 * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+  const double e_star = 5.0e6 / (2.0 * (1.0 - 0.25 * 0.25));
+  const double peak =
+      std::pow(15.0 * (mass / 2) * v * v / (16.0 * e_star * std::sqrt(radius / 2)), 0.4);
+  EXPECT_NEAR(peak / radius, 0.127, 0.001);
+  const TimeStepChoice choice = choose_time_step(parse_deck_string(deck, "soft.yaml"));
+  EXPECT_NEAR(choice.peak_overlap_fraction, peak / radius, 1e-12);
+  bool warned = false;
+  for (const Diagnostic& d : choice.problems) {
+    if (d.message.find(fmt::format(
+            "Hertz theory predicts a peak overlap of {:.1f} % of the radius (two 'bead' "
+            "particles",
+            100 * peak / radius)) == std::string::npos)
+      continue;
+    warned = true;
+    EXPECT_EQ(d.severity, Severity::warning);
+    EXPECT_NE(d.message.find("above the overlap guard 10 %"), std::string::npos) << d.message;
+    // (0.127 / 0.1)^(5/2) = 1.82: that modulus brings the peak down to the guard.
+    EXPECT_NE(d.hint.find(fmt::format("{:.3g}-fold", std::pow(peak / radius / 0.1, 2.5))),
+              std::string::npos)
+        << d.hint;
+  }
+  EXPECT_TRUE(warned) << (choice.problems.empty() ? "no problems" : choice.problems.back().message);
+  // Slower impacts (0.5 m/s: 8.4 %) stay under the guard: no warning.
+  std::string slow = deck;
+  slow.replace(slow.find("impact_speed: 1.5"), 17, "impact_speed: 0.5");
+  EXPECT_LT(choose_time_step(parse_deck_string(slow, "slow.yaml")).peak_overlap_fraction, 0.1);
+}
+
+// The overlap guard's message tells physics from a blow-up: two beads meeting at the deck's
+// expected speed overlap as Hertz predicts (a guard set below that peak trips on it); two beads
+// given 30 times that speed hold energy no impact of the deck could bring.
+TEST(WorldChecks, OverlapGuardSaysWhetherTheOverlapIsPhysicsOrABlowUp) {
+  const auto stop_message = [](double speed, double guard) -> std::string {
+    SimulationSpec spec = deck_with(kPour + "count: 1}", kFloor);
+    spec.factories.clear();
+    spec.simulation.gravity = Vec3{};
+    spec.simulation.impact_speed = Located<double>(1.0);
+    spec.simulation.max_overlap_fraction = guard;
+    World world = build_world(spec);
+    sim::initialize(world);
+    std::vector<sim::NewParticle> pair(2);
+    pair[0].position = {-0.0052, 0, 0.15};
+    pair[1].position = {0.0052, 0, 0.15};
+    pair[0].velocity = {0.5 * speed, 0, 0};
+    pair[1].velocity = {-0.5 * speed, 0, 0};
+    sim::add_particles(world, pair);
+    try {
+      for (int n = 0; n < 20000; ++n) sim::step(world);
+    } catch (const PhysicsError& e) {
+      return e.what();
+    }
+    return "no stop";
+  };
+  const std::string physics = stop_message(1.0, 0.02);
+  EXPECT_NE(physics.find("within the expected 1 m/s: this overlap is what contact theory predicts"),
+            std::string::npos)
+      << physics;
+  EXPECT_NE(physics.find("stiffen the material"), std::string::npos) << physics;
+  const std::string blow_up = stop_message(30.0, 0.1);
+  EXPECT_NE(blow_up.find("far above the expected 1 m/s: energy was created numerically"),
+            std::string::npos)
+      << blow_up;
+  EXPECT_NE(blow_up.find("reduce simulation.time_step"), std::string::npos) << blow_up;
+}
+
+}  // namespace
+}  // namespace quarry
