@@ -2,6 +2,7 @@
 // (the coupling server):
 //   quarry run deck.yaml | check deck.yaml | estimate deck.yaml | restart checkpoint.qck
 //   quarry serve [deck.yaml] --endpoint ipc://PATH | tcp://HOST:PORT
+//   quarry udf build SOURCE.c [-o OUTPUT.so] [--cflags FLAGS]
 // Exit codes: 0 success (and `serve` stopped by SIGINT/SIGTERM: that is how it ends), 2 user
 // error (deck, mesh, command line, an endpoint it cannot listen at), 3 physics failure at run
 // time, 4 internal error, 130 a run stopped by a signal (after writing a checkpoint).
@@ -18,6 +19,7 @@
 #include <iostream>
 
 #include "api/server.h"
+#include "cli/udf_build.h"
 #include "core/allocator.h"
 #include "io/deck.h"
 #include "sim/estimate.h"
@@ -183,6 +185,18 @@ int main(int argc, char** argv) {
       ->required();
   serve->add_option("--output-dir", common.output_dir, "output folder of the simulations served");
   add_common(serve, false);
+  CLI::App* udf = app.add_subcommand("udf", "user-defined functions: drag laws written in C (docs/cfd.md)");
+  udf->require_subcommand(1);
+  cli::UdfBuildOptions udf_options;
+  CLI::App* udf_build = udf->add_subcommand(
+      "build", "compile a drag UDF's C source into a shared library beside it (SOURCE.c -> SOURCE.so) "
+               "and check that it loads");
+  udf_build->add_option("source", udf_options.source, "the C source, which includes <quarry/drag_udf.h>")
+      ->required();
+  udf_build->add_option("-o,--output", udf_options.output, "the library to write (default: the source's name with .so)");
+  udf_build->add_option("--cflags", udf_options.cflags,
+                        "more compiler arguments, split at spaces, e.g. --cflags=\"-O3 -DFAST -lgsl\" (repeatable)")
+      ->allow_extra_args(false);
 
   try {
     app.parse(argc, argv);
@@ -201,6 +215,7 @@ int main(int argc, char** argv) {
     if (estimate->parsed()) return command_estimate(deck);
     if (restart->parsed()) return exit_code(sim::restart(checkpoint, run_options(common)));
     if (serve->parsed()) return command_serve(deck, endpoint, common);
+    if (udf_build->parsed()) return cli::udf_build(udf_options, std::cout, std::cerr);
   } catch (const UserError& e) {
     std::cerr << e.diagnostics().format();
     return 2;
