@@ -18,6 +18,10 @@ void Diagnostics::warning(SourceLocation where, std::string message, std::string
   items_.push_back({Severity::warning, std::move(where), std::move(message), std::move(hint)});
 }
 
+void Diagnostics::note(SourceLocation where, std::string message, std::string hint) {
+  items_.push_back({Severity::note, std::move(where), std::move(message), std::move(hint)});
+}
+
 bool Diagnostics::has_errors() const {
   return std::any_of(items_.begin(), items_.end(),
                      [](const Diagnostic& d) { return d.severity == Severity::error; });

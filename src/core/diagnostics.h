@@ -44,6 +44,8 @@ class Diagnostics {
  public:
   void error(SourceLocation where, std::string message, std::string hint = {});
   void warning(SourceLocation where, std::string message, std::string hint = {});
+  // Information the caller may print (e.g. cards a model reader ignored); never fails a read.
+  void note(SourceLocation where, std::string message, std::string hint = {});
   bool has_errors() const;
   const std::vector<Diagnostic>& all() const { return items_; }
   // Full text: for each diagnostic "file:line:col: error: message", the source line, a caret

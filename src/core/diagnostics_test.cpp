@@ -32,4 +32,15 @@ TEST(Diagnostics, FormatEchoesLineWithCaret) {
   std::remove(path.c_str());
 }
 
+// A note (e.g. a card a model reader ignored) is printed as such and never fails a read.
+TEST(Diagnostics, NoteIsNotAnError) {
+  Diagnostics d;
+  d.note({"model.bdf", 4, 1}, "PARAM ignored (2 cards)", "parameters of OptiStruct's own solution");
+  EXPECT_FALSE(d.has_errors());
+  const std::string text = d.format();
+  EXPECT_NE(text.find("model.bdf:4:1: note: PARAM ignored (2 cards)"), std::string::npos) << text;
+  EXPECT_NE(text.find("  hint: parameters of OptiStruct's own solution"), std::string::npos)
+      << text;
+}
+
 }  // namespace quarry
