@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "io/bulk_fields.h"
+#include "io/gmsh_reader.h"
 
 namespace quarry {
 namespace {
@@ -530,10 +531,16 @@ TEST(BulkDataFiles, IncludeRelativeToTheIncludingFile) {
   }
 }
 
-// Reads a broken model of tests/bad_models.
+// Reads a broken model of tests/bad_models by its extension.
 std::string formatted_errors(const fs::path& path) {
   try {
-    read_bulk_data(path.string());
+    if (path.extension() == ".msh") {
+      GmshReadOptions options;
+      options.units = UnitSystem::si;
+      read_gmsh(path.string(), options);
+    } else {
+      read_bulk_data(path.string());
+    }
   } catch (const UserError& error) {
     return error.diagnostics().format();
   }
@@ -541,14 +548,14 @@ std::string formatted_errors(const fs::path& path) {
   return {};
 }
 
-// Each tests/bad_models/NN_name.bdf must fail with the first output line stored in
+// Each tests/bad_models/NN_name.{bdf,msh} must fail with the first output line stored in
 // NN_name.expected (the model path written as {model}). QUARRY_UPDATE_BAD_MODELS=1 rewrites
 // the .expected files from the current output instead (review the diff).
 TEST(BadModels, FirstErrorLineMatchesGolden) {
   const fs::path folder = source_dir() / "tests" / "bad_models";
   std::vector<fs::path> models;
   for (const auto& entry : fs::directory_iterator(folder))
-    if (entry.path().extension() == ".bdf")
+    if (entry.path().extension() == ".bdf" || entry.path().extension() == ".msh")
       models.push_back(entry.path());
   std::sort(models.begin(), models.end());
   ASSERT_GE(models.size(), 20u) << "expected at least 20 broken models in " << folder;
