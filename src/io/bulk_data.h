@@ -34,8 +34,8 @@ StructureModel read_bulk_data(const std::string& path, const BulkDataOptions& op
 StructureModel read_bulk_data_string(const std::string& text, const std::string& display_name,
                                      const BulkDataOptions& options = {});
 
-// The name OptiStruct gives a coupling surface whose LABEL is blank:
-// "coupling_<edem id>_interface_<surface id>" (Altair OptiStruct reference, EDEM card).
+// Quarry's name for a coupling surface whose LABEL is blank (the EDEM card, seed 000, makes
+// LABEL optional and gives no default): "coupling_<edem id>_interface_<surface id>".
 std::string default_coupling_label(int edem_id, int surface_id);
 
 }  // namespace quarry

@@ -1,9 +1,11 @@
-// Lexer of bulk data: lines -> cards of located fields. Rules from OptiStruct's "Bulk Data
-// Guidelines" (2022): a comma in the first 10 characters makes a line free format; a '*' after
-// the card name or at the start of a continuation line makes it large-field; a line starting
-// with a blank, '+', '*' (or, free format, an empty first field) continues the card above; '$'
-// starts a comment; lines starting with '//' or '#', and blank lines, are comments; characters
-// after column 80 of a fixed-format line are ignored; tabs are not allowed.
+// Lexer of bulk data: lines -> cards of located fields. From OptiStruct's "Bulk Data
+// Guidelines" (2021): a comma in the first 10 characters makes a line free format; a '*' after
+// the card name or at the start of a continuation line makes it large-field (16-column fields,
+// two half-lines per line of 8 fields); a line starting with a blank, '+' or '*' continues the
+// card above; characters after column 80 of a fixed-format line are ignored; tabs are not
+// allowed. As in MSC Nastran: '$' starts a comment and a free-format line may also start with
+// ',' (an empty field 1) to continue. Quarry also skips blank lines and lines starting with
+// '//' or '#'.
 #include "io/bulk_fields.h"
 
 #include <fmt/format.h>
