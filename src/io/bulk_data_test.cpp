@@ -337,6 +337,10 @@ TEST(BulkDataFormat, ContinuationVariants) {
       {"large with a small continuation",
        "PSHELL* 1               1               .005            1\n"
        "*                       1\n+       1.-3    2.-3\n"},
+      {"large with marks in columns 73-80",
+       "PSHELL* 1               1               .005            1               *PS1\n"
+       "*PS1                    1                                               *PS2\n"
+       "*PS2    1.-3            2.-3\n"},
       {"free comma", "PSHELL,1,1,.005,1,,1\n,1.-3,2.-3\n"},
       {"free plus", "PSHELL,1,1,.005,1,,1,,,+\n+,1.-3,2.-3\n"},
       {"free with blanks", "PSHELL , 1 , 1 , .005 , 1 , , 1\n  , 1.-3 , 2.-3\n"},
