@@ -138,6 +138,23 @@ TEST(GmshReader, SameMeshAsTheBulkDataPlate) {
       << mesh.notes.format();
 }
 
+// A mesh cut after any character either reads or fails with a UserError; nothing else escapes.
+TEST(GmshReader, EveryPrefixReadsOrFailsCleanly) {
+  GmshReadOptions options;
+  options.units = UnitSystem::si;
+  const std::string text = kMesh;
+  int refused = 0;
+  for (std::size_t length = 0; length <= text.size(); ++length) {
+    try {
+      read_gmsh_string(text.substr(0, length), "cut.msh", options);
+    } catch (const UserError& error) {
+      ++refused;
+      EXPECT_TRUE(error.diagnostics().has_errors()) << "cut at " << length;
+    }
+  }
+  EXPECT_GT(refused, 0);
+}
+
 TEST(GmshReader, UnitsMustBeStated) {
   try {
     read_gmsh_string(kMesh, "plate.msh", GmshReadOptions{});
