@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <vector>
 
 #include "io/bulk_model.h"
@@ -31,6 +32,18 @@ std::vector<std::size_t> values_after(const FieldReader& fields, std::size_t fla
   return indices;
 }
 
+// True if the field at `index` continues the LABEL just before it: a fixed-format LABEL that
+// fills its 8 columns with the next field's text starting in the very next column.
+bool runs_on_from_label(const FieldReader& fields, std::size_t index,
+                        const std::optional<std::size_t>& label_index) {
+  if (!label_index || *label_index + 1 != index) return false;
+  const Field& label = fields.at(*label_index);
+  const Field& next = fields.at(index);
+  constexpr int kFixedFieldWidth = 8;  // columns
+  return label.text.size() == kFixedFieldWidth && next.place.line == label.place.line &&
+         next.place.column == label.place.column + kFixedFieldWidth;
+}
+
 }  // namespace
 
 void read_edem(const Card& card, ModelState& state) {
@@ -43,6 +56,7 @@ void read_edem(const Card& card, ModelState& state) {
   EdemCoupling coupling;
   const std::optional<int> id = fields.id(0, "ID");
   bool control_seen = false;
+  std::optional<std::size_t> label_index;  // the last LABEL read
   std::vector<Reference> surfaces;
   for (std::size_t i = 1; i < end;) {
     if (fields.blank(i)) {
@@ -105,8 +119,10 @@ void read_edem(const Card& card, ModelState& state) {
       else
         fields.error(values.size() >= 2 ? missing_at(values[1], flag) : flag,
                      "EDEM COUPLING ID is missing", "the id of the SURF to couple");
-      if (values.size() >= 3 && !fields.blank(values[2]))
+      if (values.size() >= 3 && !fields.blank(values[2])) {
         surface.label = fields.at(values[2]).text;
+        label_index = values[2];
+      }
       if (valid && surface_id) {
         surface.surface_id = *surface_id;
         const bool repeated =
@@ -122,6 +138,13 @@ void read_edem(const Card& card, ModelState& state) {
                                      static_card_name(card.name), id.value_or(0)});
       }
       i += 1 + values.size();
+    } else if (runs_on_from_label(fields, i, label_index)) {
+      fields.error(i,
+                   fmt::format("EDEM LABEL \"{}\" runs on into the next field (\"{}\")",
+                               fields.at(i - 1).text, fields.at(i).text),
+                   "a fixed-format field holds 8 characters: write a longer LABEL in free "
+                   "format (commas) or large-field format (16 characters)");
+      ++i;
     } else {
       fields.error(i,
                    fmt::format("expected CONTROL or COUPLING in the EDEM card, got \"{}\"",
