@@ -67,15 +67,15 @@ struct ShellElement {
 // (a membrane), no MID3 = no transverse shear flexibility; the solver decides what it accepts.
 struct ShellProperty {
   int id = 0;
-  double thickness = 0.0;                    // T (m)
-  int membrane_material_id = 0;              // MID1
-  std::optional<int> bending_material_id;    // MID2
-  double bending_inertia_ratio = 1.0;        // 12I/T³ (1)
-  std::optional<int> shear_material_id;      // MID3
-  double shear_thickness_ratio = 0.833333;   // TS/T (1)
-  double nonstructural_mass = 0.0;           // NSM (kg/m²)
-  double fiber_bottom = 0.0;                 // Z1 (m); default −T/2
-  double fiber_top = 0.0;                    // Z2 (m); default +T/2
+  double thickness = 0.0;                   // T (m)
+  int membrane_material_id = 0;             // MID1
+  std::optional<int> bending_material_id;   // MID2
+  double bending_inertia_ratio = 1.0;       // 12I/T³ (1)
+  std::optional<int> shear_material_id;     // MID3
+  double shear_thickness_ratio = 0.833333;  // TS/T (1)
+  double nonstructural_mass = 0.0;          // NSM (kg/m²)
+  double fiber_bottom = 0.0;                // Z1 (m); default −T/2
+  double fiber_top = 0.0;                   // Z2 (m); default +T/2
   CardLocation where;
 };
 
@@ -90,10 +90,10 @@ struct J2Plasticity {
 // MAT1, isotropic and linear elastic; E, G and ν satisfy E = 2(1 + ν)G when one was left blank.
 struct IsotropicMaterial {
   int id = 0;
-  double youngs_modulus = 0.0;  // E (Pa)
-  double shear_modulus = 0.0;   // G (Pa)
-  double poisson_ratio = 0.0;   // NU (1)
-  double density = 0.0;         // RHO (kg/m³); blank = 0, as Nastran
+  double youngs_modulus = 0.0;             // E (Pa)
+  double shear_modulus = 0.0;              // G (Pa)
+  double poisson_ratio = 0.0;              // NU (1)
+  double density = 0.0;                    // RHO (kg/m³); blank = 0, as Nastran
   std::optional<J2Plasticity> plasticity;  // from a MATS1 with the same id
   CardLocation where;
 };
@@ -145,16 +145,16 @@ struct EdemCoupling {
 };
 
 struct StructureModel {
-  UnitSystem declared_units = UnitSystem::si;  // what the file said; all values below are SI
-  std::map<int, GridPoint> nodes;              // by grid id
-  std::vector<ShellElement> shells;            // in file order
-  std::map<int, ShellProperty> properties;     // by PSHELL id
-  std::map<int, IsotropicMaterial> materials;  // by MAT1 id
+  UnitSystem declared_units = UnitSystem::si;      // what the file said; all values below are SI
+  std::map<int, GridPoint> nodes;                  // by grid id
+  std::vector<ShellElement> shells;                // in file order
+  std::map<int, ShellProperty> properties;         // by PSHELL id
+  std::map<int, IsotropicMaterial> materials;      // by MAT1 id
   std::vector<SinglePointConstraint> constraints;  // in file order
-  std::map<int, IdSet> sets;                   // by SET id
-  std::map<int, Surface> surfaces;             // by SURF id
-  std::vector<EdemCoupling> couplings;         // in file order
-  std::vector<std::string> source_files;       // the files read, as named (CardLocation index)
+  std::map<int, IdSet> sets;                       // by SET id
+  std::map<int, Surface> surfaces;                 // by SURF id
+  std::vector<EdemCoupling> couplings;             // in file order
+  std::vector<std::string> source_files;           // the files read, as named (CardLocation index)
   // Cards read but not used (e.g. PARAM, output requests) and warnings, one note per card name
   // at its first occurrence; print with notes.format().
   Diagnostics notes;

@@ -109,10 +109,10 @@ void read_shell_element(const Card& card, ModelState& state) {
   for (std::size_t i = theta + 2; i < card.fields.size(); ++i) {
     if (fields.blank(i)) continue;
     if (i >= Card::index(1, 4) && i <= Card::index(1, 4 + count))
-      fields.error(i,
-                   fmt::format("{} corner thicknesses (TFLAG, T1-T{}) are not supported",
-                               card.name, count),
-                   "the thickness comes from the PSHELL");
+      fields.error(
+          i,
+          fmt::format("{} corner thicknesses (TFLAG, T1-T{}) are not supported", card.name, count),
+          "the thickness comes from the PSHELL");
     else
       fields.reject_from(i);
     break;
@@ -130,13 +130,13 @@ void read_shell_element(const Card& card, ModelState& state) {
   element.where = state.location(card.place);
   state.model.shells.push_back(element);
   if (property)
-    state.property_references.push_back(reference(*property, fields.at(fields.blank(1) ? 0 : 1),
-                                                  card, *id));
+    state.property_references.push_back(
+        reference(*property, fields.at(fields.blank(1) ? 0 : 1), card, *id));
   if (nodes_valid)
     for (int k = 0; k < count; ++k)
       state.grid_references.push_back(reference(element.nodes[static_cast<std::size_t>(k)],
-                                                 fields.at(static_cast<std::size_t>(2 + k)),
-                                                 card, *id));
+                                                fields.at(static_cast<std::size_t>(2 + k)), card,
+                                                *id));
 }
 
 void read_pshell(const Card& card, ModelState& state) {
@@ -157,14 +157,13 @@ void read_pshell(const Card& card, ModelState& state) {
                  "give the bending material, usually MID1");
   else if (mid2)
     property.bending_material_id = fields.id(3, "MID2");
-  property.bending_inertia_ratio =
-      fields.real(4, "12I/T**3").value_or(kDefaultBendingInertiaRatio);
-  require_positive(fields, 4, "12I/T**3", fields.blank(4) ? std::nullopt
-                                                            : parse_real(fields.at(4).text));
+  property.bending_inertia_ratio = fields.real(4, "12I/T**3").value_or(kDefaultBendingInertiaRatio);
+  require_positive(fields, 4, "12I/T**3",
+                   fields.blank(4) ? std::nullopt : parse_real(fields.at(4).text));
   property.shear_material_id = fields.id(5, "MID3", false);
   property.shear_thickness_ratio = fields.real(6, "TS/T").value_or(kDefaultShearThicknessRatio);
-  require_positive(fields, 6, "TS/T", fields.blank(6) ? std::nullopt
-                                                      : parse_real(fields.at(6).text));
+  require_positive(fields, 6, "TS/T",
+                   fields.blank(6) ? std::nullopt : parse_real(fields.at(6).text));
   property.nonstructural_mass = fields.real(7, "NSM").value_or(0.0);
   if (property.nonstructural_mass < 0.0)
     fields.error(7, fmt::format("PSHELL NSM must be ≥ 0, got {}", fields.at(7).text));
@@ -172,8 +171,7 @@ void read_pshell(const Card& card, ModelState& state) {
   property.fiber_bottom = fields.real(Card::index(1, 2), "Z1").value_or(-0.5 * t);
   property.fiber_top = fields.real(Card::index(1, 3), "Z2").value_or(0.5 * t);
   if (!fields.blank(Card::index(1, 4)))
-    fields.error(Card::index(1, 4),
-                 "PSHELL MID4 (membrane-bending coupling) is not supported",
+    fields.error(Card::index(1, 4), "PSHELL MID4 (membrane-bending coupling) is not supported",
                  "leave MID4 blank: Quarry's shells are homogeneous through the thickness");
   else
     fields.reject_from(Card::index(1, 5));
@@ -206,8 +204,12 @@ void read_mat1(const Card& card, ModelState& state) {
   const double density = fields.real(4, "RHO").value_or(0.0);
   // A, TREF, GE, ST, SC, SS, MCSID: thermal expansion, damping for frequency response and
   // stress limits, none of which an explicit shell model uses. Checked, not kept.
-  for (const auto& [index, what] : {std::pair<std::size_t, const char*>{5, "A"}, {6, "TREF"},
-                                    {7, "GE"}, {8, "ST"}, {9, "SC"}, {10, "SS"}})
+  for (const auto& [index, what] : {std::pair<std::size_t, const char*>{5, "A"},
+                                    {6, "TREF"},
+                                    {7, "GE"},
+                                    {8, "ST"},
+                                    {9, "SC"},
+                                    {10, "SS"}})
     fields.real(index, what);
   fields.integer(11, "MCSID");
   fields.reject_from(12);
@@ -220,10 +222,10 @@ void read_mat1(const Card& card, ModelState& state) {
   if (read_all && !e && !g) {
     fields.error(1, "MAT1 needs E or G", "give two of E, G and NU");
   } else if (read_all && blanks == 2) {
-    fields.error(!e ? 1 : (!g ? 2 : 3),
-                 fmt::format("MAT1 gives only {}: Nastran would set the other two to 0.0",
-                             e ? "E" : "G"),
-                 "give two of E, G and NU; the third follows from E = 2(1 + NU)G");
+    fields.error(
+        !e ? 1 : (!g ? 2 : 3),
+        fmt::format("MAT1 gives only {}: Nastran would set the other two to 0.0", e ? "E" : "G"),
+        "give two of E, G and NU; the third follows from E = 2(1 + NU)G");
   } else if (read_all) {
     if (e && !(*e > 0.0)) fields.error(1, fmt::format("MAT1 E must be > 0, got {}", *e));
     if (g && !(*g > 0.0)) fields.error(2, fmt::format("MAT1 G must be > 0, got {}", *g));
@@ -235,9 +237,10 @@ void read_mat1(const Card& card, ModelState& state) {
       if (!nu) {
         nu = *e / (2.0 * *g) - 1.0;
         if (!(*nu > -1.0 && *nu < 0.5))
-          fields.error(1, fmt::format("MAT1 E and G give NU = E/(2G) − 1 = {:.4g}, outside "
-                                      "(-1, 0.5)",
-                                      *nu),
+          fields.error(1,
+                       fmt::format("MAT1 E and G give NU = E/(2G) − 1 = {:.4g}, outside "
+                                   "(-1, 0.5)",
+                                   *nu),
                        "check E and G, or give NU");
       } else if (blanks == 0 &&
                  std::abs(1.0 - *e / (2.0 * (1.0 + *nu) * *g)) > kMat1ConsistencyTolerance) {

@@ -30,8 +30,8 @@ void ModelState::declare_units(UnitSystem system, const Place& place, std::strin
   if (units->system == system) return;
   const SourceLocation first = problems.location(units->place);
   problems.error(place,
-                 fmt::format("{} disagrees with {} at {}:{}", spelling, units->spelling,
-                             first.file, first.line),
+                 fmt::format("{} disagrees with {} at {}:{}", spelling, units->spelling, first.file,
+                             first.line),
                  "declare the model's units once");
 }
 
@@ -50,10 +50,18 @@ struct SupportedCard {
 };
 
 constexpr SupportedCard kSupported[] = {
-    {"GRID", read_grid},   {"CQUAD4", read_shell_element}, {"CTRIA3", read_shell_element},
-    {"PSHELL", read_pshell}, {"MAT1", read_mat1},          {"MATS1", read_mats1},
-    {"SPC", read_spc},     {"SPC1", read_spc1},            {"SET", read_set},
-    {"SURF", read_surf},   {"EDEM", read_edem},            {"DTI", read_dti},
+    {"GRID", read_grid},
+    {"CQUAD4", read_shell_element},
+    {"CTRIA3", read_shell_element},
+    {"PSHELL", read_pshell},
+    {"MAT1", read_mat1},
+    {"MATS1", read_mats1},
+    {"SPC", read_spc},
+    {"SPC1", read_spc1},
+    {"SET", read_set},
+    {"SURF", read_surf},
+    {"EDEM", read_edem},
+    {"DTI", read_dti},
     {"PARAM", read_param},
 };
 
@@ -88,25 +96,26 @@ const std::vector<CardGroup>& ignored_groups() {
 // Cards that change the physics and that Quarry cannot honour: errors.
 const std::vector<CardGroup>& refused_groups() {
   static const std::vector<CardGroup> groups = {
-      {{"CBAR", "CBEAM", "CBEND", "CROD", "CONROD", "CTUBE", "CBUSH", "CBUSH1D", "CELAS1",
-        "CELAS2", "CELAS3", "CELAS4", "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4", "CDAMP5", "CGAP",
-        "CHEXA", "CPENTA", "CTETRA", "CPYRA", "CQUAD8", "CQUADR", "CQUAD", "CTRIA6", "CTRIAR",
-        "CSHEAR", "CWELD", "CFAST", "CSEAM", "CMASS1", "CMASS2", "CMASS3", "CMASS4", "CONM1",
-        "CONM2"},
+      {{"CBAR",   "CBEAM",  "CBEND",  "CROD",   "CONROD", "CTUBE",  "CBUSH",  "CBUSH1D",
+        "CELAS1", "CELAS2", "CELAS3", "CELAS4", "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4",
+        "CDAMP5", "CGAP",   "CHEXA",  "CPENTA", "CTETRA", "CPYRA",  "CQUAD8", "CQUADR",
+        "CQUAD",  "CTRIA6", "CTRIAR", "CSHEAR", "CWELD",  "CFAST",  "CSEAM",  "CMASS1",
+        "CMASS2", "CMASS3", "CMASS4", "CONM1",  "CONM2"},
        "Quarry's structural model has CQUAD4 and CTRIA3 shells only",
        &ModelState::refused_element_ids},
       {{"RBE1", "RBE2", "RBE3", "RBAR", "RBAR1", "RROD", "RTRPLT", "MPC", "MPCADD"},
        "rigid elements and multi-point constraints are not supported"},
-      {{"PCOMP", "PCOMPG", "PCOMPP", "PSOLID", "PBAR", "PBARL", "PBEAM", "PBEAML", "PROD",
-        "PBUSH", "PELAS", "PDAMP", "PGAP", "PSHEAR", "PMASS", "PSHELL1"},
+      {{"PCOMP", "PCOMPG", "PCOMPP", "PSOLID", "PBAR", "PBARL", "PBEAM", "PBEAML", "PROD", "PBUSH",
+        "PELAS", "PDAMP", "PGAP", "PSHEAR", "PMASS", "PSHELL1"},
        "only PSHELL properties (homogeneous isotropic shells) are supported",
        &ModelState::refused_property_ids},
       {{"MAT2", "MAT3", "MAT8", "MAT9", "MAT10", "MATT1", "MATS8", "MATHE", "MATX33", "MATX36",
         "MATX65", "MATVE", "MATHF", "MATS3"},
-       "only MAT1 (with MATS1 plasticity) is supported", &ModelState::refused_material_ids},
-      {{"FORCE", "FORCE1", "FORCE2", "MOMENT", "MOMENT1", "MOMENT2", "PLOAD", "PLOAD1",
-        "PLOAD2", "PLOAD4", "GRAV", "ACCEL", "ACCEL1", "RFORCE", "LOAD", "DLOAD", "TLOAD1",
-        "TLOAD2", "RLOAD1", "RLOAD2", "DAREA", "SPCD", "TEMP", "TEMPD", "TIC", "TICD"},
+       "only MAT1 (with MATS1 plasticity) is supported",
+       &ModelState::refused_material_ids},
+      {{"FORCE",  "FORCE1", "FORCE2", "MOMENT", "MOMENT1", "MOMENT2", "PLOAD", "PLOAD1", "PLOAD2",
+        "PLOAD4", "GRAV",   "ACCEL",  "ACCEL1", "RFORCE",  "LOAD",    "DLOAD", "TLOAD1", "TLOAD2",
+        "RLOAD1", "RLOAD2", "DAREA",  "SPCD",   "TEMP",    "TEMPD",   "TIC",   "TICD"},
        "loads and initial conditions are not read from the model: the particles load the "
        "structure, and gravity and motion come from the deck; remove the card (or comment it "
        "out with $)"},
@@ -130,8 +139,7 @@ namespace {
 
 const CardGroup* find_group(const std::vector<CardGroup>& groups, const std::string& name) {
   for (const CardGroup& group : groups)
-    if (std::find(group.names.begin(), group.names.end(), name) != group.names.end())
-      return &group;
+    if (std::find(group.names.begin(), group.names.end(), name) != group.names.end()) return &group;
   return nullptr;
 }
 
@@ -192,8 +200,7 @@ void report_card_tallies(ModelState& state) {
     if (name == "PARAM") why = "parameters of OptiStruct's own solution";
     if (name == "DTI") why = "DTI tables other than UNITS";
     if (name.rfind("SET of TYPE", 0) == 0) why = "Quarry reads sets of grids and elements";
-    state.problems.note(tally.first, fmt::format("{} ignored ({})", name, times(tally.count)),
-                        why);
+    state.problems.note(tally.first, fmt::format("{} ignored ({})", name, times(tally.count)), why);
   }
 }
 
@@ -242,8 +249,7 @@ std::vector<int> resolve_list(ModelState& state, const IdList& list, const std::
     }
     if (taken == 0)
       state.problems.error(range.place,
-                           fmt::format("{} THRU {} selects no {}", range.first, range.last,
-                                       target),
+                           fmt::format("{} THRU {} selects no {}", range.first, range.last, target),
                            fmt::format("no {} has an id in this range", target));
   }
   std::sort(members.begin(), members.end());
@@ -264,9 +270,9 @@ void check_cross_references(ModelState& state) {
   for (auto& [set_id, list] : state.set_lists) {
     IdSet& set = model.sets.at(set_id);
     const bool grids = set.kind == SetKind::grid;
-    set.members = resolve_list(state, list, grids ? node_ids : element_ids,
-                               grids ? "GRID" : "element",
-                               grids ? state.grid_references : state.element_references);
+    set.members =
+        resolve_list(state, list, grids ? node_ids : element_ids, grids ? "GRID" : "element",
+                     grids ? state.grid_references : state.element_references);
   }
   for (auto& [surface_id, list] : state.surface_lists)
     model.surfaces.at(surface_id).elements =
@@ -303,11 +309,11 @@ std::optional<UnitSystem> settle_units(ModelState& state, const BulkDataOptions&
     return system == UnitSystem::si ? "SI (m, kg, s)" : "mm, tonne, s (MPA)";
   };
   if (state.units && options.units && state.units->system != *options.units) {
-    state.problems.error(state.units->place,
-                         fmt::format("the model declares {} ({}) but the deck states {}",
-                                     name(state.units->system), state.units->spelling,
-                                     name(*options.units)),
-                         "state the same units in both, or only in one of them");
+    state.problems.error(
+        state.units->place,
+        fmt::format("the model declares {} ({}) but the deck states {}", name(state.units->system),
+                    state.units->spelling, name(*options.units)),
+        "state the same units in both, or only in one of them");
     return std::nullopt;
   }
   if (state.units) return state.units->system;
@@ -326,9 +332,9 @@ std::optional<UnitSystem> settle_units(ModelState& state, const BulkDataOptions&
 // mass per area 1e9 (kg/m²)/(t/mm²).
 void convert_to_si(StructureModel& model, UnitSystem units) {
   if (units == UnitSystem::si) return;
-  constexpr double kLength = 1e-3;   // m per mm
-  constexpr double kStress = 1e6;    // Pa per MPa (N/mm²)
-  constexpr double kDensity = 1e12;  // (kg/m³) per (t/mm³)
+  constexpr double kLength = 1e-3;    // m per mm
+  constexpr double kStress = 1e6;     // Pa per MPa (N/mm²)
+  constexpr double kDensity = 1e12;   // (kg/m³) per (t/mm³)
   constexpr double kArealMass = 1e9;  // (kg/m²) per (t/mm²)
   for (auto& entry : model.nodes) entry.second.position *= kLength;
   for (auto& entry : model.properties) {

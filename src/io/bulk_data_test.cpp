@@ -93,7 +93,8 @@ TEST(BulkDataEdem, SeedExampleInEveryFormat) {
        "EDEM    100\nCONTROL 0.1     0.15\nCOUPLINGSURF    2       Surf_2\n"},
       {"free, one line", "EDEM,100,CONTROL,0.1,0.15,COUPLING,SURF,2,Surf_2\n"},
       {"free, continuation lines", "EDEM,100\n,CONTROL,0.1,0.15\n,COUPLING,SURF,2,Surf_2\n"},
-      {"free, '+' continuation lines", "EDEM,100,,,,,,,,+\n+,CONTROL,.1,.15\n+,COUPLING,SURF,2,Surf_2\n"},
+      {"free, '+' continuation lines",
+       "EDEM,100,,,,,,,,+\n+,CONTROL,.1,.15\n+,COUPLING,SURF,2,Surf_2\n"},
       {"large field",
        "EDEM*   100             CONTROL         0.1             0.15\n"
        "*       COUPLING        SURF            2               Surf_2\n"},
@@ -261,13 +262,13 @@ TEST(BulkDataPlate, SameModelInFixedFreeAndLargeFormat) {
   EXPECT_DOUBLE_EQ(shell.fiber_top, 0.0025);
 
   const IsotropicMaterial& steel = model.materials.at(1);
-  EXPECT_DOUBLE_EQ(steel.youngs_modulus, 2.1e11);                    // 2.1+5 MPa
+  EXPECT_DOUBLE_EQ(steel.youngs_modulus, 2.1e11);  // 2.1+5 MPa
   EXPECT_DOUBLE_EQ(steel.poisson_ratio, 0.3);
-  EXPECT_DOUBLE_EQ(steel.shear_modulus, 2.1e11 / (2.0 * 1.3));       // E = 2(1 + ν)G
-  EXPECT_NEAR(steel.density, 7850.0, 1e-9);                          // 7.85-9 t/mm³
+  EXPECT_DOUBLE_EQ(steel.shear_modulus, 2.1e11 / (2.0 * 1.3));  // E = 2(1 + ν)G
+  EXPECT_NEAR(steel.density, 7850.0, 1e-9);                     // 7.85-9 t/mm³
   ASSERT_TRUE(steel.plasticity.has_value());
-  EXPECT_DOUBLE_EQ(steel.plasticity->initial_yield_stress, 250e6);   // 250. MPa
-  EXPECT_DOUBLE_EQ(steel.plasticity->hardening_modulus, 1e9);        // 1000. MPa
+  EXPECT_DOUBLE_EQ(steel.plasticity->initial_yield_stress, 250e6);  // 250. MPa
+  EXPECT_DOUBLE_EQ(steel.plasticity->hardening_modulus, 1e9);       // 1000. MPa
 
   ASSERT_EQ(model.constraints.size(), 2u);
   EXPECT_EQ(model.constraints[0].dofs, DofSet::all());
@@ -322,18 +323,22 @@ TEST(BulkDataFormat, NastranRealShorthand) {
 // Every way a card continues: '+' and named '+A' marks, a blank first field, '*' large-field
 // halves, free-format ',' and '+', with comment and blank lines in between.
 TEST(BulkDataFormat, ContinuationVariants) {
-  const std::string base = "DTI,UNITS,1,KG,N,M,S\nGRID,1\nGRID,2,,1.\nGRID,3,,1.,1.\n"
-                           "MAT1,1,2.1+11,,0.3,7850.\nCTRIA3,1,1,1,2,3\n";
+  const std::string base =
+      "DTI,UNITS,1,KG,N,M,S\nGRID,1\nGRID,2,,1.\nGRID,3,,1.,1.\n"
+      "MAT1,1,2.1+11,,0.3,7850.\nCTRIA3,1,1,1,2,3\n";
   const std::vector<std::pair<std::string, std::string>> variants = {
       {"plus", "PSHELL  1       1       .005    1               1\n+       1.-3    2.-3\n"},
       {"named marks",
        "PSHELL  1       1       .005    1               1                       +PS1\n"
        "+PS1    1.-3    2.-3\n"},
-      {"blank first field", "PSHELL  1       1       .005    1               1\n        1.-3    2.-3\n"},
-      {"comments between", "PSHELL  1       1       .005    1               1 $ shell\n"
-                           "$ a comment line\n\n// another\n        1.-3    2.-3\n"},
-      {"large", "PSHELL* 1               1               .005            1\n"
-                "*                       1\n*       1.-3            2.-3\n"},
+      {"blank first field",
+       "PSHELL  1       1       .005    1               1\n        1.-3    2.-3\n"},
+      {"comments between",
+       "PSHELL  1       1       .005    1               1 $ shell\n"
+       "$ a comment line\n\n// another\n        1.-3    2.-3\n"},
+      {"large",
+       "PSHELL* 1               1               .005            1\n"
+       "*                       1\n*       1.-3            2.-3\n"},
       {"large with a small continuation",
        "PSHELL* 1               1               .005            1\n"
        "*                       1\n+       1.-3    2.-3\n"},
@@ -364,9 +369,10 @@ TEST(BulkDataFormat, ContinuationVariants) {
 // The model declares its units (UNITS = in the I/O options, or DTI,UNITS) or the caller states
 // them; never guessed. Conversion factors are those of convert_to_si (bulk_data.cpp).
 TEST(BulkDataUnits, DeclaredStatedOrRefused) {
-  const std::string cards = "BEGIN BULK\nGRID,1\nGRID,2,,1000.\nGRID,3,,1000.,1000.\n"
-                            "CTRIA3,1,1,1,2,3\nPSHELL,1,1,5.,1,,1,,2.-6\n"
-                            "MAT1,1,2.1+5,,.3,7.85-9\nENDDATA\n";
+  const std::string cards =
+      "BEGIN BULK\nGRID,1\nGRID,2,,1000.\nGRID,3,,1000.,1000.\n"
+      "CTRIA3,1,1,1,2,3\nPSHELL,1,1,5.,1,,1,,2.-6\n"
+      "MAT1,1,2.1+5,,.3,7.85-9\nENDDATA\n";
   const StructureModel mpa = read_bulk_data_string("SOL 129\nUNITS = MPA\n" + cards, "mpa.bdf");
   EXPECT_EQ(mpa.declared_units, UnitSystem::mm_tonne_second);
   EXPECT_EQ(mpa.nodes.at(3).position, (Vec3{1.0, 1.0, 0.0}));
@@ -394,8 +400,8 @@ TEST(BulkDataUnits, DeclaredStatedOrRefused) {
   EXPECT_EQ(first_line(missing), "model.bdf:2:1: error: the model does not declare its units");
   EXPECT_NE(missing.find("hint: add `UNITS = SI` or `UNITS = MPA`"), std::string::npos) << missing;
   // Two that disagree, and a model that disagrees with the deck.
-  EXPECT_EQ(first_line(errors_of("UNITS = SI\n" + replace_all(cards, "ENDDATA",
-                                                              "DTI,UNITS,1,MGG,N,MM,S\nENDDATA"))),
+  EXPECT_EQ(first_line(errors_of("UNITS = SI\n" +
+                                 replace_all(cards, "ENDDATA", "DTI,UNITS,1,MGG,N,MM,S\nENDDATA"))),
             "model.bdf:9:13: error: DTI,UNITS MGG N MM S disagrees with UNITS = SI at "
             "model.bdf:1");
   BulkDataOptions si_deck;
@@ -411,7 +417,8 @@ TEST(BulkDataUnits, DeclaredStatedOrRefused) {
 
 TEST(BulkDataSets, ThruRangesWithExcept) {
   std::string grids = "DTI,UNITS,1,KG,N,M,S\n";
-  for (int id : {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 20, 21, 22}) grids += "GRID," + std::to_string(id) + "\n";
+  for (int id : {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 20, 21, 22})
+    grids += "GRID," + std::to_string(id) + "\n";
   const std::string model_text = grids +
                                  "MAT1,1,1.+9,,.3,1000.\nPSHELL,1,1,.01,1,,1\n"
                                  "CTRIA3,1,1,1,2,3\nCTRIA3,2,1,2,3,4\nCTRIA3,4,1,3,4,5\n"
@@ -450,8 +457,7 @@ TEST(BulkDataCards, RefusedUnknownAndIgnoredCards) {
   const std::string notes = model.notes.format();
   EXPECT_NE(notes.find("model.bdf:11:1: note: PARAM ignored (2 cards)"), std::string::npos)
       << notes;
-  EXPECT_NE(notes.find("model.bdf:13:1: note: EIGRL ignored (1 card)"), std::string::npos)
-      << notes;
+  EXPECT_NE(notes.find("model.bdf:13:1: note: EIGRL ignored (1 card)"), std::string::npos) << notes;
   EXPECT_EQ(first_line(errors_of(ok + "PARAM,WTMASS,0.00259\n")),
             "model.bdf:11:14: error: PARAM,WTMASS = 0.00259 scales every mass");
 }
@@ -488,9 +494,10 @@ TEST(BulkDataCards, Mat1RuleAndPermanentConstraints) {
 
 // One run reports every error of the model, in the order of the file.
 TEST(BulkDataErrors, AllErrorsInReadingOrder) {
-  const std::string text = "DTI,UNITS,1,KG,N,M,S\n"
-                           "GRID,1,,0.,0.,0.\nGRID,2,,1..,0.,0.\nGRID,1,,0.,1.,0.\n"
-                           "CTRIA3,1,1,1,2,3\nPSHELL,1,1,0.\nMAT1,1,2.1+11,,0.3,7850.\n";
+  const std::string text =
+      "DTI,UNITS,1,KG,N,M,S\n"
+      "GRID,1,,0.,0.,0.\nGRID,2,,1..,0.,0.\nGRID,1,,0.,1.,0.\n"
+      "CTRIA3,1,1,1,2,3\nPSHELL,1,1,0.\nMAT1,1,2.1+11,,0.3,7850.\n";
   try {
     read_bulk_data_string(text, "model.bdf");
     FAIL() << "read";

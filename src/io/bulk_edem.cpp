@@ -73,8 +73,8 @@ void read_edem(const Card& card, ModelState& state) {
       if (values.size() >= 1) {
         coupling.period = fields.real(values[0], "PERIOD");
         if (coupling.period && !(*coupling.period > 0.0)) {
-          fields.error(values[0], fmt::format("EDEM PERIOD must be > 0, got {}",
-                                              fields.at(values[0]).text),
+          fields.error(values[0],
+                       fmt::format("EDEM PERIOD must be > 0, got {}", fields.at(values[0]).text),
                        "leave PERIOD blank for the default, TTERM/100");
           coupling.period.reset();
         }
@@ -88,8 +88,8 @@ void read_edem(const Card& card, ModelState& state) {
                        "leave FILTER blank to smooth the forces over one PERIOD");
           coupling.filter.reset();
         } else if (coupling.filter && !(*coupling.filter > 0.0)) {
-          fields.error(values[1], fmt::format("EDEM FILTER must be > 0, got {}",
-                                              fields.at(values[1]).text));
+          fields.error(values[1],
+                       fmt::format("EDEM FILTER must be > 0, got {}", fields.at(values[1]).text));
           coupling.filter.reset();
         }
       }
@@ -107,10 +107,10 @@ void read_edem(const Card& card, ModelState& state) {
                      "TYPE SURF: the coupling surface is a SURF, named by its id");
         valid = false;
       } else if (type != "SURF") {
-        fields.error(values[0],
-                     fmt::format("EDEM COUPLING TYPE must be SURF, got \"{}\"",
-                                 fields.at(values[0]).text),
-                     "SURF is the only entity type of the EDEM card");
+        fields.error(
+            values[0],
+            fmt::format("EDEM COUPLING TYPE must be SURF, got \"{}\"", fields.at(values[0]).text),
+            "SURF is the only entity type of the EDEM card");
         valid = false;
       }
       std::optional<int> surface_id;
@@ -125,11 +125,9 @@ void read_edem(const Card& card, ModelState& state) {
       }
       if (valid && surface_id) {
         surface.surface_id = *surface_id;
-        const bool repeated =
-            std::any_of(coupling.surfaces.begin(), coupling.surfaces.end(),
-                        [&](const CouplingSurfaceRef& other) {
-                          return other.surface_id == *surface_id;
-                        });
+        const bool repeated = std::any_of(
+            coupling.surfaces.begin(), coupling.surfaces.end(),
+            [&](const CouplingSurfaceRef& other) { return other.surface_id == *surface_id; });
         if (repeated)
           fields.error(values[1], fmt::format("EDEM couples SURF {} twice", *surface_id));
         else
@@ -160,15 +158,13 @@ void read_edem(const Card& card, ModelState& state) {
   const auto repeated = std::find_if(state.model.couplings.begin(), state.model.couplings.end(),
                                      [&](const EdemCoupling& other) { return other.id == *id; });
   if (repeated != state.model.couplings.end()) {
-    fields.error(0, fmt::format("duplicate EDEM id {}", *id),
-                 state.first_defined(repeated->where));
+    fields.error(0, fmt::format("duplicate EDEM id {}", *id), state.first_defined(repeated->where));
     return;
   }
   coupling.id = *id;
   coupling.where = state.location(card.place);
   state.model.couplings.push_back(std::move(coupling));
-  state.surface_references.insert(state.surface_references.end(), surfaces.begin(),
-                                  surfaces.end());
+  state.surface_references.insert(state.surface_references.end(), surfaces.begin(), surfaces.end());
 }
 
 void read_dti(const Card& card, ModelState& state) {
@@ -201,9 +197,10 @@ void read_dti(const Card& card, ModelState& state) {
   else if (is("MGG", "N", "MM", "S"))
     state.declare_units(UnitSystem::mm_tonne_second, fields.at(2).place, spelling);
   else
-    fields.error(2, fmt::format("unsupported unit system {} {} {} {}", words[0], words[1],
-                                words[2], words[3]),
-                 "Quarry reads KG N M S (SI) and MGG N MM S (mm, tonne, s)");
+    fields.error(
+        2,
+        fmt::format("unsupported unit system {} {} {} {}", words[0], words[1], words[2], words[3]),
+        "Quarry reads KG N M S (SI) and MGG N MM S (mm, tonne, s)");
 }
 
 void read_units_statement(const std::string& system, const Place& place, ModelState& state) {

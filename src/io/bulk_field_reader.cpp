@@ -38,7 +38,8 @@ std::string card_format(const std::string& name) {
   if (name == "SURF")
     return "SURF  SRFID  ELFACE, then one line per element: EID  GA  GB  NORMAL (or SURF  SRFID  "
            "ELEM  LIST with the ids on continuation lines, as SET)";
-  if (name == "EDEM") return "EDEM  ID, then  CONTROL  PERIOD  FILTER, then  COUPLING  TYPE  ID  LABEL";
+  if (name == "EDEM")
+    return "EDEM  ID, then  CONTROL  PERIOD  FILTER, then  COUPLING  TYPE  ID  LABEL";
   if (name == "DTI") return "DTI  UNITS  1  MASS  FORCE  LENGTH  TIME";
   if (name == "PARAM") return "PARAM  NAME  VALUE";
   return name;
@@ -64,8 +65,8 @@ std::optional<int> FieldReader::id(std::size_t index, std::string_view what, boo
   const std::optional<std::int64_t> value = parse_integer(field.text);
   if (!value || *value < 1 || *value > kMaxId) {
     error(index,
-          fmt::format("{} {} must be an id (an integer from 1 to {}), got \"{}\"", card_.name,
-                      what, kMaxId, field.text),
+          fmt::format("{} {} must be an id (an integer from 1 to {}), got \"{}\"", card_.name, what,
+                      kMaxId, field.text),
           unreadable_hint(field.text, card_format(card_.name)));
     return std::nullopt;
   }
@@ -120,8 +121,8 @@ std::optional<DofSet> FieldReader::dofs(std::size_t index, std::string_view what
   }
   if (!valid) {
     error(index,
-          fmt::format("{} {} must be a code of DOFs 1-6 (such as 123456), got \"{}\"",
-                      card_.name, what, field.text),
+          fmt::format("{} {} must be a code of DOFs 1-6 (such as 123456), got \"{}\"", card_.name,
+                      what, field.text),
           "1-3 are the translations along x, y, z and 4-6 the rotations about them, each digit "
           "at most once");
     return std::nullopt;
@@ -132,8 +133,9 @@ std::optional<DofSet> FieldReader::dofs(std::size_t index, std::string_view what
 void FieldReader::reject_from(std::size_t first, std::size_t end) {
   for (std::size_t i = first; i < std::min(end, card_.fields.size()); ++i) {
     if (card_.fields[i].blank()) continue;
-    error(i, fmt::format("{} has no field here: \"{}\" would not be read", card_.name,
-                         card_.fields[i].text),
+    error(i,
+          fmt::format("{} has no field here: \"{}\" would not be read", card_.name,
+                      card_.fields[i].text),
           card_format(card_.name));
     return;
   }

@@ -60,11 +60,15 @@ Diagnostics Problems::sorted(bool with_errors, bool with_warnings, bool with_not
   Diagnostics result;
   for (const Item* item : chosen) {
     switch (item->severity) {
-      case Severity::error: result.error(location(item->place), item->message, item->hint); break;
+      case Severity::error:
+        result.error(location(item->place), item->message, item->hint);
+        break;
       case Severity::warning:
         result.warning(location(item->place), item->message, item->hint);
         break;
-      case Severity::note: result.note(location(item->place), item->message, item->hint); break;
+      case Severity::note:
+        result.note(location(item->place), item->message, item->hint);
+        break;
     }
   }
   return result;
@@ -154,8 +158,9 @@ Field fixed_field(std::string_view line, int begin, int width, Place place) {
   int last = end;
   while (last > first && line[static_cast<std::size_t>(last - 1)] == ' ') --last;
   Field field;
-  if (first < last) field.text = std::string(line.substr(static_cast<std::size_t>(first),
-                                                         static_cast<std::size_t>(last - first)));
+  if (first < last)
+    field.text = std::string(
+        line.substr(static_cast<std::size_t>(first), static_cast<std::size_t>(last - first)));
   place.column = (first < last ? first : begin) + 1;
   field.place = place;
   return field;
@@ -301,8 +306,8 @@ class Lexer {
     const std::size_t comma = line.find(',');
     const bool free_format = comma != std::string_view::npos && comma < 10;
     const char first = line.front();
-    const bool continuation = first == ' ' || first == '\t' || first == '+' || first == '*' ||
-                              first == ',';
+    const bool continuation =
+        first == ' ' || first == '\t' || first == '+' || first == '*' || first == ',';
 
     std::vector<Field> line_fields;  // field 1 first, then the data fields
     if (free_format) {
@@ -382,8 +387,8 @@ class Lexer {
       begin = comma + 1;
     }
     const std::string& first = fields[0].text;
-    const bool large = (!first.empty() && first.back() == '*') ||
-                       (!first.empty() && first.front() == '*');
+    const bool large =
+        (!first.empty() && first.back() == '*') || (!first.empty() && first.front() == '*');
     const std::size_t data = large ? 4 : 8;
     if (fields.size() > data + 2) {
       problems_.error(fields[data + 2].place,
@@ -392,9 +397,10 @@ class Lexer {
                                   "continuation mark; continue on a line starting with ','",
                                   large ? "large-field " : "", data));
     }
-    fields.resize(data + 1, Field{{}, Place{place.file, place.line,
-                                            static_cast<std::int32_t>(line.size()) + 1,
-                                            place.ordinal}});
+    fields.resize(data + 1,
+                  Field{{},
+                        Place{place.file, place.line, static_cast<std::int32_t>(line.size()) + 1,
+                              place.ordinal}});
   }
 
   // Field 1 and the data fields of a fixed-format line: 8 fields of 8 columns, or 4 of 16 when
@@ -426,7 +432,8 @@ class Lexer {
     const bool large = (!name.empty() && name.back() == '*') || line.front() == '*';
     const int width = large ? 16 : 8;
     const int count = large ? 4 : 8;
-    for (int i = 0; i < count; ++i) fields.push_back(fixed_field(read, 8 + i * width, width, place));
+    for (int i = 0; i < count; ++i)
+      fields.push_back(fixed_field(read, 8 + i * width, width, place));
     return true;
   }
 
@@ -455,8 +462,8 @@ class Lexer {
       name = std::string(line.substr(i, end - i));
     }
     const fs::path including = fs::path(files_[static_cast<std::size_t>(place.file)]);
-    const fs::path target = fs::path(name).is_absolute() ? fs::path(name)
-                                                         : including.parent_path() / name;
+    const fs::path target =
+        fs::path(name).is_absolute() ? fs::path(name) : including.parent_path() / name;
     std::error_code ignored;
     const fs::path canonical = fs::weakly_canonical(target, ignored);
     if (std::find(open_files_.begin(), open_files_.end(), canonical) != open_files_.end()) {
@@ -491,8 +498,8 @@ class Lexer {
   std::vector<fs::path> open_files_;  // the chain of INCLUDEs being read
   Card open_;                         // the card being assembled, when has_open_
   bool has_open_ = false;
-  bool skipping_ = false;             // dropping continuation lines of an unreadable card
-  bool ended_ = false;                // ENDDATA seen
+  bool skipping_ = false;  // dropping continuation lines of an unreadable card
+  bool ended_ = false;     // ENDDATA seen
   std::int32_t ordinal_ = 0;
 };
 

@@ -62,7 +62,7 @@ struct Card {
   std::string name;  // upper case, without a large-field '*'
   Place place;       // of the name
   std::vector<Field> fields;
-  Field missing;     // what at() gives past the last field: blank, placed at the name
+  Field missing;  // what at() gives past the last field: blank, placed at the name
 
   const Field& at(std::size_t index) const {
     return index < fields.size() ? fields[index] : missing;

@@ -62,7 +62,7 @@ struct ModelState {
   Problems& problems;
   StructureModel model;  // values in the file's units until bulk_data.cpp converts them
   std::unordered_map<int, std::size_t> element_index;  // element id -> index in model.shells
-  std::map<int, J2Plasticity> plasticity;             // MATS1 by MID, attached at the end
+  std::map<int, J2Plasticity> plasticity;              // MATS1 by MID, attached at the end
   std::map<int, CardLocation> set_or_surface_ids;      // SET and SURF share their ids
 
   std::vector<Reference> grid_references;
@@ -97,8 +97,9 @@ struct ModelState {
   void ignore(const std::string& name, const Place& place);
 };
 
-// Typed reads of one card's fields (bulk_field_reader.cpp): each reports a bad value at its field (with the card's
-// format as hint) and returns nullopt, so that a reader goes on and every error is reported.
+// Typed reads of one card's fields (bulk_field_reader.cpp): each reports a bad value at its field
+// (with the card's format as hint) and returns nullopt, so that a reader goes on and every error is
+// reported.
 class FieldReader {
  public:
   FieldReader(const Card& card, ModelState& state);

@@ -69,8 +69,7 @@ IdList read_id_list(const Card& card, std::size_t first, bool allow_except, int 
       const Reference start = list.ids.back();
       list.ids.pop_back();
       if (*last < start.id) {
-        fields.error(next, fmt::format("{} range {} THRU {} goes down", card.name, start.id,
-                                       *last),
+        fields.error(next, fmt::format("{} range {} THRU {} goes down", card.name, start.id, *last),
                      "write the smaller id first");
         continue;
       }
@@ -102,8 +101,8 @@ IdList read_id_list(const Card& card, std::size_t first, bool allow_except, int 
       fields.error(i,
                    fmt::format("{} {} must be {} (an integer from 1 to {}) or THRU{}, got "
                                "\"{}\"",
-                               card.name, grids ? "G" : "ID", grids ? "a grid id" : "an id",
-                               kMaxId, allow_except ? ", EXCEPT, ENDTHRU" : "", field.text),
+                               card.name, grids ? "G" : "ID", grids ? "a grid id" : "an id", kMaxId,
+                               allow_except ? ", EXCEPT, ENDTHRU" : "", field.text),
                    card_format(card.name));
       previous_is_id = false;
       continue;
@@ -154,7 +153,8 @@ void read_set(const Card& card, ModelState& state) {
   if (list.ids.empty() && list.ranges.empty() && !has_values_from(card, Card::index(1, 2)))
     fields.error(0, fmt::format("SET {} lists no ids", id.value_or(0)), card_format(card.name));
   if (!id) return;
-  const auto [entry, inserted] = state.set_or_surface_ids.try_emplace(*id, state.location(card.place));
+  const auto [entry, inserted] =
+      state.set_or_surface_ids.try_emplace(*id, state.location(card.place));
   if (!inserted) {
     fields.error(0, fmt::format("duplicate SET id {} (SET and SURF ids share one range)", *id),
                  state.first_defined(entry->second));
@@ -192,8 +192,8 @@ void read_surf(const Card& card, ModelState& state) {
       }
       if (fields.blank(eid)) continue;
       if (const std::optional<int> element = fields.id(eid, "EID"))
-        list.ids.push_back(Reference{*element, fields.at(eid).place, static_card_name(card.name),
-                                     id.value_or(0)});
+        list.ids.push_back(
+            Reference{*element, fields.at(eid).place, static_card_name(card.name), id.value_or(0)});
     }
   } else if (form == "ELEM") {
     const std::string subtype = fields.word(2);

@@ -27,26 +27,46 @@ namespace {
 // Nodes of each Gmsh element type (the manual's element table); types not listed are unknown.
 int nodes_of_type(int type) {
   switch (type) {
-    case 15: return 1;   // point
-    case 1: return 2;    // 2-node line
-    case 2: return 3;    // 3-node triangle
-    case 3: return 4;    // 4-node quadrangle
-    case 4: return 4;    // 4-node tetrahedron
-    case 5: return 8;    // 8-node hexahedron
-    case 6: return 6;    // 6-node prism
-    case 7: return 5;    // 5-node pyramid
-    case 8: return 3;    // 3-node line
-    case 9: return 6;    // 6-node triangle
-    case 10: return 9;   // 9-node quadrangle
-    case 11: return 10;  // 10-node tetrahedron
-    case 12: return 27;  // 27-node hexahedron
-    case 13: return 18;  // 18-node prism
-    case 14: return 14;  // 14-node pyramid
-    case 16: return 8;   // 8-node quadrangle
-    case 17: return 20;  // 20-node hexahedron
-    case 18: return 15;  // 15-node prism
-    case 19: return 13;  // 13-node pyramid
-    default: return 0;
+    case 15:
+      return 1;  // point
+    case 1:
+      return 2;  // 2-node line
+    case 2:
+      return 3;  // 3-node triangle
+    case 3:
+      return 4;  // 4-node quadrangle
+    case 4:
+      return 4;  // 4-node tetrahedron
+    case 5:
+      return 8;  // 8-node hexahedron
+    case 6:
+      return 6;  // 6-node prism
+    case 7:
+      return 5;  // 5-node pyramid
+    case 8:
+      return 3;  // 3-node line
+    case 9:
+      return 6;  // 6-node triangle
+    case 10:
+      return 9;  // 9-node quadrangle
+    case 11:
+      return 10;  // 10-node tetrahedron
+    case 12:
+      return 27;  // 27-node hexahedron
+    case 13:
+      return 18;  // 18-node prism
+    case 14:
+      return 14;  // 14-node pyramid
+    case 16:
+      return 8;  // 8-node quadrangle
+    case 17:
+      return 20;  // 20-node hexahedron
+    case 18:
+      return 15;  // 15-node prism
+    case 19:
+      return 13;  // 13-node pyramid
+    default:
+      return 0;
   }
 }
 
@@ -105,7 +125,8 @@ class GmshParser {
       expect(fmt::format("$End{}", name));
     }
     const Token end{"", static_cast<int>(line_count_), 1};
-    if (!format_read) fail(end, "the file is empty", "save the mesh from Gmsh as version 4.1 ASCII");
+    if (!format_read)
+      fail(end, "the file is empty", "save the mesh from Gmsh as version 4.1 ASCII");
     if (!nodes_read || !elements_read)
       fail(end, fmt::format("the mesh has no {} section", nodes_read ? "$Elements" : "$Nodes"),
            "save the mesh from Gmsh as version 4.1 ASCII");
@@ -115,11 +136,11 @@ class GmshParser {
                     "mesh the surfaces (2-D) in Gmsh; volume meshes are not shell models");
     if (errors_.has_errors()) throw UserError(errors_);
     if (skipped_lower_dimension_ > 0)
-      model_.notes.note(location(first_skipped_),
-                        fmt::format("{} element{} of points and curves skipped",
-                                    skipped_lower_dimension_,
-                                    skipped_lower_dimension_ == 1 ? "" : "s"),
-                        "a shell model is made of the surfaces' triangles and quadrangles");
+      model_.notes.note(
+          location(first_skipped_),
+          fmt::format("{} element{} of points and curves skipped", skipped_lower_dimension_,
+                      skipped_lower_dimension_ == 1 ? "" : "s"),
+          "a shell model is made of the surfaces' triangles and quadrangles");
     model_.source_files = {display_name_};
     return std::move(model_);
   }
@@ -323,14 +344,13 @@ class GmshParser {
              "save the mesh with first-order triangles and quadrangles");
       const bool shell = dimension == 2 && (type == 2 || type == 3);
       if (!shell && dimension >= 2)
-        errors_.error(location(type_token),
-                      dimension == 3
-                          ? fmt::format("volume elements (Gmsh type {}) are not supported", type)
-                          : fmt::format("surface element type {} is not supported", type),
-                      dimension == 3
-                          ? "a shell model is a surface mesh: mesh the surfaces only (2-D)"
-                          : "only first-order triangles (type 2) and quadrangles (type 3) are "
-                            "read; mesh with Mesh.ElementOrder = 1");
+        errors_.error(
+            location(type_token),
+            dimension == 3 ? fmt::format("volume elements (Gmsh type {}) are not supported", type)
+                           : fmt::format("surface element type {} is not supported", type),
+            dimension == 3 ? "a shell model is a surface mesh: mesh the surfaces only (2-D)"
+                           : "only first-order triangles (type 2) and quadrangles (type 3) are "
+                             "read; mesh with Mesh.ElementOrder = 1");
       for (std::size_t i = 0; i < n; ++i) {
         const Token& tag_token = tokens_[std::min(next_, tokens_.size() - 1)];
         const std::int64_t tag = integer("an element tag");
