@@ -1,0 +1,218 @@
+// Belytschko–Tsay quadrilateral and C0 triangle, one-point quadrature in the plane, several
+// points through the thickness. Kinematics (Belytschko, Lin & Tsay 1984, eqs. 9-16; Belytschko,
+// Liu & Moran, "Nonlinear Finite Elements for Continua and Structures", 2000, §9.7): mid-surface
+// strain rates d = B v̂, curvature rates κ = B θ̂, transverse shear γ = B ŵ + N θ̂, all in the
+// co-rotational frame, where the stresses are stored and need no objective rate.
+#include "fem/shell_element.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace quarry::fem {
+namespace {
+
+// Local (frame) description of the element at one configuration.
+struct LocalGeometry {
+  ElementFrame frame;
+  std::array<double, 4> x{}, y{};    // in-plane coordinates of the nodes (m)
+  std::array<double, 4> b1{}, b2{};  // ∂N_I/∂x̂, ∂N_I/∂ŷ at the centre (1/m)
+  double area = 0.0;                 // A (m²)
+};
+
+LocalGeometry local_geometry(const std::array<Vec3, 4>& x, int node_count) {
+  LocalGeometry g;
+  g.frame = element_frame(x, node_count);
+  for (int i = 0; i < node_count; ++i) {
+    const Vec3 r = x[i] - g.frame.origin;
+    g.x[i] = dot(r, g.frame.e1);
+    g.y[i] = dot(r, g.frame.e2);
+  }
+  if (node_count == 4) {
+    // A = ½ (x31 y42 + x24 y31) and the centre derivatives of the bilinear functions
+    // (Belytschko, Lin & Tsay 1984 eq. 14), with 0-based node numbers.
+    g.area = 0.5 * ((g.x[2] - g.x[0]) * (g.y[3] - g.y[1]) + (g.x[1] - g.x[3]) * (g.y[2] - g.y[0]));
+    const double inverse = 1.0 / (2.0 * g.area);
+    g.b1 = {(g.y[1] - g.y[3]) * inverse, (g.y[2] - g.y[0]) * inverse,
+            (g.y[3] - g.y[1]) * inverse, (g.y[0] - g.y[2]) * inverse};
+    g.b2 = {(g.x[3] - g.x[1]) * inverse, (g.x[0] - g.x[2]) * inverse,
+            (g.x[1] - g.x[3]) * inverse, (g.x[2] - g.x[0]) * inverse};
+  } else {
+    // Linear triangle: 2A = x21 y31 − x31 y21, ∂N_I/∂x = (y_J − y_K)/2A, ∂N_I/∂y = (x_K − x_J)/2A.
+    const double twice_area =
+        (g.x[1] - g.x[0]) * (g.y[2] - g.y[0]) - (g.x[2] - g.x[0]) * (g.y[1] - g.y[0]);
+    g.area = 0.5 * twice_area;
+    for (int i = 0; i < 3; ++i) {
+      const int j = (i + 1) % 3, k = (i + 2) % 3;
+      g.b1[i] = (g.y[j] - g.y[k]) / twice_area;
+      g.b2[i] = (g.x[k] - g.x[j]) / twice_area;
+    }
+  }
+  return g;
+}
+
+}  // namespace
+
+ElementFrame element_frame(const std::array<Vec3, 4>& x, int node_count) {
+  ElementFrame frame;
+  Vec3 sum;
+  for (int i = 0; i < node_count; ++i) sum += x[i];
+  frame.origin = sum / node_count;
+  const Vec3 normal = node_count == 4 ? cross(x[2] - x[0], x[3] - x[1])
+                                      : cross(x[1] - x[0], x[2] - x[0]);
+  frame.e3 = normalized(normal);
+  const Vec3 edge = x[1] - x[0];
+  frame.e1 = normalized(edge - dot(edge, frame.e3) * frame.e3);
+  frame.e2 = cross(frame.e3, frame.e1);
+  return frame;
+}
+
+double element_area(const std::array<Vec3, 4>& x, int node_count) {
+  return local_geometry(x, node_count).area;
+}
+
+double characteristic_length(const std::array<Vec3, 4>& x, int node_count) {
+  double longest = 0.0;
+  for (int i = 0; i < node_count; ++i) {
+    longest = std::max(longest, norm(x[(i + 1) % node_count] - x[i]));
+  }
+  const double area = element_area(x, node_count);
+  return (node_count == 4 ? 1.0 : 2.0) * area / longest;
+}
+
+ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::array<Vec3, 4>& v,
+                                    const std::array<Vec3, 4>& omega, int node_count, double dt,
+                                    const SectionProperties& section, ElementState state) {
+  const LocalGeometry g = local_geometry(x, node_count);
+  const ElementFrame& f = g.frame;
+  const int n = node_count;
+  // Nodal velocities and angular velocities in the co-rotational frame.
+  std::array<Vec3, 4> vl{}, wl{};
+  for (int i = 0; i < n; ++i) {
+    vl[i] = {dot(v[i], f.e1), dot(v[i], f.e2), dot(v[i], f.e3)};
+    wl[i] = {dot(omega[i], f.e1), dot(omega[i], f.e2), dot(omega[i], f.e3)};
+  }
+  const double shape = 1.0 / n;  // N_I at the centre
+  // Strain increments over dt: membrane (xx, yy, γxy), curvature (1/m), transverse shear γ.
+  Voigt3 membrane{}, curvature{};
+  double shear_x = 0.0, shear_y = 0.0;
+  for (int i = 0; i < n; ++i) {
+    membrane[0] += g.b1[i] * vl[i].x;
+    membrane[1] += g.b2[i] * vl[i].y;
+    membrane[2] += g.b2[i] * vl[i].x + g.b1[i] * vl[i].y;
+    // u(z) = u + z (θy, −θx): κxx = ∂θy/∂x, κyy = −∂θx/∂y, 2κxy = ∂θy/∂y − ∂θx/∂x.
+    curvature[0] += g.b1[i] * wl[i].y;
+    curvature[1] -= g.b2[i] * wl[i].x;
+    curvature[2] += g.b2[i] * wl[i].y - g.b1[i] * wl[i].x;
+    shear_x += g.b1[i] * vl[i].z + shape * wl[i].y;
+    shear_y += g.b2[i] * vl[i].z - shape * wl[i].x;
+  }
+  for (int k = 0; k < 3; ++k) {
+    membrane[k] *= dt;
+    curvature[k] *= dt;
+  }
+  shear_x *= dt;
+  shear_y *= dt;
+
+  ElementForces out;
+  const double t = section.thickness;
+  const double half = 0.5 * t;
+  // Through the thickness: σ at z = ξ t/2 from Δε = Δε_m + z Δκ; resultants N = ∫σ dz,
+  // M = ∫z σ dz (per unit length), stress work ∫ ½(σ_n + σ_n+1)·Δε dz per unit area.
+  Voigt3 force{}, moment{};
+  double work = 0.0;
+  for (int p = 0; p < section.points; ++p) {
+    const double z = section.coordinate[p] * half;
+    const double w = section.weight[p] * half;
+    double* s = state.stress + 3 * p;
+    const Voigt3 increment{membrane[0] + z * curvature[0], membrane[1] + z * curvature[1],
+                           membrane[2] + z * curvature[2]};
+    Voigt3 stress{s[0], s[1], s[2]};
+    const Voigt3 old = stress;
+    update_plane_stress(section.material, increment, stress, state.plastic_strain[p]);
+    for (int k = 0; k < 3; ++k) {
+      s[k] = stress[k];
+      work += 0.5 * (old[k] + stress[k]) * increment[k] * w;
+      force[k] += stress[k] * w;
+      moment[k] += stress[k] * z * w;
+    }
+  }
+  // Transverse shear, elastic: Q = κ G t γ (times the triangle stabilisation factor).
+  double shear_stiffness = section.shear_factor * section.shear_modulus * t;
+  if (n == 3) {
+    const double h2 = 2.0 * g.area;
+    shear_stiffness *= t * t / (t * t + section.triangle_shear_stabilisation * h2);
+  }
+  const double old_qx = state.shear[0], old_qy = state.shear[1];
+  state.shear[0] += shear_stiffness * shear_x;
+  state.shear[1] += shear_stiffness * shear_y;
+  work += 0.5 * (old_qx + state.shear[0]) * shear_x + 0.5 * (old_qy + state.shear[1]) * shear_y;
+  out.internal_energy_increment = work * g.area;
+
+  // Nodal forces from the virtual power A (N:δd + M:δκ + Q·δγ), in the element frame.
+  std::array<std::array<double, 6>, 4> local{};
+  const double a = g.area;
+  for (int i = 0; i < n; ++i) {
+    local[i][0] = a * (g.b1[i] * force[0] + g.b2[i] * force[2]);
+    local[i][1] = a * (g.b2[i] * force[1] + g.b1[i] * force[2]);
+    local[i][2] = a * (g.b1[i] * state.shear[0] + g.b2[i] * state.shear[1]);
+    local[i][3] = a * (-g.b2[i] * moment[1] - g.b1[i] * moment[2] - shape * state.shear[1]);
+    local[i][4] = a * (g.b1[i] * moment[0] + g.b2[i] * moment[2] + shape * state.shear[0]);
+  }
+
+  if (n == 4) {
+    // Hourglass control (Belytschko & Tsay 1983; Belytschko, Lin & Tsay 1984 eqs. 27-30): the
+    // vector γ_I = h_I − (h·x̂) B1_I − (h·ŷ) B2_I, h = (1, −1, 1, −1), is orthogonal to every
+    // linear field, so rigid motion and constant strain leave the hourglass resultants alone.
+    const std::array<double, 4> h{1.0, -1.0, 1.0, -1.0};
+    double hx = 0.0, hy = 0.0, bb = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      hx += h[i] * g.x[i];
+      hy += h[i] * g.y[i];
+      bb += g.b1[i] * g.b1[i] + g.b2[i] * g.b2[i];
+    }
+    std::array<double, 4> gamma{};
+    std::array<double, 5> rate{};  // γ·v̂x, γ·v̂y, γ·v̂z, γ·θ̂x, γ·θ̂y
+    for (int i = 0; i < 4; ++i) {
+      gamma[i] = h[i] - hx * g.b1[i] - hy * g.b2[i];
+      rate[0] += gamma[i] * vl[i].x;
+      rate[1] += gamma[i] * vl[i].y;
+      rate[2] += gamma[i] * vl[i].z;
+      rate[3] += gamma[i] * wl[i].x;
+      rate[4] += gamma[i] * wl[i].y;
+    }
+    const PlaneStressMaterial& m = section.material;
+    // Stiffnesses (BLT 1984 eq. 30): r_m E t A B·B/8, r_w κ G t³ B·B/12, r_θ E t³ A B·B/192.
+    const double membrane_k = section.hourglass_membrane * m.youngs_modulus * t * a * bb / 8.0;
+    const double transverse_k = section.hourglass_transverse * section.shear_factor *
+                                section.shear_modulus * t * t * t * bb / 12.0;
+    const double bending_k =
+        section.hourglass_bending * m.youngs_modulus * t * t * t * a * bb / 192.0;
+    const std::array<double, 5> stiffness{membrane_k, membrane_k, transverse_k, bending_k,
+                                          bending_k};
+    double hourglass_work = 0.0;
+    for (int k = 0; k < 5; ++k) {
+      const double increment = rate[k] * dt;
+      const double old = state.hourglass[k];
+      state.hourglass[k] += stiffness[k] * increment;
+      hourglass_work += 0.5 * (old + state.hourglass[k]) * increment;
+    }
+    out.hourglass_energy_increment = hourglass_work;
+    for (int i = 0; i < 4; ++i) {
+      local[i][0] += gamma[i] * state.hourglass[0];
+      local[i][1] += gamma[i] * state.hourglass[1];
+      local[i][2] += gamma[i] * state.hourglass[2];
+      local[i][3] += gamma[i] * state.hourglass[3];
+      local[i][4] += gamma[i] * state.hourglass[4];
+    }
+  }
+
+  // Back to global axes (the drilling moment local[i][5] is zero: no drilling stiffness).
+  for (int i = 0; i < n; ++i) {
+    const Vec3 fg = local[i][0] * f.e1 + local[i][1] * f.e2 + local[i][2] * f.e3;
+    const Vec3 mg = local[i][3] * f.e1 + local[i][4] * f.e2 + local[i][5] * f.e3;
+    out.nodal[i] = {fg.x, fg.y, fg.z, mg.x, mg.y, mg.z};
+  }
+  return out;
+}
+
+}  // namespace quarry::fem

@@ -1,0 +1,144 @@
+// Explicit dynamics of thin shells: Belytschko–Tsay quads and C0 triangles (shell_element.h),
+// row-sum lumped mass with scaled rotary inertia, central differences in velocity-Verlet form,
+// mass-proportional damping, optional mass scaling, boundary conditions on node sets and
+// external nodal forces and moments (how the particles load the structure).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/threading.h"
+#include "core/vec3.h"
+#include "fem/shell_element.h"
+#include "fem/shell_model.h"
+
+namespace quarry::fem {
+
+struct ShellSolverOptions {
+  // Mass-proportional damping: force −α m v on every free DOF (rotations: −α I ω). α (1/s).
+  double damping = 0.0;
+  // Mass scaling: elements whose L_c/c is below this get their density raised so that it is
+  // met exactly; 0 disables. (s)
+  double mass_scaling_time_step = 0.0;
+  double shear_factor = 5.0 / 6.0;  // κ, transverse shear correction (1)
+  double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
+  double triangle_shear_stabilisation = 0.1;  // α of SectionProperties (1)
+  Threading threading;
+};
+
+// The critical step estimate min over elements of L_c / c, c = √(E/(ρ(1 − ν²))) the plate wave
+// speed (with scaled density). A run uses a fraction of it (0.8 recommended: the one-point
+// quad's dilatational mode alone needs ≤ 1/√(1 + ν) ≈ 0.877 of it; docs/fem.md).
+struct StableTimeStep {
+  double time_step = 0.0;              // s
+  int element = -1;                    // the limiting element (index in the model)
+  double characteristic_length = 0.0;  // its L_c (m)
+  double wave_speed = 0.0;             // its c (m/s)
+};
+
+struct NodalLoad {
+  Vec3 force;   // N, global axes
+  Vec3 moment;  // N·m, global axes
+};
+
+// Energies (J) at the end of the last step; the balance
+// kinetic + internal + hourglass + damping − external_work − constraint_work is constant.
+struct ShellEnergies {
+  double kinetic = 0.0;          // ½ m v² + ½ I ω²
+  double internal = 0.0;         // stress work (elastic + plastic, incl. transverse shear)
+  double hourglass = 0.0;        // work of the hourglass resultants
+  double damping = 0.0;          // dissipated by the mass-proportional damping
+  double external_work = 0.0;    // work of the external nodal forces and moments
+  double constraint_work = 0.0;  // work of the reactions at prescribed DOFs
+  bool hourglass_warning = false;  // hourglass > 5 % of internal
+};
+
+// Per-element results. Top, mid and bottom are the outermost (+z, along the element normal),
+// middle and innermost through-thickness points: with Lobatto rules the surfaces themselves;
+// with an even count, mid is the mean of the two middle points.
+struct ElementResult {
+  double von_mises_top = 0.0, von_mises_mid = 0.0, von_mises_bottom = 0.0;  // Pa
+  double plastic_strain_max = 0.0;  // largest ε̄_p over the points (1)
+};
+
+class ShellSolver {
+ public:
+  // Validates the model (validate_shell_model, throws std::invalid_argument naming the element,
+  // node, section or material) and sets up masses, state and the node → element gather.
+  // Nodes start at rest. Cost: O(model size).
+  explicit ShellSolver(ShellModel model, ShellSolverOptions options = {});
+
+  // The current critical step estimate and the element that limits it. Cost: O(elements).
+  StableTimeStep stable_time_step() const;
+  // Mass added by mass scaling (kg), 0 without it.
+  double added_mass() const { return added_mass_; }
+  double total_mass() const { return total_mass_; }
+
+  // External force and moment per node, held constant over the following steps until set
+  // again. Pre: loads.size() == node count (throws std::invalid_argument otherwise).
+  void set_loads(std::span<const NodalLoad> loads);
+  // Sets a node's velocity (m/s) and angular velocity (rad/s); prescribed DOFs keep their value.
+  void set_velocity(int node, const Vec3& velocity, const Vec3& angular_velocity);
+
+  // One central-difference step of length dt (s): half kick, drift, internal forces on the new
+  // configuration, half kick, energies. Pre: 0 < dt ≤ the stable step (not checked; a
+  // diverging run throws PhysicsError naming the step and the node). Cost: O(elements · points).
+  void step(double dt);
+
+  double time() const { return time_; }
+  std::int64_t step_count() const { return steps_; }
+  std::span<const Vec3> positions() const { return positions_; }
+  std::span<const Vec3> velocities() const { return velocities_; }
+  std::span<const Vec3> angular_velocities() const { return angular_velocities_; }
+  // Accumulated rotation vector Σ ω dt per node (rad): small-rotation measure for output.
+  std::span<const Vec3> rotations() const { return rotations_; }
+  // Force and moment the constraints exert on each node (N, N·m; zero on free DOFs):
+  // f_int − f_ext at the prescribed DOFs.
+  std::span<const std::array<double, 6>> reactions() const { return reactions_; }
+  std::span<const double> nodal_masses() const { return mass_; }
+  const ShellEnergies& energies() const { return energies_; }
+
+  ElementResult element_result(int element) const;
+  // Stress at a through-thickness point in the element's co-rotational frame (σxx, σyy, σxy; Pa)
+  // and that frame at the current configuration.
+  Voigt3 element_stress(int element, int point) const;
+  double element_plastic_strain(int element, int point) const;
+  ElementFrame current_frame(int element) const;
+  int element_count() const { return static_cast<int>(model_.elements.size()); }
+  int node_count() const { return static_cast<int>(model_.nodes.size()); }
+
+ private:
+  std::array<Vec3, 4> gather(const std::vector<Vec3>& field, int element) const;
+  void compute_internal_forces(double dt);
+  void kick(double half_dt, bool first_half);
+  void apply_prescribed();
+
+  ShellModel model_;
+  ShellSolverOptions options_;
+  std::vector<ThicknessPoints> rules_;            // per section
+  std::vector<SectionProperties> properties_;     // per section
+  std::vector<double> density_;                   // per element, after mass scaling (kg/m³)
+  std::vector<int> state_offset_;                 // per element, into stress_ / plastic_
+  std::vector<double> stress_, plastic_, shear_, hourglass_;
+
+  std::vector<Vec3> positions_, velocities_, angular_velocities_, rotations_;
+  std::vector<double> mass_, rotary_inertia_;  // kg, kg·m²
+  std::vector<NodalLoad> loads_;
+  std::vector<std::array<double, 6>> internal_force_, reactions_;
+  std::vector<std::uint8_t> prescribed_mask_;
+  std::vector<std::array<double, 6>> prescribed_velocity_;
+
+  // Deterministic gather: element force blocks, then per node its (element, slot) in order.
+  std::vector<std::array<std::array<double, 6>, 4>> element_forces_;
+  std::vector<double> element_internal_energy_, element_hourglass_energy_;
+  std::vector<int> incidence_offset_, incidence_;  // incidence_: 4 * element + slot
+
+  double added_mass_ = 0.0, total_mass_ = 0.0;
+  double time_ = 0.0;
+  std::int64_t steps_ = 0;
+  ShellEnergies energies_;
+};
+
+}  // namespace quarry::fem
