@@ -50,6 +50,75 @@ LocalGeometry local_geometry(const std::array<Vec3, 4>& x, int node_count) {
   return g;
 }
 
+// Triangle transverse shear with edge-tied (assumed) strains, the MITC3 idea (Lee & Bathe 2004,
+// Comput. Struct. 82:945): the shear field γ(x) = a + c (−ŷ, x̂) (x̂, ŷ from the centroid) has a
+// constant tangential component on each edge, which is tied to the edge's own value
+// γ_τ = (w_j − w_i)/L + τ·(θ̄_y, −θ̄_x), θ̄ the mean of the edge's nodal rotations. A linear
+// triangle with one-point shear locks in thin plates (four constraints per node); this does not.
+// Energy ∫ ½ κGt |γ|² dA = ½ κGt (A |a|² + J c²), J = A (L₁² + L₂² + L₃²)/36 the polar moment.
+// Returns the shear work of the step (J) and adds the nodal forces and moments to `local`.
+double triangle_shear(const LocalGeometry& g, const std::array<Vec3, 4>& vl,
+                      const std::array<Vec3, 4>& wl, double dt, double shear_stiffness,
+                      double* resultants, std::array<std::array<double, 6>, 4>& local) {
+  std::array<double, 3> length{}, tx{}, ty{};
+  double matrix[3][3];
+  double length_sum = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const int i = k, j = (k + 1) % 3;
+    const double dx = g.x[j] - g.x[i], dy = g.y[j] - g.y[i];
+    length[k] = std::sqrt(dx * dx + dy * dy);
+    length_sum += dx * dx + dy * dy;
+    tx[k] = dx / length[k];
+    ty[k] = dy / length[k];
+    const double mx = 0.5 * (g.x[i] + g.x[j]), my = 0.5 * (g.y[i] + g.y[j]);
+    matrix[k][0] = tx[k];
+    matrix[k][1] = ty[k];
+    matrix[k][2] = mx * ty[k] - my * tx[k];
+  }
+  // Inverse of the 3 × 3 tying matrix (adjugate / determinant).
+  double inverse[3][3];
+  const double det = matrix[0][0] * (matrix[1][1] * matrix[2][2] - matrix[1][2] * matrix[2][1]) -
+                     matrix[0][1] * (matrix[1][0] * matrix[2][2] - matrix[1][2] * matrix[2][0]) +
+                     matrix[0][2] * (matrix[1][0] * matrix[2][1] - matrix[1][1] * matrix[2][0]);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      const int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+      inverse[r][c] = (matrix[r1][c1] * matrix[r2][c2] - matrix[r1][c2] * matrix[r2][c1]) / det;
+    }
+  }
+  std::array<double, 3> edge_rate{};
+  for (int k = 0; k < 3; ++k) {
+    const int i = k, j = (k + 1) % 3;
+    edge_rate[k] = (vl[j].z - vl[i].z) / length[k] +
+                   0.5 * ((wl[i].y + wl[j].y) * tx[k] - (wl[i].x + wl[j].x) * ty[k]);
+  }
+  const double polar = g.area * length_sum / 36.0;
+  const std::array<double, 3> measure{g.area, g.area, polar};
+  double work = 0.0;
+  std::array<double, 3> generalized{};
+  for (int r = 0; r < 3; ++r) {
+    double increment = 0.0;
+    for (int k = 0; k < 3; ++k) increment += inverse[r][k] * edge_rate[k];
+    increment *= dt;
+    const double old = resultants[r];
+    resultants[r] += shear_stiffness * increment;
+    work += 0.5 * (old + resultants[r]) * increment * measure[r];
+    generalized[r] = resultants[r] * measure[r];
+  }
+  for (int k = 0; k < 3; ++k) {
+    double edge_force = 0.0;  // conjugate to the edge shear γ_τ,k (N·m)
+    for (int r = 0; r < 3; ++r) edge_force += inverse[r][k] * generalized[r];
+    const int i = k, j = (k + 1) % 3;
+    local[j][2] += edge_force / length[k];
+    local[i][2] -= edge_force / length[k];
+    for (const int node : {i, j}) {
+      local[node][3] -= 0.5 * edge_force * ty[k];
+      local[node][4] += 0.5 * edge_force * tx[k];
+    }
+  }
+  return work;
+}
+
 }  // namespace
 
 ElementFrame element_frame(const std::array<Vec3, 4>& x, int node_count) {
@@ -136,27 +205,33 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
       moment[k] += stress[k] * z * w;
     }
   }
-  // Transverse shear, elastic: Q = κ G t γ (times the triangle stabilisation factor).
-  double shear_stiffness = section.shear_factor * section.shear_modulus * t;
-  if (n == 3) {
-    const double h2 = 2.0 * g.area;
-    shear_stiffness *= t * t / (t * t + section.triangle_shear_stabilisation * h2);
+  // Transverse shear, elastic: Q = κ G t γ.
+  const double shear_stiffness = section.shear_factor * section.shear_modulus * t;
+  std::array<std::array<double, 6>, 4> local{};
+  if (n == 4) {
+    // Quad: γ at the centre (one point), conjugate resultants Q_x, Q_y.
+    const double old_qx = state.shear[0], old_qy = state.shear[1];
+    state.shear[0] += shear_stiffness * shear_x;
+    state.shear[1] += shear_stiffness * shear_y;
+    work += 0.5 * (old_qx + state.shear[0]) * shear_x + 0.5 * (old_qy + state.shear[1]) * shear_y;
+  } else {
+    work += triangle_shear(g, vl, wl, dt, shear_stiffness, state.shear, local) / g.area;
   }
-  const double old_qx = state.shear[0], old_qy = state.shear[1];
-  state.shear[0] += shear_stiffness * shear_x;
-  state.shear[1] += shear_stiffness * shear_y;
-  work += 0.5 * (old_qx + state.shear[0]) * shear_x + 0.5 * (old_qy + state.shear[1]) * shear_y;
   out.internal_energy_increment = work * g.area;
 
-  // Nodal forces from the virtual power A (N:δd + M:δκ + Q·δγ), in the element frame.
-  std::array<std::array<double, 6>, 4> local{};
+  // Nodal forces from the virtual power A (N:δd + M:δκ + Q·δγ), in the element frame (the
+  // triangle's shear forces are already in `local`).
   const double a = g.area;
   for (int i = 0; i < n; ++i) {
-    local[i][0] = a * (g.b1[i] * force[0] + g.b2[i] * force[2]);
-    local[i][1] = a * (g.b2[i] * force[1] + g.b1[i] * force[2]);
-    local[i][2] = a * (g.b1[i] * state.shear[0] + g.b2[i] * state.shear[1]);
-    local[i][3] = a * (-g.b2[i] * moment[1] - g.b1[i] * moment[2] - shape * state.shear[1]);
-    local[i][4] = a * (g.b1[i] * moment[0] + g.b2[i] * moment[2] + shape * state.shear[0]);
+    local[i][0] += a * (g.b1[i] * force[0] + g.b2[i] * force[2]);
+    local[i][1] += a * (g.b2[i] * force[1] + g.b1[i] * force[2]);
+    local[i][3] += a * (-g.b2[i] * moment[1] - g.b1[i] * moment[2]);
+    local[i][4] += a * (g.b1[i] * moment[0] + g.b2[i] * moment[2]);
+    if (n == 4) {
+      local[i][2] += a * (g.b1[i] * state.shear[0] + g.b2[i] * state.shear[1]);
+      local[i][3] -= a * shape * state.shear[1];
+      local[i][4] += a * shape * state.shear[0];
+    }
   }
 
   if (n == 4) {

@@ -37,16 +37,15 @@ struct SectionProperties {
   // Stiffness hourglass coefficients (1), fractions of the element's physical stiffness:
   // in-plane, out-of-plane w, and rotational modes (Belytschko & Tsay 1983 r_m, r_w, r_θ).
   double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
-  // Triangle transverse shear stiffness is multiplied by t²/(t² + α h²), h² = 2A (Lyly,
-  // Stenberg & Vihinen 1993 stabilisation), so that thin triangle meshes do not lock.
-  double triangle_shear_stabilisation = 0.1;  // α (1)
 };
 
 // History of one element, pointers into the solver's arrays.
 struct ElementState {
   double* stress = nullptr;          // 3 per point: σxx, σyy, σxy in the element frame (Pa)
   double* plastic_strain = nullptr;  // ε̄_p per point (1)
-  double* shear = nullptr;           // Q_x, Q_y transverse shear resultants (N/m)
+  // 3 transverse shear resultants: quad Q_x, Q_y (N/m) at the centre and an unused slot;
+  // triangle κGt (a_x, a_y, c) of its assumed shear field (N/m, N/m, N/m²).
+  double* shear = nullptr;
   double* hourglass = nullptr;       // 5 hourglass resultants: m_x, m_y (N), w (N), θx, θy (N·m)
 };
 

@@ -55,7 +55,6 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
     p.hourglass_membrane = options_.hourglass_membrane;
     p.hourglass_transverse = options_.hourglass_transverse;
     p.hourglass_bending = options_.hourglass_bending;
-    p.triangle_shear_stabilisation = options_.triangle_shear_stabilisation;
     properties_.push_back(p);
   }
 
@@ -106,7 +105,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   for (const double m : mass_) total_mass_ += m;
   stress_.assign(3 * static_cast<std::size_t>(offset), 0.0);
   plastic_.assign(offset, 0.0);
-  shear_.assign(2 * elements, 0.0);
+  shear_.assign(3 * elements, 0.0);
   hourglass_.assign(5 * elements, 0.0);
   for (std::size_t n = 0; n < nodes; ++n) {
     if (!(mass_[n] > 0.0)) {
@@ -178,6 +177,13 @@ void ShellSolver::set_loads(std::span<const NodalLoad> loads) {
   std::copy(loads.begin(), loads.end(), loads_.begin());
 }
 
+void ShellSolver::set_damping(double alpha) {
+  if (!(alpha >= 0.0) || !std::isfinite(alpha)) {
+    throw std::invalid_argument(fmt::format("shell solver: damping {} 1/s must be ≥ 0", alpha));
+  }
+  options_.damping = alpha;
+}
+
 void ShellSolver::set_velocity(int node, const Vec3& velocity, const Vec3& angular_velocity) {
   velocities_.at(node) = velocity;
   angular_velocities_.at(node) = angular_velocity;
@@ -205,7 +211,7 @@ void ShellSolver::compute_internal_forces(double dt) {
     const ShellElement& element = model_.elements[e];
     const std::size_t point0 = static_cast<std::size_t>(state_offset_[e]);
     ElementState state{stress_.data() + 3 * point0, plastic_.data() + point0,
-                       shear_.data() + 2 * static_cast<std::size_t>(e),
+                       shear_.data() + 3 * static_cast<std::size_t>(e),
                        hourglass_.data() + 5 * static_cast<std::size_t>(e)};
     const ElementForces forces = shell_internal_forces(
         gather(positions_, e), gather(velocities_, e), gather(angular_velocities_, e),

@@ -24,7 +24,6 @@ struct ShellSolverOptions {
   double mass_scaling_time_step = 0.0;
   double shear_factor = 5.0 / 6.0;  // κ, transverse shear correction (1)
   double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
-  double triangle_shear_stabilisation = 0.1;  // α of SectionProperties (1)
   Threading threading;
 };
 
@@ -79,6 +78,8 @@ class ShellSolver {
   // External force and moment per node, held constant over the following steps until set
   // again. Pre: loads.size() == node count (throws std::invalid_argument otherwise).
   void set_loads(std::span<const NodalLoad> loads);
+  // Changes the mass-proportional damping α (1/s, ≥ 0) from the next step on.
+  void set_damping(double alpha);
   // Sets a node's velocity (m/s) and angular velocity (rad/s); prescribed DOFs keep their value.
   void set_velocity(int node, const Vec3& velocity, const Vec3& angular_velocity);
 
