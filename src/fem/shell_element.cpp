@@ -119,6 +119,82 @@ double triangle_shear(const LocalGeometry& g, const std::array<Vec3, 4>& vl,
   return work;
 }
 
+// Quad transverse shear at the centre from edge-tied covariant strains (Bathe & Dvorkin 1985,
+// IJNME 21:367, evaluated at the centre as in the one-point element of Belytschko, Wong &
+// Chiang 1992, CMAME 96:93): each edge's tangential shear γ_τ = (w_j − w_i)/L + τ·(θ̄_y, −θ̄_x)
+// is exact for the fields of constant curvature, so the element passes the Kirchhoff patch
+// test on distorted meshes (the plain centre value B·w + N·θ does not). On rectangles it equals
+// the Belytschko–Tsay centre value. Edges (0,1) and (3,2) carry γ_ξ, (0,3) and (1,2) γ_η.
+// Returns the shear work of the step (J) and adds the nodal forces and moments to `local`.
+constexpr int kQuadEdges[4][2] = {{0, 1}, {3, 2}, {0, 3}, {1, 2}};
+
+struct QuadShearRates {
+  std::array<double, 4> covariant{};  // c_k = γ_τ L/2 of the edges A, C, D, B (m/s)
+  double x = 0.0, y = 0.0;            // γ̇ at the centre (1/s)
+};
+
+QuadShearRates quad_shear_rates(const LocalGeometry& g, const std::array<Vec3, 4>& vl,
+                                const std::array<Vec3, 4>& wl) {
+  QuadShearRates r;
+  // Covariant edge shears c = γ_τ L/2 = ½ (w_j − w_i) + ¼ ((θy_i + θy_j) dx − (θx_i + θx_j) dy).
+  for (int k = 0; k < 4; ++k) {
+    const int i = kQuadEdges[k][0], j = kQuadEdges[k][1];
+    const double dx = g.x[j] - g.x[i], dy = g.y[j] - g.y[i];
+    r.covariant[k] = 0.5 * (vl[j].z - vl[i].z) +
+                     0.25 * ((wl[i].y + wl[j].y) * dx - (wl[i].x + wl[j].x) * dy);
+  }
+  const double gamma_xi = 0.5 * (r.covariant[0] + r.covariant[1]);
+  const double gamma_eta = 0.5 * (r.covariant[2] + r.covariant[3]);
+  // Centre Jacobian columns g_ξ = ∂x/∂ξ, g_η = ∂x/∂η; γ·g_ξ = γ_ξ, γ·g_η = γ_η.
+  const double gxi_x = 0.25 * (-g.x[0] + g.x[1] + g.x[2] - g.x[3]);
+  const double gxi_y = 0.25 * (-g.y[0] + g.y[1] + g.y[2] - g.y[3]);
+  const double geta_x = 0.25 * (-g.x[0] - g.x[1] + g.x[2] + g.x[3]);
+  const double geta_y = 0.25 * (-g.y[0] - g.y[1] + g.y[2] + g.y[3]);
+  const double det = gxi_x * geta_y - gxi_y * geta_x;
+  r.x = (gamma_xi * geta_y - gamma_eta * gxi_y) / det;
+  r.y = (gamma_eta * gxi_x - gamma_xi * geta_x) / det;
+  return r;
+}
+
+// Adds the nodal forces and moments of generalized forces F_k conjugate to the covariant edge
+// shears c_k: ∂c/∂w_j = ½, ∂c/∂w_i = −½, ∂c/∂θy = ¼ dx, ∂c/∂θx = −¼ dy at both ends.
+void add_quad_edge_forces(const LocalGeometry& g, const std::array<double, 4>& edge_force,
+                          std::array<std::array<double, 6>, 4>& local) {
+  for (int k = 0; k < 4; ++k) {
+    const int i = kQuadEdges[k][0], j = kQuadEdges[k][1];
+    const double dx = g.x[j] - g.x[i], dy = g.y[j] - g.y[i];
+    local[j][2] += 0.5 * edge_force[k];
+    local[i][2] -= 0.5 * edge_force[k];
+    for (const int node : {i, j}) {
+      local[node][3] -= 0.25 * edge_force[k] * dy;
+      local[node][4] += 0.25 * edge_force[k] * dx;
+    }
+  }
+}
+
+double quad_shear(const LocalGeometry& g, const QuadShearRates& rates, double dt,
+                  double shear_stiffness, double* resultants,
+                  std::array<std::array<double, 6>, 4>& local) {
+  const double gxi_x = 0.25 * (-g.x[0] + g.x[1] + g.x[2] - g.x[3]);
+  const double gxi_y = 0.25 * (-g.y[0] + g.y[1] + g.y[2] - g.y[3]);
+  const double geta_x = 0.25 * (-g.x[0] - g.x[1] + g.x[2] + g.x[3]);
+  const double geta_y = 0.25 * (-g.y[0] - g.y[1] + g.y[2] + g.y[3]);
+  const double det = gxi_x * geta_y - gxi_y * geta_x;
+  const double increment_x = rates.x * dt;
+  const double increment_y = rates.y * dt;
+  const double old_x = resultants[0], old_y = resultants[1];
+  resultants[0] += shear_stiffness * increment_x;
+  resultants[1] += shear_stiffness * increment_y;
+  const double work = g.area * (0.5 * (old_x + resultants[0]) * increment_x +
+                                0.5 * (old_y + resultants[1]) * increment_y);
+  // Conjugates of γ_ξ and γ_η in the power A Q·γ, shared by their two edges.
+  const double force_xi = g.area * (resultants[0] * geta_y - resultants[1] * geta_x) / det;
+  const double force_eta = g.area * (resultants[1] * gxi_x - resultants[0] * gxi_y) / det;
+  add_quad_edge_forces(g, {0.5 * force_xi, 0.5 * force_xi, 0.5 * force_eta, 0.5 * force_eta},
+                       local);
+  return work;
+}
+
 }  // namespace
 
 ElementFrame element_frame(const std::array<Vec3, 4>& x, int node_count) {
@@ -208,30 +284,33 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
   // Transverse shear, elastic: Q = κ G t γ.
   const double shear_stiffness = section.shear_factor * section.shear_modulus * t;
   std::array<std::array<double, 6>, 4> local{};
-  if (n == 4) {
-    // Quad: γ at the centre (one point), conjugate resultants Q_x, Q_y.
+  if (n == 4 && section.quad_shear == QuadShear::centre) {
+    // Belytschko–Tsay: γ at the centre, γ = B ŵ + N θ̂, conjugate resultants Q_x, Q_y.
     const double old_qx = state.shear[0], old_qy = state.shear[1];
     state.shear[0] += shear_stiffness * shear_x;
     state.shear[1] += shear_stiffness * shear_y;
     work += 0.5 * (old_qx + state.shear[0]) * shear_x + 0.5 * (old_qy + state.shear[1]) * shear_y;
+    for (int i = 0; i < 4; ++i) {
+      local[i][2] += g.area * (g.b1[i] * state.shear[0] + g.b2[i] * state.shear[1]);
+      local[i][3] -= g.area * shape * state.shear[1];
+      local[i][4] += g.area * shape * state.shear[0];
+    }
+  } else if (n == 4) {
+    work += quad_shear(g, quad_shear_rates(g, vl, wl), dt, shear_stiffness, state.shear, local) /
+            g.area;
   } else {
     work += triangle_shear(g, vl, wl, dt, shear_stiffness, state.shear, local) / g.area;
   }
   out.internal_energy_increment = work * g.area;
 
   // Nodal forces from the virtual power A (N:δd + M:δκ + Q·δγ), in the element frame (the
-  // triangle's shear forces are already in `local`).
+  // shear forces are already in `local`).
   const double a = g.area;
   for (int i = 0; i < n; ++i) {
     local[i][0] += a * (g.b1[i] * force[0] + g.b2[i] * force[2]);
     local[i][1] += a * (g.b2[i] * force[1] + g.b1[i] * force[2]);
     local[i][3] += a * (-g.b2[i] * moment[1] - g.b1[i] * moment[2]);
     local[i][4] += a * (g.b1[i] * moment[0] + g.b2[i] * moment[2]);
-    if (n == 4) {
-      local[i][2] += a * (g.b1[i] * state.shear[0] + g.b2[i] * state.shear[1]);
-      local[i][3] -= a * shape * state.shear[1];
-      local[i][4] += a * shape * state.shear[0];
-    }
   }
 
   if (n == 4) {
@@ -255,6 +334,27 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
       rate[3] += gamma[i] * wl[i].x;
       rate[4] += gamma[i] * wl[i].y;
     }
+    // With edge-tied shear, the w mode is measured from the edge shears, (c_C − c_A) +
+    // (c_B − c_D) less its constant-shear part (h·x̂) γ_x + (h·ŷ) γ_y: equal to γ·ŵ when the
+    // rotations are zero, but zero for every Kirchhoff field of constant curvature (whose edge
+    // shears all vanish), so that the hourglass control does not resist a uniform twist on
+    // distorted quads (cf. the physical stabilisation of Belytschko & Leviathan 1994).
+    // q_w = Σ α_k c_k with α_k = sign_k − ½ (h·x̂, h·ŷ)·∂γ/∂γ_ξ (A, C) or ·∂γ/∂γ_η (D, B).
+    std::array<double, 4> w_weight{};
+    const bool edge_tied = section.quad_shear == QuadShear::edge_tied;
+    if (edge_tied) {
+      const double gxi_x = 0.25 * (-g.x[0] + g.x[1] + g.x[2] - g.x[3]);
+      const double gxi_y = 0.25 * (-g.y[0] + g.y[1] + g.y[2] - g.y[3]);
+      const double geta_x = 0.25 * (-g.x[0] - g.x[1] + g.x[2] + g.x[3]);
+      const double geta_y = 0.25 * (-g.y[0] - g.y[1] + g.y[2] + g.y[3]);
+      const double det = gxi_x * geta_y - gxi_y * geta_x;
+      const double along_xi = 0.5 * (hx * geta_y - hy * geta_x) / det;
+      const double along_eta = 0.5 * (-hx * gxi_y + hy * gxi_x) / det;
+      w_weight = {-1.0 - along_xi, 1.0 - along_xi, -1.0 - along_eta, 1.0 - along_eta};
+      const QuadShearRates shear = quad_shear_rates(g, vl, wl);
+      rate[2] = 0.0;
+      for (int k = 0; k < 4; ++k) rate[2] += w_weight[k] * shear.covariant[k];
+    }
     const PlaneStressMaterial& m = section.material;
     // Stiffnesses (BLT 1984 eq. 30): r_m E t A B·B/8, r_w κ G t³ B·B/12, r_θ E t³ A B·B/192.
     const double membrane_k = section.hourglass_membrane * m.youngs_modulus * t * a * bb / 8.0;
@@ -275,9 +375,14 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
     for (int i = 0; i < 4; ++i) {
       local[i][0] += gamma[i] * state.hourglass[0];
       local[i][1] += gamma[i] * state.hourglass[1];
-      local[i][2] += gamma[i] * state.hourglass[2];
+      if (!edge_tied) local[i][2] += gamma[i] * state.hourglass[2];
       local[i][3] += gamma[i] * state.hourglass[3];
       local[i][4] += gamma[i] * state.hourglass[4];
+    }
+    if (edge_tied) {
+      const double q = state.hourglass[2];
+      add_quad_edge_forces(g, {q * w_weight[0], q * w_weight[1], q * w_weight[2], q * w_weight[3]},
+                           local);
     }
   }
 

@@ -26,6 +26,10 @@ double element_area(const std::array<Vec3, 4>& x, int node_count);
 // i.e. the smallest altitude (m).
 double characteristic_length(const std::array<Vec3, 4>& x, int node_count);
 
+// Transverse shear of the quad: the Belytschko–Tsay centre value (fails the bending patch test
+// on distorted meshes), or edge-tied assumed strains evaluated at the centre (default).
+enum class QuadShear { centre, edge_tied };
+
 struct SectionProperties {
   double thickness = 0.0;           // t (m)
   int points = 0;                   // through-thickness points
@@ -37,6 +41,7 @@ struct SectionProperties {
   // Stiffness hourglass coefficients (1), fractions of the element's physical stiffness:
   // in-plane, out-of-plane w, and rotational modes (Belytschko & Tsay 1983 r_m, r_w, r_θ).
   double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
+  QuadShear quad_shear = QuadShear::edge_tied;
 };
 
 // History of one element, pointers into the solver's arrays.

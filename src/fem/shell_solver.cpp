@@ -55,6 +55,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
     p.hourglass_membrane = options_.hourglass_membrane;
     p.hourglass_transverse = options_.hourglass_transverse;
     p.hourglass_bending = options_.hourglass_bending;
+    p.quad_shear = options_.quad_shear;
     properties_.push_back(p);
   }
 
@@ -182,6 +183,14 @@ void ShellSolver::set_damping(double alpha) {
     throw std::invalid_argument(fmt::format("shell solver: damping {} 1/s must be ≥ 0", alpha));
   }
   options_.damping = alpha;
+}
+
+void ShellSolver::set_prescribed_velocity(int node, const std::array<double, 6>& velocity) {
+  const std::uint8_t mask = prescribed_mask_.at(node);
+  for (int k = 0; k < 6; ++k) {
+    if (mask & (1u << k)) prescribed_velocity_[node][k] = velocity[k];
+  }
+  apply_prescribed();
 }
 
 void ShellSolver::set_velocity(int node, const Vec3& velocity, const Vec3& angular_velocity) {

@@ -24,6 +24,7 @@ struct ShellSolverOptions {
   double mass_scaling_time_step = 0.0;
   double shear_factor = 5.0 / 6.0;  // κ, transverse shear correction (1)
   double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
+  QuadShear quad_shear = QuadShear::edge_tied;
   Threading threading;
 };
 
@@ -80,6 +81,9 @@ class ShellSolver {
   void set_loads(std::span<const NodalLoad> loads);
   // Changes the mass-proportional damping α (1/s, ≥ 0) from the next step on.
   void set_damping(double alpha);
+  // Changes the prescribed velocity of a node's constrained DOFs (components outside the
+  // node's DOF mask are ignored): a time-dependent boundary condition, set between steps.
+  void set_prescribed_velocity(int node, const std::array<double, 6>& velocity);
   // Sets a node's velocity (m/s) and angular velocity (rad/s); prescribed DOFs keep their value.
   void set_velocity(int node, const Vec3& velocity, const Vec3& angular_velocity);
 
