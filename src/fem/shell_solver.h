@@ -29,8 +29,10 @@ struct ShellSolverOptions {
 };
 
 // The critical step estimate min over elements of L_c / c, c = √(E/(ρ(1 − ν²))) the plate wave
-// speed (with scaled density). A run uses a fraction of it (0.8 recommended: the one-point
-// quad's dilatational mode alone needs ≤ 1/√(1 + ν) ≈ 0.877 of it; docs/fem.md).
+// speed (with scaled density). On a regular quad mesh it is the exact limit of the membrane
+// modes; a run uses a fraction of it: 0.9 as LS-DYNA and Radioss, 0.8 where a quad's
+// dilatational mode is not held by neighbours (a lone element: limit 1/√(1 + ν) ≈ 0.877 of
+// it) or the mesh is irregular (docs/fem.md).
 struct StableTimeStep {
   double time_step = 0.0;              // s
   int element = -1;                    // the limiting element (index in the model)

@@ -1,0 +1,226 @@
+// Solver mechanics: the stable step L_c/c (c = √(E/(ρ(1 − ν²))), L_c = A/max edge for quads,
+// 2A/max edge for triangles: LS-DYNA's shell rule, research note §1.2) and its limiting
+// element; mass scaling to a target step with the added mass reported; the critical step of
+// the one-point quad measured against its highest eigenvalue (regular mesh ω = 2c/L, a lone
+// element's dilatational mode ω = 2c√(1 + ν)/L; docs/fem.md); bit-identical results with 1
+// and 2 threads; energy balance of a triangle mesh; model validation errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/diagnostics.h"
+#include "fem/shell_solver.h"
+#include "fem/shell_test_meshes.h"
+
+namespace quarry::fem {
+namespace {
+
+using testing::near;
+
+const double kPlateSpeed = std::sqrt(210e9 / (7850.0 * (1.0 - 0.09)));  // c (m/s)
+
+TEST(ShellStableStep, IsTheCharacteristicLengthOverThePlateWaveSpeed) {
+  // 4 × 3 quads of 20 mm × 10 mm: L_c = A / max edge = 2e-4 / 0.02 = 0.01 m.
+  ShellModel model = testing::rectangle(4, 3, 0.08, 0.03, 0.002);
+  const StableTimeStep quads = ShellSolver(model).stable_time_step();
+  EXPECT_NEAR(quads.characteristic_length, 0.01, 1e-15);
+  EXPECT_NEAR(quads.wave_speed, kPlateSpeed, 1e-9 * kPlateSpeed);
+  EXPECT_NEAR(quads.time_step, 0.01 / kPlateSpeed, 1e-12 * quads.time_step);
+  // Triangles: right triangles with legs 20 mm and 10 mm, smallest altitude 2A/hypotenuse.
+  ShellModel triangles = testing::rectangle(4, 3, 0.08, 0.03, 0.002, testing::MeshKind::triangles);
+  const double altitude = 0.02 * 0.01 / std::sqrt(0.02 * 0.02 + 0.01 * 0.01);
+  EXPECT_NEAR(ShellSolver(triangles).stable_time_step().time_step, altitude / kPlateSpeed,
+              1e-12 * altitude / kPlateSpeed);
+  // Shrink the cells of column 2 (element 6 in row 1, ...) in x: the first of them limits.
+  ShellModel narrow = testing::rectangle(4, 3, 0.08, 0.03, 0.002);
+  for (int j = 0; j <= 3; ++j) narrow.nodes[j * 5 + 3].x = 0.045;  // column 2 is 5 mm wide
+  const StableTimeStep limited = ShellSolver(narrow).stable_time_step();
+  EXPECT_EQ(limited.element, 2);
+  EXPECT_NEAR(limited.characteristic_length, 0.005 * 0.01 / 0.01, 1e-15);
+}
+
+TEST(ShellStableStep, MassScalingReachesTheTargetAndReportsTheAddedMass) {
+  ShellModel model = testing::rectangle(4, 3, 0.08, 0.03, 0.002);
+  for (int j = 0; j <= 3; ++j) model.nodes[j * 5 + 3].x = 0.045;
+  const ShellSolver plain(model);
+  const double target = 0.008 / kPlateSpeed;  // between the narrow column's and the others' step
+  ShellSolverOptions options;
+  options.mass_scaling_time_step = target;
+  const ShellSolver scaled(model, options);
+  EXPECT_NEAR(scaled.stable_time_step().time_step, target, 1e-12 * target);
+  // Only the three narrow cells (L_c 5 mm) are scaled: ρ' = ρ (8/5)², added (ρ' − ρ) t A each.
+  const double added = 3.0 * 7850.0 * (1.6 * 1.6 - 1.0) * 0.002 * (0.005 * 0.01);
+  EXPECT_NEAR(scaled.added_mass(), added, 1e-12 * added);
+  EXPECT_NEAR(scaled.total_mass() - plain.total_mass(), added, 1e-9 * added);
+  EXPECT_EQ(plain.added_mass(), 0.0);
+  std::printf("mass scaling: step %.4e s -> %.4e s (target %.4e s), added mass %.4e kg of %.4e\n",
+              plain.stable_time_step().time_step, scaled.stable_time_step().time_step, target,
+              scaled.added_mass(), plain.total_mass());
+}
+
+// Largest kinetic energy over 3000 steps relative to the initial total, for a free mesh started
+// with a velocity pattern (∞ if the run diverged).
+template <class Pattern>
+double growth(const ShellModel& model, Pattern pattern, double fraction_of_stable_step) {
+  ShellSolver solver(model);
+  for (int n = 0; n < solver.node_count(); ++n) solver.set_velocity(n, pattern(n), {});
+  const double dt = fraction_of_stable_step * solver.stable_time_step().time_step;
+  solver.step(dt);
+  const double initial = solver.energies().kinetic + solver.energies().internal;
+  double largest = initial;
+  try {
+    for (int s = 0; s < 3000; ++s) {
+      solver.step(dt);
+      largest = std::max(largest, solver.energies().kinetic);
+    }
+  } catch (const PhysicsError&) {
+    return INFINITY;
+  }
+  return largest / initial;
+}
+
+TEST(ShellStableStep, CriticalStepOfTheOnePointQuadMatchesTheory) {
+  // Regular mesh of squares L: the highest mode is v_x = (−1)^i (each element stretched by
+  // 2/L, ω² = 4 c²/L² with row-sum mass), so the critical step is exactly L/c = L_c/c.
+  const ShellModel mesh = testing::rectangle(6, 6, 0.06, 0.06, 0.001);
+  auto stretch = [](int n) { return Vec3{(n % 7) % 2 ? 1e-3 : -1e-3, 0.0, 0.0}; };
+  const double mesh_below = growth(mesh, stretch, 0.97), mesh_above = growth(mesh, stretch, 1.03);
+  // A lone element has the dilatational mode v = ±(x, y) (ε_xx = ε_yy = 2/L), ω² = 4 c² (1 + ν)/L²:
+  // critical at L/(c √(1 + ν)) = 0.877 L_c/c. Neighbours cannot all share it, so meshes don't.
+  const ShellModel single = testing::rectangle(1, 1, 0.01, 0.01, 0.001);
+  auto dilate = [](int n) {
+    return Vec3{n % 2 ? 1e-3 : -1e-3, n / 2 ? 1e-3 : -1e-3, 0.0};
+  };
+  const double bound = 1.0 / std::sqrt(1.3);
+  const double single_below = growth(single, dilate, 0.97 * bound);
+  const double single_above = growth(single, dilate, 1.03 * bound);
+  std::printf("critical step: mesh energy ratio %.3g at 0.97 L_c/c, %.3g at 1.03; lone element "
+              "%.3g at 0.97·0.877 L_c/c, %.3g at 1.03·0.877\n",
+              mesh_below, mesh_above, single_below, single_above);
+  EXPECT_LT(mesh_below, 2.0);
+  EXPECT_GT(mesh_above, 1e6);
+  EXPECT_LT(single_below, 2.0);
+  EXPECT_GT(single_above, 1e6);
+}
+
+TEST(ShellEnergy, TriangleMeshFreeVibrationConservesEnergy) {
+  // Clamped triangle strip started with the velocity of a smooth bending shape, undamped:
+  // kinetic + internal + hourglass stays within 1e-3 of the initial kinetic energy.
+  ShellModel model = testing::rectangle(10, 2, 0.5, 0.05, 0.005, testing::MeshKind::triangles);
+  model.boundary_conditions.push_back(
+      {testing::nodes_where(model, [](const Vec3& p) { return near(p.x, 0.0); }), dof::all, {}});
+  ShellSolver solver(model);
+  for (int n = 0; n < solver.node_count(); ++n) {
+    const double s = model.nodes[n].x / 0.5;
+    solver.set_velocity(n, {0.0, 0.0, 0.1 * s * s}, {0.0, -0.1 * 2.0 * s / 0.5, 0.0});
+  }
+  const double initial = solver.energies().kinetic;
+  const double dt = 0.8 * solver.stable_time_step().time_step;
+  solver.step(dt);
+  const double start = solver.energies().kinetic + solver.energies().internal;
+  double drift = 0.0;
+  for (int s = 0; s < 8000; ++s) {
+    solver.step(dt);
+    const ShellEnergies& e = solver.energies();
+    drift = std::max(drift, std::abs(e.kinetic + e.internal + e.hourglass - start));
+  }
+  std::printf("triangle strip: energy drift %.3e of %.3e J over 8000 steps\n", drift, start);
+  EXPECT_GT(start, 0.0);
+  (void)initial;
+  EXPECT_LT(drift, 1e-3 * start);
+}
+
+// A mixed quad/triangle plate with plasticity, loads and damping, stepped with 1 and 2 threads:
+// positions, velocities, energies and stresses must be the same bits.
+TEST(ShellDeterminism, OneAndTwoThreadsGiveIdenticalBits) {
+  auto run = [](int threads) {
+    ShellModel model = testing::rectangle(8, 8, 0.2, 0.2, 0.003, testing::MeshKind::quads, 5,
+                                          ThicknessRule::lobatto, testing::steel(250e6, 1e9));
+    // Cut the last row of cells into triangles.
+    std::vector<ShellElement> elements;
+    for (const ShellElement& e : model.elements) {
+      if (model.nodes[e.nodes[0]].y > 0.17) {
+        elements.push_back({{e.nodes[0], e.nodes[1], e.nodes[2], 0}, 3, 0});
+        elements.push_back({{e.nodes[0], e.nodes[2], e.nodes[3], 0}, 3, 0});
+      } else {
+        elements.push_back(e);
+      }
+    }
+    model.elements = elements;
+    model.boundary_conditions.push_back(
+        {testing::nodes_where(model, [](const Vec3& p) { return near(p.x, 0.0); }), dof::all, {}});
+    ShellSolverOptions options;
+    options.damping = 50.0;
+    options.threading.threads = threads;
+    options.threading.threshold = 0;
+    ShellSolver solver(model, options);
+    std::vector<NodalLoad> loads(model.nodes.size());
+    for (std::size_t n = 0; n < loads.size(); ++n) {
+      loads[n].force = {0.0, 0.0, -200.0 - 100.0 * std::sin(static_cast<double>(n))};
+    }
+    solver.set_loads(loads);
+    const double dt = 0.8 * solver.stable_time_step().time_step;
+    for (int s = 0; s < 300; ++s) solver.step(dt);
+    return solver;
+  };
+  const ShellSolver one = run(1);
+  const ShellSolver two = run(2);
+  ASSERT_EQ(one.node_count(), two.node_count());
+  EXPECT_EQ(0, std::memcmp(one.positions().data(), two.positions().data(),
+                           one.positions().size_bytes()));
+  EXPECT_EQ(0, std::memcmp(one.velocities().data(), two.velocities().data(),
+                           one.velocities().size_bytes()));
+  EXPECT_EQ(0, std::memcmp(one.angular_velocities().data(), two.angular_velocities().data(),
+                           one.angular_velocities().size_bytes()));
+  EXPECT_EQ(one.energies().internal, two.energies().internal);
+  EXPECT_EQ(one.energies().hourglass, two.energies().hourglass);
+  EXPECT_EQ(one.energies().kinetic, two.energies().kinetic);
+  double plastic = 0.0;
+  for (int e = 0; e < one.element_count(); ++e) {
+    EXPECT_EQ(one.element_result(e).von_mises_top, two.element_result(e).von_mises_top);
+    plastic = std::max(plastic, one.element_result(e).plastic_strain_max);
+  }
+  EXPECT_GT(plastic, 0.0);  // the run did reach the plastic branch
+}
+
+void expect_model_error(const ShellModel& model, const std::string& fragment) {
+  try {
+    ShellSolver solver(model);
+    ADD_FAILURE() << "no error for: " << fragment;
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
+  }
+}
+
+TEST(ShellModelValidation, NamesTheElementAndTheValue) {
+  const ShellModel good = testing::rectangle(2, 1, 0.2, 0.1, 0.002);
+  EXPECT_NO_THROW(ShellSolver{good});
+  ShellModel collinear = good;
+  collinear.nodes.push_back({0.3, 0.0, 0.0});
+  collinear.nodes.push_back({0.4, 0.0, 0.0});
+  collinear.elements.push_back({{1, 2, 7, 0}, 3, 0});
+  collinear.nodes[7] = {0.25, 0.0, 0.0};  // on the line through nodes 1 and 2
+  expect_model_error(collinear, "element 2: degenerate");
+  ShellModel repeated = good;
+  repeated.elements[1].nodes = {1, 2, 2, 4};
+  expect_model_error(repeated, "element 1: node 2 appears twice");
+  ShellModel thin = good;
+  thin.sections[0].thickness = 0.0;
+  expect_model_error(thin, "section 0: thickness 0 m must be > 0");
+  ShellModel rubber = good;
+  rubber.materials[0].poisson_ratio = 0.5;
+  expect_model_error(rubber, "material 0: Poisson's ratio 0.5");
+  ShellModel missing = good;
+  missing.elements[0].nodes[2] = 99;
+  expect_model_error(missing, "element 0: node 99 does not exist");
+  ShellModel bowtie = good;
+  std::swap(bowtie.elements[0].nodes[2], bowtie.elements[0].nodes[3]);
+  expect_model_error(bowtie, "element 0:");
+}
+
+}  // namespace
+}  // namespace quarry::fem
