@@ -17,6 +17,8 @@ struct LocalGeometry {
   std::array<double, 4> x{}, y{};    // in-plane coordinates of the nodes (m)
   std::array<double, 4> b1{}, b2{};  // ∂N_I/∂x̂, ∂N_I/∂ŷ at the centre (1/m)
   double area = 0.0;                 // A (m²)
+  // Quad: centre Jacobian columns g_ξ = ∂x/∂ξ, g_η = ∂x/∂η (m) and its determinant (m²).
+  double gxi_x = 0.0, gxi_y = 0.0, geta_x = 0.0, geta_y = 0.0, jacobian = 0.0;
 };
 
 LocalGeometry local_geometry(const std::array<Vec3, 4>& x, int node_count) {
@@ -36,6 +38,11 @@ LocalGeometry local_geometry(const std::array<Vec3, 4>& x, int node_count) {
             (g.y[3] - g.y[1]) * inverse, (g.y[0] - g.y[2]) * inverse};
     g.b2 = {(g.x[3] - g.x[1]) * inverse, (g.x[0] - g.x[2]) * inverse,
             (g.x[1] - g.x[3]) * inverse, (g.x[2] - g.x[0]) * inverse};
+    g.gxi_x = 0.25 * (-g.x[0] + g.x[1] + g.x[2] - g.x[3]);
+    g.gxi_y = 0.25 * (-g.y[0] + g.y[1] + g.y[2] - g.y[3]);
+    g.geta_x = 0.25 * (-g.x[0] - g.x[1] + g.x[2] + g.x[3]);
+    g.geta_y = 0.25 * (-g.y[0] - g.y[1] + g.y[2] + g.y[3]);
+    g.jacobian = g.gxi_x * g.geta_y - g.gxi_y * g.geta_x;
   } else {
     // Linear triangle: 2A = x21 y31 − x31 y21, ∂N_I/∂x = (y_J − y_K)/2A, ∂N_I/∂y = (x_K − x_J)/2A.
     const double twice_area =
@@ -145,12 +152,9 @@ QuadShearRates quad_shear_rates(const LocalGeometry& g, const std::array<Vec3, 4
   }
   const double gamma_xi = 0.5 * (r.covariant[0] + r.covariant[1]);
   const double gamma_eta = 0.5 * (r.covariant[2] + r.covariant[3]);
-  // Centre Jacobian columns g_ξ = ∂x/∂ξ, g_η = ∂x/∂η; γ·g_ξ = γ_ξ, γ·g_η = γ_η.
-  const double gxi_x = 0.25 * (-g.x[0] + g.x[1] + g.x[2] - g.x[3]);
-  const double gxi_y = 0.25 * (-g.y[0] + g.y[1] + g.y[2] - g.y[3]);
-  const double geta_x = 0.25 * (-g.x[0] - g.x[1] + g.x[2] + g.x[3]);
-  const double geta_y = 0.25 * (-g.y[0] - g.y[1] + g.y[2] + g.y[3]);
-  const double det = gxi_x * geta_y - gxi_y * geta_x;
+  // γ·g_ξ = γ_ξ, γ·g_η = γ_η with the centre Jacobian columns g_ξ, g_η.
+  const double gxi_x = g.gxi_x, gxi_y = g.gxi_y, geta_x = g.geta_x, geta_y = g.geta_y;
+  const double det = g.jacobian;
   r.x = (gamma_xi * geta_y - gamma_eta * gxi_y) / det;
   r.y = (gamma_eta * gxi_x - gamma_xi * geta_x) / det;
   return r;
@@ -175,11 +179,8 @@ void add_quad_edge_forces(const LocalGeometry& g, const std::array<double, 4>& e
 double quad_shear(const LocalGeometry& g, const QuadShearRates& rates, double dt,
                   double shear_stiffness, double* resultants,
                   std::array<std::array<double, 6>, 4>& local) {
-  const double gxi_x = 0.25 * (-g.x[0] + g.x[1] + g.x[2] - g.x[3]);
-  const double gxi_y = 0.25 * (-g.y[0] + g.y[1] + g.y[2] - g.y[3]);
-  const double geta_x = 0.25 * (-g.x[0] - g.x[1] + g.x[2] + g.x[3]);
-  const double geta_y = 0.25 * (-g.y[0] - g.y[1] + g.y[2] + g.y[3]);
-  const double det = gxi_x * geta_y - gxi_y * geta_x;
+  const double gxi_x = g.gxi_x, gxi_y = g.gxi_y, geta_x = g.geta_x, geta_y = g.geta_y;
+  const double det = g.jacobian;
   const double increment_x = rates.x * dt;
   const double increment_y = rates.y * dt;
   const double old_x = resultants[0], old_y = resultants[1];
@@ -343,11 +344,8 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
     std::array<double, 4> w_weight{};
     const bool edge_tied = section.quad_shear == QuadShear::edge_tied;
     if (edge_tied) {
-      const double gxi_x = 0.25 * (-g.x[0] + g.x[1] + g.x[2] - g.x[3]);
-      const double gxi_y = 0.25 * (-g.y[0] + g.y[1] + g.y[2] - g.y[3]);
-      const double geta_x = 0.25 * (-g.x[0] - g.x[1] + g.x[2] + g.x[3]);
-      const double geta_y = 0.25 * (-g.y[0] - g.y[1] + g.y[2] + g.y[3]);
-      const double det = gxi_x * geta_y - gxi_y * geta_x;
+      const double gxi_x = g.gxi_x, gxi_y = g.gxi_y, geta_x = g.geta_x, geta_y = g.geta_y;
+      const double det = g.jacobian;
       const double along_xi = 0.5 * (hx * geta_y - hy * geta_x) / det;
       const double along_eta = 0.5 * (-hx * gxi_y + hy * gxi_x) / det;
       w_weight = {-1.0 - along_xi, 1.0 - along_xi, -1.0 - along_eta, 1.0 - along_eta};
