@@ -53,6 +53,13 @@ TEST(ShellPlasticity, UniaxialMembraneStressFollowsTheBilinearCurve) {
               "error %.2e, final σ %.4e Pa, lateral stress %.2e Pa\n",
               checked, worst, worst_plastic, solver.element_stress(0, 2)[0],
               solver.element_stress(0, 2)[1]);
+  // Energy bookkeeping with prescribed motion: the reactions' work is what the element stored
+  // and dissipated (internal energy, elastic + plastic) plus the small kinetic energy.
+  const ShellEnergies& e = solver.energies();
+  const double imbalance = e.kinetic + e.internal + e.hourglass - e.constraint_work;
+  std::printf("uniaxial energy: constraint work %.6e J, internal %.6e J, imbalance %.2e J\n",
+              e.constraint_work, e.internal, imbalance);
+  EXPECT_LT(std::abs(imbalance), 1e-3 * e.internal);
   EXPECT_GT(checked, 10);
   EXPECT_LT(worst, 0.005);
   EXPECT_LT(worst_plastic, 1e-4);

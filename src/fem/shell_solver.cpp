@@ -66,6 +66,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   loads_.assign(nodes, NodalLoad{});
   internal_force_.assign(nodes, {});
   reactions_.assign(nodes, {});
+  previous_reactions_.assign(nodes, {});
   mass_.assign(nodes, 0.0);
   rotary_inertia_.assign(nodes, 0.0);
 
@@ -270,7 +271,7 @@ void ShellSolver::kick(double half_dt, bool first_half) {
 void ShellSolver::step(double dt) {
   const int nodes = static_cast<int>(positions_.size());
   const double half = 0.5 * dt;
-  std::vector<std::array<double, 6>> reactions_before = reactions_;
+  previous_reactions_.swap(reactions_);  // reactions of t, for the constraint work
 
   // 1. Half kick to t + dt/2 with the forces of t (external loads as set now).
   kick(half, true);
@@ -314,7 +315,7 @@ void ShellSolver::step(double dt) {
       for (int k = 0; k < 6; ++k) {
         if (!(mask & (1u << k))) continue;
         const double rate = prescribed_velocity_[n][k];
-        constraint_work += 0.5 * (reactions_before[n][k] + reactions_[n][k]) * rate * dt;
+        constraint_work += 0.5 * (previous_reactions_[n][k] + reactions_[n][k]) * rate * dt;
       }
     }
   }

@@ -133,7 +133,7 @@ class ShellSolver {
   std::vector<Vec3> positions_, velocities_, angular_velocities_, rotations_;
   std::vector<double> mass_, rotary_inertia_;  // kg, kg·m²
   std::vector<NodalLoad> loads_;
-  std::vector<std::array<double, 6>> internal_force_, reactions_;
+  std::vector<std::array<double, 6>> internal_force_, reactions_, previous_reactions_;
   std::vector<std::uint8_t> prescribed_mask_;
   std::vector<std::array<double, 6>> prescribed_velocity_;
 
