@@ -1,0 +1,482 @@
+// Quarry's pressure-solver backend: conjugate gradients (Hestenes & Stiefel 1952) preconditioned
+// by one symmetric geometric multigrid V-cycle on the box of unknowns (cell-centred aggregation
+// multigrid; Wesseling 1992, "An Introduction to Multigrid Methods", ch. 5 and 7). Deterministic:
+// every reduction sums per grid row, then the rows in order.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "cfd/pressure_solver.h"
+
+namespace quarry::cfd {
+namespace {
+
+// The coarsest level is solved directly (dense Cholesky) when it has at most this many unknowns;
+// coarsening stops below kCoarsestTarget unknowns.
+constexpr std::size_t kDirectSolveLimit = 256;
+constexpr std::size_t kCoarsestTarget = 64;
+// Red-black Gauss-Seidel sweep pairs before and after the coarse correction, and the sweep
+// pairs that stand in for the direct solve when the coarsest level is too large for it.
+constexpr int kSmoothingSweeps = 2;
+constexpr int kCoarsestSweeps = 40;
+
+struct Level {
+  StencilSystem system;
+  std::vector<double> diagonal;
+  std::vector<double> solution, rhs, residual;  // work vectors of this level
+  std::array<int, 3> ratio{1, 1, 1};            // coarsening ratio towards the next level
+  bool colours_independent = true;  // a red-black half sweep may run on a team
+  // Coarsest level only: dense Cholesky factor (row-major, lower) over the active unknowns.
+  std::vector<double> cholesky;
+  std::vector<std::size_t> dense_to_cell;
+  bool direct = false;
+};
+
+// Neighbour of P = (i, j, k) along axis a on side -1/+1, or -1 when there is none.
+inline std::ptrdiff_t neighbour(const StencilSystem& s, const std::array<int, 3>& at, int a, int side,
+                                std::size_t p) {
+  const int n = s.size[a];
+  if (n == 1) return -1;
+  const std::ptrdiff_t stride = a == 0 ? 1 : (a == 1 ? s.size[0] : std::ptrdiff_t{s.size[0]} * s.size[1]);
+  const auto pi = static_cast<std::ptrdiff_t>(p);
+  if (side < 0) {
+    if (at[a] > 0) return pi - stride;
+    return s.periodic[a] ? pi + (n - 1) * stride : -1;
+  }
+  if (at[a] < n - 1) return pi + stride;
+  return s.periodic[a] ? pi - (n - 1) * stride : -1;
+}
+
+// Conductance of the coupling of P with its neighbour q on `side` along a.
+inline double coupling(const StencilSystem& s, int a, int side, std::size_t p, std::ptrdiff_t q) {
+  return side < 0 ? s.conductance[a][p] : s.conductance[a][static_cast<std::size_t>(q)];
+}
+
+// Σ over active neighbours of g x_N, for row P at (i, j, k).
+inline double neighbour_sum(const StencilSystem& s, const std::array<int, 3>& at, std::size_t p,
+                            const std::vector<double>& x) {
+  double sum = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    for (int side = -1; side <= 1; side += 2) {
+      const std::ptrdiff_t q = neighbour(s, at, a, side, p);
+      if (q < 0 || !s.active[static_cast<std::size_t>(q)]) continue;
+      sum += coupling(s, a, side, p, q) * x[static_cast<std::size_t>(q)];
+    }
+  }
+  return sum;
+}
+
+class MultigridCgSolver final : public PressureSolver {
+ public:
+  explicit MultigridCgSolver(const Threading& threading) : threading_(threading) {}
+
+  std::string_view name() const override { return "multigrid-cg"; }
+
+  void set_system(const StencilSystem& system) override {
+    levels_.clear();
+    levels_.emplace_back();
+    levels_[0].system = system;
+    prepare_level(levels_[0]);
+    singular_ = !has_fixed_part(levels_[0]);
+    while (levels_.back().system.count() > kCoarsestTarget) {
+      Level coarse;
+      if (!coarsen(levels_.back(), coarse)) break;
+      prepare_level(coarse);
+      levels_.push_back(std::move(coarse));
+    }
+    factor_coarsest(levels_.back());
+  }
+
+  SolveReport solve(std::span<const double> rhs_in, std::span<double> x_out, double tolerance,
+                    int max_iterations) override {
+    Level& fine = levels_[0];
+    const StencilSystem& s = fine.system;
+    const std::size_t n = s.count();
+    SolveReport report;
+    std::vector<double> b(rhs_in.begin(), rhs_in.end());
+    std::vector<double> x(x_out.begin(), x_out.end());
+    for (std::size_t p = 0; p < n; ++p) {
+      if (!s.active[p]) x[p] = b[p];
+    }
+    if (singular_) {
+      report.removed_mean = active_mean(b);
+      subtract_on_active(b, report.removed_mean);
+    }
+    const double b_norm = std::sqrt(dot(b, b));
+    if (b_norm == 0.0) {
+      for (std::size_t p = 0; p < n; ++p) x[p] = s.active[p] ? 0.0 : b[p];
+      std::copy(x.begin(), x.end(), x_out.begin());
+      report.converged = true;
+      return report;
+    }
+    std::vector<double> r(n), z(n), direction(n), q(n);
+    apply(fine, x, q);
+    for_each(n, [&](std::size_t p) { r[p] = s.active[p] ? b[p] - q[p] : 0.0; });
+    double r_norm = std::sqrt(dot(r, r));
+    if (r_norm > tolerance * b_norm) {
+      precondition(r, z);
+      direction = z;
+      double rz = dot(r, z);
+      while (report.iterations < max_iterations) {
+        ++report.iterations;
+        apply(fine, direction, q);
+        for_each(n, [&](std::size_t p) {
+          if (!s.active[p]) q[p] = 0.0;
+        });
+        const double alpha = rz / dot(direction, q);
+        for_each(n, [&](std::size_t p) {
+          x[p] += alpha * direction[p];
+          r[p] -= alpha * q[p];
+        });
+        r_norm = std::sqrt(dot(r, r));
+        if (r_norm <= tolerance * b_norm) break;
+        precondition(r, z);
+        const double rz_next = dot(r, z);
+        const double beta = rz_next / rz;
+        rz = rz_next;
+        for_each(n, [&](std::size_t p) { direction[p] = z[p] + beta * direction[p]; });
+      }
+    }
+    report.relative_residual = r_norm / b_norm;
+    report.converged = r_norm <= tolerance * b_norm;
+    if (singular_) subtract_on_active(x, active_mean(x));
+    std::copy(x.begin(), x.end(), x_out.begin());
+    return report;
+  }
+
+ private:
+  template <class F>
+  void for_each(std::size_t n, F&& f) const {
+    const int team = threading_.team(n);
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (std::size_t p = 0; p < n; ++p) f(p);
+  }
+
+  // Σ_rows (Σ_i in row f(p)), the rows summed in order: identical bits for any team.
+  template <class F>
+  double row_sum(const StencilSystem& s, F&& f) const {
+    const std::size_t rows = static_cast<std::size_t>(s.size[1]) * static_cast<std::size_t>(s.size[2]);
+    const std::size_t row_length = static_cast<std::size_t>(s.size[0]);
+    std::vector<double> partial(rows, 0.0);
+    const int team = threading_.team(s.count());
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (std::size_t row = 0; row < rows; ++row) {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < row_length; ++i) sum += f(row * row_length + i);
+      partial[row] = sum;
+    }
+    double total = 0.0;
+    for (double value : partial) total += value;
+    return total;
+  }
+
+  double dot(const std::vector<double>& u, const std::vector<double>& v) const {
+    return row_sum(levels_[0].system, [&](std::size_t p) { return u[p] * v[p]; });
+  }
+
+  double active_mean(const std::vector<double>& v) const {
+    const StencilSystem& s = levels_[0].system;
+    const double sum = row_sum(s, [&](std::size_t p) { return s.active[p] ? v[p] : 0.0; });
+    const double count = row_sum(s, [&](std::size_t p) { return s.active[p] ? 1.0 : 0.0; });
+    return count > 0.0 ? sum / count : 0.0;
+  }
+
+  void subtract_on_active(std::vector<double>& v, double value) const {
+    const StencilSystem& s = levels_[0].system;
+    for_each(s.count(), [&](std::size_t p) {
+      if (s.active[p]) v[p] -= value;
+    });
+  }
+
+  void prepare_level(Level& level) const {
+    StencilSystem& s = level.system;
+    const std::size_t n = s.count();
+    level.diagonal.assign(n, 0.0);
+    for (int k = 0; k < s.size[2]; ++k) {
+      for (int j = 0; j < s.size[1]; ++j) {
+        for (int i = 0; i < s.size[0]; ++i) {
+          const std::size_t p = s.index(i, j, k);
+          const std::array<int, 3> at{i, j, k};
+          double diagonal = s.mass[p] + s.boundary[0][p] + s.boundary[1][p] + s.boundary[2][p];
+          for (int a = 0; a < 3; ++a) {
+            for (int side = -1; side <= 1; side += 2) {
+              const std::ptrdiff_t q = neighbour(s, at, a, side, p);
+              if (q >= 0) diagonal += coupling(s, a, side, p, q);
+            }
+          }
+          // An unknown coupled to nothing (enclosed by held unknowns) is held as well.
+          if (diagonal <= 0.0) s.active[p] = 0;
+          level.diagonal[p] = diagonal;
+        }
+      }
+    }
+    level.solution.assign(n, 0.0);
+    level.rhs.assign(n, 0.0);
+    level.residual.assign(n, 0.0);
+    level.colours_independent = true;
+    for (int a = 0; a < 3; ++a) {
+      if (s.periodic[a] && s.size[a] % 2 == 1 && s.size[a] > 1) level.colours_independent = false;
+    }
+  }
+
+  // Whether some row holds its unknown to a value (mass, a boundary term, or a coupling to a
+  // held neighbour); without one the system is singular (constant null space).
+  static bool has_fixed_part(const Level& level) {
+    const StencilSystem& s = level.system;
+    for (int k = 0; k < s.size[2]; ++k) {
+      for (int j = 0; j < s.size[1]; ++j) {
+        for (int i = 0; i < s.size[0]; ++i) {
+          const std::size_t p = s.index(i, j, k);
+          if (!s.active[p]) continue;
+          if (s.mass[p] > 0.0 || s.boundary[0][p] > 0.0 || s.boundary[1][p] > 0.0 ||
+              s.boundary[2][p] > 0.0) {
+            return true;
+          }
+          const std::array<int, 3> at{i, j, k};
+          for (int a = 0; a < 3; ++a) {
+            for (int side = -1; side <= 1; side += 2) {
+              const std::ptrdiff_t q = neighbour(s, at, a, side, p);
+              if (q >= 0 && !s.active[static_cast<std::size_t>(q)] && coupling(s, a, side, p, q) > 0.0) {
+                return true;
+              }
+            }
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+  // Aggregates 2 cells per axis where the axis allows (≥ 2 unknowns, even when periodic).
+  static bool coarsen(Level& fine_level, Level& coarse_level) {
+    const StencilSystem& fine = fine_level.system;
+    std::array<int, 3> ratio{1, 1, 1};
+    std::array<int, 3> size = fine.size;
+    bool any = false;
+    for (int a = 0; a < 3; ++a) {
+      const int n = fine.size[a];
+      if (n >= 2 && (!fine.periodic[a] || n % 2 == 0)) {
+        ratio[a] = 2;
+        size[a] = (n + 1) / 2;
+        any = true;
+      }
+    }
+    if (!any) return false;
+    StencilSystem& coarse = coarse_level.system;
+    coarse.reset(size, fine.periodic);
+    std::fill(coarse.active.begin(), coarse.active.end(), std::uint8_t{0});
+    for (int k = 0; k < fine.size[2]; ++k) {
+      for (int j = 0; j < fine.size[1]; ++j) {
+        for (int i = 0; i < fine.size[0]; ++i) {
+          const std::size_t p = fine.index(i, j, k);
+          const std::array<int, 3> at{i, j, k};
+          const std::size_t c = coarse.index(i / ratio[0], j / ratio[1], k / ratio[2]);
+          coarse.mass[c] += fine.mass[p];
+          if (fine.active[p]) coarse.active[c] = 1;
+          for (int a = 0; a < 3; ++a) {
+            // A conductance through A_c/h_c = (Σ A_f)/(r h_f): the sum of the fine ones over r.
+            const double scale = 1.0 / ratio[a];
+            coarse.boundary[a][c] += scale * fine.boundary[a][p];
+            if (at[a] % ratio[a] == 0) coarse.conductance[a][c] += scale * fine.conductance[a][p];
+          }
+        }
+      }
+    }
+    fine_level.ratio = ratio;
+    return true;
+  }
+
+  void factor_coarsest(Level& level) const {
+    const StencilSystem& s = level.system;
+    level.direct = false;
+    level.dense_to_cell.clear();
+    for (std::size_t p = 0; p < s.count(); ++p) {
+      if (s.active[p]) level.dense_to_cell.push_back(p);
+    }
+    const std::size_t m = level.dense_to_cell.size();
+    if (m == 0 || m > kDirectSolveLimit) return;
+    std::vector<std::ptrdiff_t> cell_to_dense(s.count(), -1);
+    for (std::size_t d = 0; d < m; ++d) cell_to_dense[level.dense_to_cell[d]] = static_cast<std::ptrdiff_t>(d);
+    std::vector<double> a(m * m, 0.0);
+    for (int k = 0; k < s.size[2]; ++k) {
+      for (int j = 0; j < s.size[1]; ++j) {
+        for (int i = 0; i < s.size[0]; ++i) {
+          const std::size_t p = s.index(i, j, k);
+          const std::ptrdiff_t row = cell_to_dense[p];
+          if (row < 0) continue;
+          const std::array<int, 3> at{i, j, k};
+          a[static_cast<std::size_t>(row) * m + static_cast<std::size_t>(row)] += level.diagonal[p];
+          for (int axis = 0; axis < 3; ++axis) {
+            for (int side = -1; side <= 1; side += 2) {
+              const std::ptrdiff_t q = neighbour(s, at, axis, side, p);
+              if (q < 0) continue;
+              const std::ptrdiff_t column = cell_to_dense[static_cast<std::size_t>(q)];
+              if (column < 0) continue;
+              a[static_cast<std::size_t>(row) * m + static_cast<std::size_t>(column)] -=
+                  coupling(s, axis, side, p, q);
+            }
+          }
+        }
+      }
+    }
+    if (singular_) {
+      // Pin the first unknown: the constant null space is removed by the caller.
+      for (std::size_t d = 0; d < m; ++d) a[d] = a[d * m] = 0.0;
+      a[0] = 1.0;
+    }
+    // In-place Cholesky, A = L Lᵀ (lower triangle kept).
+    for (std::size_t c = 0; c < m; ++c) {
+      double pivot = a[c * m + c];
+      for (std::size_t t = 0; t < c; ++t) pivot -= a[c * m + t] * a[c * m + t];
+      if (!(pivot > 1e-14 * std::abs(a[c * m + c]) && pivot > 0.0)) return;  // fall back to sweeps
+      pivot = std::sqrt(pivot);
+      a[c * m + c] = pivot;
+      for (std::size_t r = c + 1; r < m; ++r) {
+        double value = a[r * m + c];
+        for (std::size_t t = 0; t < c; ++t) value -= a[r * m + t] * a[c * m + t];
+        a[r * m + c] = value / pivot;
+      }
+    }
+    level.cholesky = std::move(a);
+    level.direct = true;
+  }
+
+  void apply(const Level& level, const std::vector<double>& x, std::vector<double>& y) const {
+    const StencilSystem& s = level.system;
+    const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
+    const int rows = ny * nz;
+    const int team = threading_.team(s.count());
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int row = 0; row < rows; ++row) {
+      const int j = row % ny, k = row / ny;
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t p = s.index(i, j, k);
+        y[p] = s.active[p] ? level.diagonal[p] * x[p] - neighbour_sum(s, {i, j, k}, p, x) : x[p];
+      }
+    }
+  }
+
+  // One Gauss-Seidel half sweep over the unknowns of colour (i + j + k) mod 2.
+  void smooth_colour(Level& level, int colour) const {
+    const StencilSystem& s = level.system;
+    const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
+    const int rows = ny * nz;
+    const int team = level.colours_independent ? threading_.team(s.count()) : 1;
+    std::vector<double>& x = level.solution;
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int row = 0; row < rows; ++row) {
+      const int j = row % ny, k = row / ny;
+      for (int i = (j + k + colour) % 2; i < nx; i += 2) {
+        const std::size_t p = s.index(i, j, k);
+        if (!s.active[p]) continue;
+        x[p] = (level.rhs[p] + neighbour_sum(s, {i, j, k}, p, x)) / level.diagonal[p];
+      }
+    }
+  }
+
+  void solve_coarsest(Level& level) const {
+    std::fill(level.solution.begin(), level.solution.end(), 0.0);
+    if (!level.direct) {
+      for (int sweep = 0; sweep < kCoarsestSweeps; ++sweep) {
+        smooth_colour(level, 0);
+        smooth_colour(level, 1);
+      }
+      for (int sweep = 0; sweep < kCoarsestSweeps; ++sweep) {
+        smooth_colour(level, 1);
+        smooth_colour(level, 0);
+      }
+      return;
+    }
+    const std::size_t m = level.dense_to_cell.size();
+    std::vector<double> y(m);
+    for (std::size_t d = 0; d < m; ++d) y[d] = level.rhs[level.dense_to_cell[d]];
+    if (singular_) y[0] = 0.0;
+    const std::vector<double>& l = level.cholesky;
+    for (std::size_t r = 0; r < m; ++r) {
+      double value = y[r];
+      for (std::size_t t = 0; t < r; ++t) value -= l[r * m + t] * y[t];
+      y[r] = value / l[r * m + r];
+    }
+    for (std::size_t r = m; r-- > 0;) {
+      double value = y[r];
+      for (std::size_t t = r + 1; t < m; ++t) value -= l[t * m + r] * y[t];
+      y[r] = value / l[r * m + r];
+    }
+    for (std::size_t d = 0; d < m; ++d) level.solution[level.dense_to_cell[d]] = y[d];
+  }
+
+  // x_l = V-cycle(b_l) from x_l = 0: symmetric (pre-smoothing red, black; post-smoothing black,
+  // red; restriction the transpose of the piecewise-constant prolongation).
+  void v_cycle(std::size_t l) {
+    Level& level = levels_[l];
+    if (l + 1 == levels_.size()) {
+      solve_coarsest(level);
+      return;
+    }
+    std::fill(level.solution.begin(), level.solution.end(), 0.0);
+    for (int sweep = 0; sweep < kSmoothingSweeps; ++sweep) {
+      smooth_colour(level, 0);
+      smooth_colour(level, 1);
+    }
+    apply(level, level.solution, level.residual);
+    const StencilSystem& s = level.system;
+    Level& coarse = levels_[l + 1];
+    const StencilSystem& cs = coarse.system;
+    std::fill(coarse.rhs.begin(), coarse.rhs.end(), 0.0);
+    for (int k = 0; k < s.size[2]; ++k) {
+      for (int j = 0; j < s.size[1]; ++j) {
+        for (int i = 0; i < s.size[0]; ++i) {
+          const std::size_t p = s.index(i, j, k);
+          if (!s.active[p]) continue;
+          const std::size_t c = cs.index(i / level.ratio[0], j / level.ratio[1], k / level.ratio[2]);
+          coarse.rhs[c] += level.rhs[p] - level.residual[p];
+        }
+      }
+    }
+    v_cycle(l + 1);
+    const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
+    const int rows = ny * nz;
+    const int team = threading_.team(s.count());
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int row = 0; row < rows; ++row) {
+      const int j = row % ny, k = row / ny;
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t p = s.index(i, j, k);
+        if (!s.active[p]) continue;
+        level.solution[p] +=
+            coarse.solution[cs.index(i / level.ratio[0], j / level.ratio[1], k / level.ratio[2])];
+      }
+    }
+    for (int sweep = 0; sweep < kSmoothingSweeps; ++sweep) {
+      smooth_colour(level, 1);
+      smooth_colour(level, 0);
+    }
+  }
+
+  void precondition(const std::vector<double>& r, std::vector<double>& z) {
+    Level& fine = levels_[0];
+    fine.rhs = r;
+    v_cycle(0);
+    z = fine.solution;
+    const StencilSystem& s = fine.system;
+    for_each(s.count(), [&](std::size_t p) {
+      if (!s.active[p]) z[p] = 0.0;
+    });
+    if (singular_) subtract_on_active(z, active_mean(z));
+  }
+
+  Threading threading_;
+  std::vector<Level> levels_;
+  bool singular_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<PressureSolver> make_multigrid_cg_solver(const Threading& threading) {
+  return std::make_unique<MultigridCgSolver>(threading);
+}
+
+}  // namespace quarry::cfd
