@@ -274,6 +274,19 @@ void FluidSolver::predict_momentum(double dt) {
         star[padded(pad[0], pad[1], pad[2])] = system.active[q] ? unknowns_[q] : 0.0;
       }
     }
+    if (is_periodic(boundaries_, a)) {
+      // The face at the high boundary is the first face again: continuity reads both.
+      for (int k = kGhost; k < grid_.cells[2] + kGhost; ++k) {
+        for (int j = kGhost; j < grid_.cells[1] + kGhost; ++j) {
+          for (int i = kGhost; i < grid_.cells[0] + kGhost; ++i) {
+            std::array<int, 3> at{i, j, k};
+            if (at[a] != kGhost) continue;
+            at[a] = grid_.cells[a] + kGhost;
+            star[padded(at[0], at[1], at[2])] = star[padded(i, j, k)];
+          }
+        }
+      }
+    }
   }
 }
 

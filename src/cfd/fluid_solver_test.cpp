@@ -97,5 +97,303 @@ TEST(FluidSolverTest, PoiseuilleDrivenByPressureOutlets) {
   }
 }
 
+// Taylor-Green vortex (Taylor & Green 1937): in the periodic box [0, 2π)², u = sin x cos y F,
+// v = −cos x sin y F, p = ρ/4 (cos 2x + cos 2y) F², F = exp(−2νt), solves Navier-Stokes
+// exactly. dt ∝ Δx², so the first-order time error shrinks as Δx² too and the error ratio per
+// halving measures the spatial order: 4 for second order.
+double taylor_green_error(int cells) {
+  const double length = 2.0 * kPi, nu = 0.1, end_time = 0.5;
+  FluidGrid grid;
+  grid.cells = {cells, cells, 1};
+  const double h = length / cells;
+  grid.cell_size = {h, h, h};
+  FluidBoundaries boundaries;
+  for (int a = 0; a < 3; ++a) boundaries.set_periodic(a);
+  const FluidProperties fluid{1.0, nu};
+  FluidSolverOptions options;
+  options.threading.threads = 1;  // fast on shared CI cores; OneAndTwoThreads covers 2 threads
+  FluidSolver solver(grid, fluid, boundaries, options);
+  solver.set_velocity([](const Vec3& x) { return Vec3{std::sin(x.x) * std::cos(x.y), -std::cos(x.x) * std::sin(x.y), 0.0}; });
+  solver.set_pressure([&](const Vec3& x) { return fluid.density / 4.0 * (std::cos(2.0 * x.x) + std::cos(2.0 * x.y)); });
+  const int steps = static_cast<int>(std::ceil(end_time / (0.13 * h * h)));
+  const double dt = end_time / steps;
+  for (int n = 0; n < steps; ++n) solver.step(dt);
+  const double decay = std::exp(-2.0 * nu * end_time);
+  double sum = 0.0;
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      const double x = i * h, y = (j + 0.5) * h;  // the u face at the low side of cell (i, j)
+      const double exact = std::sin(x) * std::cos(y) * decay;
+      sum += (solver.face_velocity(0, i, j, 0) - exact) * (solver.face_velocity(0, i, j, 0) - exact);
+    }
+  }
+  return std::sqrt(sum / (cells * cells)) / decay;
+}
+
+TEST(FluidSolverTest, TaylorGreenSecondOrderInSpace) {
+  const double coarse = taylor_green_error(12), medium = taylor_green_error(24), fine = taylor_green_error(48);
+  const double order_coarse = std::log2(coarse / medium), order_fine = std::log2(medium / fine);
+  std::printf("Taylor-Green L2 errors (relative): 12² %.3e, 24² %.3e, 48² %.3e; orders %.3f, %.3f\n", coarse,
+              medium, fine, order_coarse, order_fine);
+  EXPECT_GT(order_coarse, 1.8);
+  EXPECT_GT(order_fine, 1.8);
+  EXPECT_LT(order_fine, 2.3);
+}
+
+// A 3-D box with every boundary kind but periodic in z, a blocked block, ε varying in space and
+// time and drag: after each step ∇·(εu) + ∂ε/∂t vanishes to the pressure tolerance, i.e.
+// ‖r‖∞ ≤ ‖r‖₂ ≤ tol ‖r*‖₂ ≤ tol √N ‖r*‖∞ with r* the residual of the predicted velocity.
+FluidSolver mixed_box(const Threading& threading) {
+  FluidGrid grid;
+  grid.cells = {16, 12, 8};
+  grid.cell_size = {0.1, 0.1, 0.1};
+  FluidBoundaries boundaries;
+  boundaries.face(0, 0).kind = BoundaryKind::velocity_inlet;
+  boundaries.face(0, 0).velocity = {0.2, 0.05, 0.0};
+  boundaries.face(0, 1).kind = BoundaryKind::pressure_outlet;
+  boundaries.face(1, 1).velocity = {0.1, 0.0, 0.05};  // a sliding wall
+  boundaries.set_periodic(2);
+  FluidSolverOptions options;
+  options.gravity = {0.0, -9.81, 0.0};
+  options.threading = threading;
+  FluidSolver solver(grid, FluidProperties{1000.0, 1.0}, boundaries, options);
+  for (int k = 0; k < 8; ++k) {
+    for (int j = 3; j < 6; ++j) {
+      for (int i = 6; i < 9; ++i) solver.blocked()[grid.cell_index(i, j, k)] = 1;
+    }
+  }
+  for (std::size_t c = 0; c < grid.cell_count(); ++c) solver.drag_coefficient()[c] = 50.0 * (c % 7);
+  return solver;
+}
+
+std::vector<double> porosity_at(const FluidGrid& grid, double time) {
+  std::vector<double> eps(grid.cell_count());
+  for (int k = 0; k < grid.cells[2]; ++k) {
+    for (int j = 0; j < grid.cells[1]; ++j) {
+      for (int i = 0; i < grid.cells[0]; ++i) {
+        const Vec3 x = grid.cell_centre(i, j, k);
+        eps[grid.cell_index(i, j, k)] = 0.7 + 0.2 * std::sin(4.0 * x.x + 2.0 * time) * std::cos(3.0 * x.y + x.z);
+      }
+    }
+  }
+  return eps;
+}
+
+TEST(FluidSolverTest, DivergenceFreeToSolverToleranceAfterEveryStep) {
+  FluidSolver solver = mixed_box(Threading{});
+  const FluidGrid& grid = solver.grid();
+  const double dt = 0.01;
+  solver.set_void_fraction(porosity_at(grid, 0.0));
+  const double tolerance = 1e-10;
+  for (int n = 1; n <= 10; ++n) {
+    solver.set_void_fraction(porosity_at(grid, n * dt));
+    solver.step(dt);
+    const FluidStepReport& report = solver.last_report();
+    std::printf("step %d: pressure %d iterations, momentum %d/%d/%d, |r*| %.3e -> |r| %.3e 1/s\n", n,
+                report.pressure.iterations, report.momentum[0].iterations, report.momentum[1].iterations,
+                report.momentum[2].iterations, report.predicted_divergence, report.divergence);
+    EXPECT_TRUE(report.pressure.converged);
+    EXPECT_GT(report.predicted_divergence, 1e-4);
+    EXPECT_LE(report.divergence,
+              tolerance * std::sqrt(static_cast<double>(grid.cell_count())) * report.predicted_divergence);
+  }
+}
+
+// Same inputs and steps on 1 and on 2 threads (every loop on a team: threshold 0): identical bits.
+TEST(FluidSolverTest, OneAndTwoThreadsBitIdentical) {
+  std::vector<std::vector<double>> results;
+  for (int threads : {1, 2}) {
+    Threading threading;
+    threading.threads = threads;
+    threading.threshold = 0;
+    FluidSolver solver = mixed_box(threading);
+    const FluidGrid& grid = solver.grid();
+    for (int n = 1; n <= 5; ++n) {
+      solver.set_void_fraction(porosity_at(grid, n * 0.01));
+      solver.step(0.01);
+    }
+    std::vector<double> state;
+    for (int k = 0; k < grid.cells[2]; ++k) {
+      for (int j = 0; j < grid.cells[1]; ++j) {
+        for (int i = 0; i < grid.cells[0]; ++i) {
+          for (int a = 0; a < 3; ++a) state.push_back(solver.face_velocity(a, i, j, k));
+          state.push_back(solver.pressure(i, j, k));
+        }
+      }
+    }
+    results.push_back(state);
+  }
+  ASSERT_EQ(results[0].size(), results[1].size());
+  EXPECT_EQ(std::memcmp(results[0].data(), results[1].data(), results[0].size() * sizeof(double)), 0);
+}
+
+// Lid-driven cavity at Re = U L/ν = 100 (n × n cells, one deep, periodic in z) against Ghia,
+// Ghia & Shin 1982 (J. Comput. Phys. 48:387-411), Table I (u on the vertical centreline x = 0.5)
+// and Table II (v on the horizontal centreline y = 0.5), Re = 100 columns; run until
+// |∂u/∂t| < 1e-4 m/s² at (0.5, 0.25).
+void check_cavity_against_ghia(int n, double dt) {
+  constexpr std::array<double, 17> kGhiaY{1.0,    0.9766, 0.9688, 0.9609, 0.9531, 0.8516, 0.7344, 0.6172, 0.5,
+                                          0.4531, 0.2813, 0.1719, 0.1016, 0.0703, 0.0625, 0.0547, 0.0};
+  constexpr std::array<double, 17> kGhiaU{1.0,      0.84123,  0.78871,  0.73722,  0.68717,  0.23151,
+                                          0.00332,  -0.13641, -0.20581, -0.21090, -0.15662, -0.10150,
+                                          -0.06434, -0.04775, -0.04192, -0.03717, 0.0};
+  constexpr std::array<double, 17> kGhiaX{1.0,    0.9688, 0.9609, 0.9531, 0.9453, 0.9063, 0.8594, 0.8047, 0.5,
+                                          0.2344, 0.2266, 0.1563, 0.0938, 0.0781, 0.0703, 0.0625, 0.0};
+  constexpr std::array<double, 17> kGhiaV{0.0,      -0.05906, -0.07391, -0.08864, -0.10313, -0.16914,
+                                          -0.22445, -0.24533, 0.05454,  0.17527,  0.17507,  0.16077,
+                                          0.12317,  0.10890,  0.10091,  0.09233,  0.0};
+  FluidGrid grid;
+  grid.cells = {n, n, 1};
+  grid.cell_size = {1.0 / n, 1.0 / n, 1.0 / n};
+  FluidBoundaries boundaries;
+  boundaries.face(1, 1).velocity = {1.0, 0.0, 0.0};  // the lid, U = 1 m/s
+  boundaries.set_periodic(2);
+  FluidSolverOptions options;
+  options.threading.threads = 1;  // fast on shared CI cores; OneAndTwoThreads covers 2 threads
+  FluidSolver solver(grid, FluidProperties{1.0, 0.01}, boundaries, options);
+  double change = 1.0;
+  int steps = 0;
+  while (steps < 4000 && change > 1e-4) {
+    const double before = solver.face_velocity(0, n / 2, n / 4, 0);
+    solver.step(dt);
+    ++steps;
+    change = std::abs(solver.face_velocity(0, n / 2, n / 4, 0) - before) / dt;
+  }
+  // u on x = 0.5 (faces i = n/2) at cell-centre heights, v on y = 0.5 (faces j = n/2) at
+  // cell-centre abscissae; the walls' values at 0 and 1; linear in between.
+  auto interpolate = [&](double position, auto&& value_at_cell, double at_zero, double at_one) {
+    const double s = position * n - 0.5;
+    if (s <= 0.0) return at_zero + (value_at_cell(0) - at_zero) * (position * n / 0.5);
+    if (s >= n - 1) return value_at_cell(n - 1) + (at_one - value_at_cell(n - 1)) * ((s - (n - 1)) / 0.5);
+    const int c = static_cast<int>(s);
+    return value_at_cell(c) + (value_at_cell(c + 1) - value_at_cell(c)) * (s - c);
+  };
+  double worst_u = 0.0, worst_v = 0.0;
+  for (std::size_t p = 0; p < kGhiaY.size(); ++p) {
+    const double u = interpolate(kGhiaY[p], [&](int j) { return solver.face_velocity(0, n / 2, j, 0); }, 0.0, 1.0);
+    const double v = interpolate(kGhiaX[p], [&](int i) { return solver.face_velocity(1, i, n / 2, 0); }, 0.0, 0.0);
+    worst_u = std::max(worst_u, std::abs(u - kGhiaU[p]));
+    worst_v = std::max(worst_v, std::abs(v - kGhiaV[p]));
+  }
+  std::printf("cavity Re 100, %d²: %d steps (t = %.1f s), max |u − u_Ghia| %.4f, max |v − v_Ghia| %.4f (× U)\n",
+              n, steps, steps * dt, worst_u, worst_v);
+  EXPECT_LT(change, 1e-4);
+  EXPECT_LT(worst_u, 0.03);
+  EXPECT_LT(worst_v, 0.03);
+}
+
+TEST(FluidSolverTest, LidDrivenCavityRe100MatchesGhia) {
+  check_cavity_against_ghia(32, 0.02);  // dt = 2ν/U², the explicit advection limit at the lid
+}
+
+// The same on 64² (about ten times the work; run with --gtest_also_run_disabled_tests).
+TEST(FluidSolverTest, DISABLED_LidDrivenCavityRe100At64MatchesGhia) { check_cavity_against_ghia(64, 0.01); }
+
+// A packed bed: uniform ε < 1 and β > 0, periodic across, driven by two pressure outlets
+// (Δp over L). At steady state u is uniform and the momentum balance is the drag alone:
+// model A: ε Δp/L = β u; model B: Δp/L = β u (Zhou et al. 2010, eqs. for the fluid phase).
+double packed_bed_velocity(VolumeAveragedModel model, double porosity, double drag, double gradient) {
+  FluidGrid grid;
+  grid.cells = {12, 4, 4};
+  grid.cell_size = {0.05, 0.05, 0.05};
+  const double length = 12 * 0.05;
+  FluidBoundaries boundaries;
+  boundaries.face(0, 0).kind = BoundaryKind::pressure_outlet;
+  boundaries.face(0, 0).reference_pressure = gradient * length;
+  boundaries.face(0, 1).kind = BoundaryKind::pressure_outlet;
+  boundaries.set_periodic(1);
+  boundaries.set_periodic(2);
+  FluidSolverOptions options;
+  options.model = model;
+  FluidSolver solver(grid, FluidProperties{1000.0, 1e-3}, boundaries, options);
+  solver.set_initial_void_fraction(std::vector<double>(grid.cell_count(), porosity));
+  for (double& beta : solver.drag_coefficient()) beta = drag;
+  // Relaxation time ρε/β = 0.1 s; 100 relaxation times.
+  for (int n = 0; n < 200; ++n) solver.step(0.05);
+  double largest_spread = 0.0;
+  const double u = solver.face_velocity(0, 0, 0, 0);
+  for (int i = 0; i <= 12; ++i) largest_spread = std::max(largest_spread, std::abs(solver.face_velocity(0, i, 2, 1) - u));
+  EXPECT_LT(largest_spread, 1e-12 * std::abs(u));
+  return u;
+}
+
+TEST(FluidSolverTest, PackedBedPressureDropBalancesDrag) {
+  const double porosity = 0.4, drag = 4000.0, gradient = 1000.0;  // β (kg/(m³ s)), Δp/L (Pa/m)
+  const double u_a = packed_bed_velocity(VolumeAveragedModel::a, porosity, drag, gradient);
+  const double u_b = packed_bed_velocity(VolumeAveragedModel::b, porosity, drag, gradient);
+  std::printf("packed bed: model A u = %.12g (ε Δp/L / β = %.12g), model B u = %.12g (Δp/L / β = %.12g)\n", u_a,
+              porosity * gradient / drag, u_b, gradient / drag);
+  EXPECT_NEAR(u_a, porosity * gradient / drag, 1e-9 * u_a);
+  EXPECT_NEAR(u_b, gradient / drag, 1e-9 * u_b);
+}
+
+// Fluid at rest in a column under gravity, top outlet with the hydrostatic pressure of seed
+// 001 (p = p_ref + ρ g·(x − x_ref)), uniform ε (model A: ε∇p = ερg): it stays at rest.
+TEST(FluidSolverTest, HydrostaticColumnStaysAtRest) {
+  FluidGrid grid;
+  grid.cells = {4, 4, 16};
+  grid.cell_size = {0.01, 0.01, 0.01};
+  FluidBoundaries boundaries;
+  boundaries.face(2, 1).kind = BoundaryKind::pressure_outlet;
+  boundaries.face(2, 1).reference_pressure = 101325.0;
+  boundaries.face(2, 1).reference_point = {0.0, 0.0, 0.16};
+  FluidSolverOptions options;
+  options.gravity = {0.0, 0.0, -9.81};
+  FluidSolver solver(grid, FluidProperties{1000.0, 1e-3}, boundaries, options);
+  solver.set_initial_void_fraction(std::vector<double>(grid.cell_count(), 0.6));
+  for (int n = 0; n < 10; ++n) solver.step(1e-3);
+  double fastest = 0.0;
+  for (int k = 0; k < 16; ++k) fastest = std::max(fastest, norm(solver.cell_velocity(1, 2, k)));
+  EXPECT_LT(fastest, 1e-12);
+  // p at the bottom cell centre: p_ref + ρ g (0.16 − 0.005).
+  EXPECT_NEAR(solver.pressure(1, 1, 0), 101325.0 + 1000.0 * 9.81 * 0.155, 1e-6);
+}
+
+// ∂ε/∂t: with u = 0 and no forcing the first step's velocity is what continuity asks for,
+// ∂(εu)/∂x = −∂ε/∂t. Uniform rate r in a channel closed at x = 0 with an outlet at x = L:
+// εu(x) = −r x at every face. A closed box with ε^{n+1} − ε^n = δ cos(2πx/L): the flux at
+// face x_f is −(1/dt) Σ_{cells left of x_f} (ε^{n+1} − ε^n) Δx.
+TEST(FluidSolverTest, VoidFractionRateDrivesConsistentVelocity) {
+  const int n = 20;
+  const double dx = 0.05, dt = 0.01;
+  FluidGrid grid;
+  grid.cells = {n, 3, 3};
+  grid.cell_size = {dx, dx, dx};
+  for (bool closed : {false, true}) {
+    FluidBoundaries boundaries;
+    boundaries.set_periodic(1);
+    boundaries.set_periodic(2);
+    if (!closed) boundaries.face(0, 1).kind = BoundaryKind::pressure_outlet;
+    FluidSolver solver(grid, FluidProperties{1000.0, 1e-3}, boundaries);
+    std::vector<double> before(grid.cell_count()), after(grid.cell_count());
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < n; ++i) {
+          const std::size_t c = grid.cell_index(i, j, k);
+          before[c] = 0.6;
+          after[c] = closed ? 0.6 + 0.05 * std::cos(2.0 * kPi * (i + 0.5) / n) : 0.6 - 0.1 * dt;
+        }
+      }
+    }
+    solver.set_initial_void_fraction(before);
+    solver.set_void_fraction(after);
+    solver.step(dt);
+    double cumulative = 0.0, worst = 0.0, scale = 0.0;
+    for (int i = 0; i <= n; ++i) {
+      const double eps_face = i == 0 ? after[grid.cell_index(0, 1, 1)]
+                              : i == n ? after[grid.cell_index(n - 1, 1, 1)]
+                                       : 0.5 * (after[grid.cell_index(i - 1, 1, 1)] + after[grid.cell_index(i, 1, 1)]);
+      const double expected = -cumulative / dt;
+      const double flux = eps_face * solver.face_velocity(0, i, 1, 1);
+      worst = std::max(worst, std::abs(flux - expected));
+      scale = std::max(scale, std::abs(expected));
+      if (i < n) cumulative += (after[grid.cell_index(i, 1, 1)] - before[grid.cell_index(i, 1, 1)]) * dx;
+    }
+    std::printf("dε/dt %s: max |εu − expected| %.3e of %.3e m/s\n", closed ? "closed box" : "outlet", worst, scale);
+    EXPECT_GT(scale, 1e-3);
+    EXPECT_LT(worst, 1e-8 * scale);
+  }
+}
+
 }  // namespace
 }  // namespace quarry::cfd

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
@@ -26,6 +27,10 @@ constexpr int kCoarsestSweeps = 40;
 struct Level {
   StencilSystem system;
   std::vector<double> diagonal;
+  // Per unknown, its six couplings to active neighbours flattened (6 per unknown): the
+  // neighbour's index (the unknown itself where there is none) and the conductance (0 there).
+  std::vector<std::uint32_t> link_index;
+  std::vector<double> link_conductance;
   std::vector<double> solution, rhs, residual;  // work vectors of this level
   std::array<int, 3> ratio{1, 1, 1};            // coarsening ratio towards the next level
   bool colours_independent = true;  // a red-black half sweep may run on a team
@@ -55,18 +60,10 @@ inline double coupling(const StencilSystem& s, int a, int side, std::size_t p, s
   return side < 0 ? s.conductance[a][p] : s.conductance[a][static_cast<std::size_t>(q)];
 }
 
-// Σ over active neighbours of g x_N, for row P at (i, j, k).
-inline double neighbour_sum(const StencilSystem& s, const std::array<int, 3>& at, std::size_t p,
-                            const std::vector<double>& x) {
-  double sum = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    for (int side = -1; side <= 1; side += 2) {
-      const std::ptrdiff_t q = neighbour(s, at, a, side, p);
-      if (q < 0 || !s.active[static_cast<std::size_t>(q)]) continue;
-      sum += coupling(s, a, side, p, q) * x[static_cast<std::size_t>(q)];
-    }
-  }
-  return sum;
+// Σ over active neighbours of g x_N from the level's flattened links.
+inline double linked_sum(const std::uint32_t* index, const double* conductance, const double* x) {
+  return conductance[0] * x[index[0]] + conductance[1] * x[index[1]] + conductance[2] * x[index[2]] +
+         conductance[3] * x[index[3]] + conductance[4] * x[index[4]] + conductance[5] * x[index[5]];
 }
 
 class MultigridCgSolver final : public PressureSolver {
@@ -213,6 +210,25 @@ class MultigridCgSolver final : public PressureSolver {
         }
       }
     }
+    level.link_index.assign(6 * n, 0);
+    level.link_conductance.assign(6 * n, 0.0);
+    for (int k = 0; k < s.size[2]; ++k) {
+      for (int j = 0; j < s.size[1]; ++j) {
+        for (int i = 0; i < s.size[0]; ++i) {
+          const std::size_t p = s.index(i, j, k);
+          const std::array<int, 3> at{i, j, k};
+          for (int a = 0; a < 3; ++a) {
+            for (int side = -1; side <= 1; side += 2) {
+              const std::size_t link = 6 * p + static_cast<std::size_t>(2 * a + (side + 1) / 2);
+              const std::ptrdiff_t q = neighbour(s, at, a, side, p);
+              const bool coupled = q >= 0 && s.active[p] && s.active[static_cast<std::size_t>(q)];
+              level.link_index[link] = static_cast<std::uint32_t>(coupled ? static_cast<std::size_t>(q) : p);
+              level.link_conductance[link] = coupled ? coupling(s, a, side, p, q) : 0.0;
+            }
+          }
+        }
+      }
+    }
     level.solution.assign(n, 0.0);
     level.rhs.assign(n, 0.0);
     level.residual.assign(n, 0.0);
@@ -354,7 +370,9 @@ class MultigridCgSolver final : public PressureSolver {
       const int j = row % ny, k = row / ny;
       for (int i = 0; i < nx; ++i) {
         const std::size_t p = s.index(i, j, k);
-        y[p] = s.active[p] ? level.diagonal[p] * x[p] - neighbour_sum(s, {i, j, k}, p, x) : x[p];
+        y[p] = s.active[p] ? level.diagonal[p] * x[p] -
+                                 linked_sum(&level.link_index[6 * p], &level.link_conductance[6 * p], x.data())
+                           : x[p];
       }
     }
   }
@@ -372,7 +390,8 @@ class MultigridCgSolver final : public PressureSolver {
       for (int i = (j + k + colour) % 2; i < nx; i += 2) {
         const std::size_t p = s.index(i, j, k);
         if (!s.active[p]) continue;
-        x[p] = (level.rhs[p] + neighbour_sum(s, {i, j, k}, p, x)) / level.diagonal[p];
+        x[p] = (level.rhs[p] + linked_sum(&level.link_index[6 * p], &level.link_conductance[6 * p], x.data())) /
+               level.diagonal[p];
       }
     }
   }
