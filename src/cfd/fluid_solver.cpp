@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 namespace quarry::cfd {
@@ -120,6 +120,7 @@ void FluidSolver::step(double dt) {
   correct_velocity(dt);           // u^{n+1} = u* − a ∇φ, p^{n+1} = p^n + φ
   update_boundaries();            // ghost layers of u and p for the next step
   measure_divergence(dt);
+  check_step_health(dt);
 
   void_fraction_old_ = void_fraction_new_;
   void_fraction_started_ = true;
@@ -411,6 +412,34 @@ void FluidSolver::update_boundaries() {
   fill_pressure_ghosts();
 }
 
+// Physics guard: a linear solve that stopped short, or a velocity that is no longer finite.
+void FluidSolver::check_step_health(double dt) const {
+  constexpr std::array<const char*, 3> kAxes{"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    const SolveReport& momentum = report_.momentum[a];
+    if (!momentum.converged) {
+      throw std::runtime_error(fmt::format(
+          "fluid solver: the {}-momentum solve did not converge in {} iterations (relative residual {:.3e}, "
+          "tolerance {:.1e}) at dt = {} s; raise max_iterations or check β and the boundary velocities",
+          kAxes[static_cast<std::size_t>(a)], momentum.iterations, momentum.relative_residual,
+          options_.velocity_tolerance, dt));
+    }
+  }
+  if (!report_.pressure.converged) {
+    throw std::runtime_error(fmt::format(
+        "fluid solver: the pressure solve did not converge in {} iterations (relative residual {:.3e}, "
+        "tolerance {:.1e}) at dt = {} s; raise max_iterations, or check for fluid regions cut off from "
+        "every outlet whose volume changes (Σ ∂ε/∂t ≠ 0)",
+        report_.pressure.iterations, report_.pressure.relative_residual, options_.pressure_tolerance, dt));
+  }
+  if (!std::isfinite(report_.divergence)) {
+    throw std::runtime_error(fmt::format(
+        "fluid solver: the velocity is no longer finite after a step of dt = {} s; the stable step before "
+        "it was about stable_time_step() (CFL and 2ν/|u|²): use half of it",
+        dt));
+  }
+}
+
 void FluidSolver::measure_divergence(double dt) {
   const std::array<int, 3>& n = grid_.cells;
   double largest = 0.0;
@@ -424,109 +453,6 @@ void FluidSolver::measure_divergence(double dt) {
     }
   }
   report_.divergence = largest;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Inputs and results.
-
-namespace {
-void check_void_fraction(std::span<const double> values, std::size_t expected) {
-  if (values.size() != expected) {
-    throw std::invalid_argument(
-        fmt::format("fluid solver: void fraction has {} values, the grid {} cells", values.size(), expected));
-  }
-  for (std::size_t c = 0; c < values.size(); ++c) {
-    if (!(values[c] > 0.0 && values[c] <= 1.0)) {
-      throw std::invalid_argument(
-          fmt::format("fluid solver: void fraction of cell {} must be in (0, 1], got {}", c, values[c]));
-    }
-  }
-}
-}  // namespace
-
-void FluidSolver::set_void_fraction(std::span<const double> void_fraction) {
-  check_void_fraction(void_fraction, grid_.cell_count());
-  for (int k = 0; k < grid_.cells[2]; ++k) {
-    for (int j = 0; j < grid_.cells[1]; ++j) {
-      for (int i = 0; i < grid_.cells[0]; ++i) {
-        void_fraction_new_[padded(i + kGhost, j + kGhost, k + kGhost)] = void_fraction[grid_.cell_index(i, j, k)];
-      }
-    }
-  }
-  fill_cell_ghosts(void_fraction_new_);
-  if (!void_fraction_started_) {
-    void_fraction_old_ = void_fraction_new_;
-    void_fraction_started_ = true;
-  }
-}
-
-void FluidSolver::set_initial_void_fraction(std::span<const double> void_fraction) {
-  void_fraction_started_ = false;
-  set_void_fraction(void_fraction);
-}
-
-std::span<double> FluidSolver::drag_coefficient() { return drag_input_; }
-std::span<Vec3> FluidSolver::force_density() { return force_input_; }
-std::span<std::uint8_t> FluidSolver::blocked() { return blocked_input_; }
-
-void FluidSolver::set_velocity(const std::function<Vec3(const Vec3&)>& velocity) {
-  for (int a = 0; a < 3; ++a) {
-    for (int k = kGhost; k < grid_.cells[2] + kGhost + (a == 2 ? 1 : 0); ++k) {
-      for (int j = kGhost; j < grid_.cells[1] + kGhost + (a == 1 ? 1 : 0); ++j) {
-        for (int i = kGhost; i < grid_.cells[0] + kGhost + (a == 0 ? 1 : 0); ++i) {
-          Vec3 x = grid_.cell_centre(i - kGhost, j - kGhost, k - kGhost);
-          x[a] -= 0.5 * grid_.cell_size[a];
-          velocity_[a][padded(i, j, k)] = velocity(x)[a];
-        }
-      }
-    }
-  }
-  update_boundaries();
-}
-
-void FluidSolver::set_pressure(const std::function<double(const Vec3&)>& pressure) {
-  for (int k = 0; k < grid_.cells[2]; ++k) {
-    for (int j = 0; j < grid_.cells[1]; ++j) {
-      for (int i = 0; i < grid_.cells[0]; ++i) {
-        pressure_[padded(i + kGhost, j + kGhost, k + kGhost)] = pressure(grid_.cell_centre(i, j, k));
-      }
-    }
-  }
-  fill_pressure_ghosts();
-}
-
-Vec3 FluidSolver::cell_velocity(int i, int j, int k) const {
-  const std::size_t cell = padded(i + kGhost, j + kGhost, k + kGhost);
-  Vec3 result;
-  for (int a = 0; a < 3; ++a) result[a] = 0.5 * (velocity_[a][cell] + velocity_[a][cell + stride_[a]]);
-  return result;
-}
-
-double FluidSolver::pressure(int i, int j, int k) const {
-  return pressure_[padded(i + kGhost, j + kGhost, k + kGhost)];
-}
-
-double FluidSolver::face_velocity(int axis, int i, int j, int k) const {
-  return velocity_[axis][padded(i + kGhost, j + kGhost, k + kGhost)];
-}
-
-double FluidSolver::stable_time_step() const {
-  double convective = 0.0, kinetic = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    double largest = 0.0;
-    for (int k = kGhost; k < grid_.cells[2] + kGhost + (a == 2 ? 1 : 0); ++k) {
-      for (int j = kGhost; j < grid_.cells[1] + kGhost + (a == 1 ? 1 : 0); ++j) {
-        for (int i = kGhost; i < grid_.cells[0] + kGhost + (a == 0 ? 1 : 0); ++i) {
-          largest = std::max(largest, std::abs(velocity_[a][padded(i, j, k)]));
-        }
-      }
-    }
-    convective += largest / grid_.cell_size[a];
-    kinetic += largest * largest;
-  }
-  if (convective == 0.0) return std::numeric_limits<double>::infinity();
-  const double nu = properties_.viscosity / properties_.density;
-  return std::min(1.0 / convective, 2.0 * nu / kinetic);
 }
 
 }  // namespace quarry::cfd

@@ -56,6 +56,8 @@ class FluidSolver {
   // Advances the fluid by dt (s) > 0 with the inputs as they are set now. After it the face
   // velocities satisfy ∇·(εu) + ∂ε/∂t = 0 to the pressure tolerance; the void fraction set for
   // this step becomes the old one of the next. Cost: a few multigrid-CG solves of the cell count.
+  // Throws std::runtime_error (the state is then that of the failed step) when a linear solve
+  // does not converge or the velocity is no longer finite, with the values and a hint.
   void step(double dt);
 
   // --- inputs, per cell (flat, FluidGrid::cell_index order) ---
@@ -94,6 +96,7 @@ class FluidSolver {
   void correct_velocity(double dt);
   void update_boundaries();
   void measure_divergence(double dt);
+  void check_step_health(double dt) const;
 
   // Helpers (fluid_solver_boundaries.cpp).
   void fill_cell_ghosts(std::vector<double>& field) const;
@@ -127,7 +130,7 @@ class FluidSolver {
   bool void_fraction_started_ = false;
 
   // Inputs (flat, unpadded) and their padded copies.
-  std::vector<double> void_fraction_input_, drag_input_;
+  std::vector<double> drag_input_;
   std::vector<Vec3> force_input_;
   std::vector<std::uint8_t> blocked_input_;
   std::vector<double> void_fraction_old_, void_fraction_new_, drag_;

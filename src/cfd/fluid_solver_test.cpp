@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 namespace quarry::cfd {
@@ -393,6 +394,31 @@ TEST(FluidSolverTest, VoidFractionRateDrivesConsistentVelocity) {
     EXPECT_GT(scale, 1e-3);
     EXPECT_LT(worst, 1e-8 * scale);
   }
+}
+
+TEST(FluidSolverTest, RefusesBadInputAndReportsAFailedSolve) {
+  FluidGrid grid;
+  grid.cells = {8, 8, 8};
+  grid.cell_size = {0.1, 0.1, 0.1};
+  FluidBoundaries boundaries;
+  boundaries.face(0, 0).kind = BoundaryKind::periodic;  // x+ stays a wall: unpaired
+  EXPECT_THROW(FluidSolver(grid, FluidProperties{}, boundaries), std::invalid_argument);
+  EXPECT_THROW(FluidSolver(grid, FluidProperties{-1.0, 1e-3}, FluidBoundaries{}), std::invalid_argument);
+  FluidSolver solver(grid, FluidProperties{}, FluidBoundaries{});
+  EXPECT_THROW(solver.step(0.0), std::invalid_argument);
+  EXPECT_THROW(solver.set_void_fraction(std::vector<double>(grid.cell_count(), 1.5)), std::invalid_argument);
+  EXPECT_THROW(solver.set_void_fraction(std::vector<double>(3, 0.5)), std::invalid_argument);
+
+  // One Krylov iteration cannot reach 1e-14 on a nontrivial pressure solve.
+  FluidSolverOptions options;
+  options.max_iterations = 1;
+  options.pressure_tolerance = 1e-14;
+  FluidBoundaries inlet;
+  inlet.face(0, 0).kind = BoundaryKind::velocity_inlet;
+  inlet.face(0, 0).velocity = {1.0, 0.0, 0.0};
+  inlet.face(0, 1).kind = BoundaryKind::pressure_outlet;
+  FluidSolver stalled(grid, FluidProperties{}, inlet, options);
+  EXPECT_THROW(stalled.step(0.01), std::runtime_error);
 }
 
 }  // namespace
