@@ -115,6 +115,7 @@ void FluidSolver::step(double dt) {
   fill_cell_ghosts(void_fraction_new_);
   fill_cell_ghosts(void_fraction_old_);
 
+  ++step_count_;
   predict_momentum(dt);           // u*: momentum with p^n, implicit viscosity and drag
   solve_pressure_correction(dt);  // φ: ∇·(ε a ∇φ) = ∇·(εu*) + ∂ε/∂t
   correct_velocity(dt);           // u^{n+1} = u* − a ∇φ, p^{n+1} = p^n + φ
@@ -419,24 +420,24 @@ void FluidSolver::check_step_health(double dt) const {
     const SolveReport& momentum = report_.momentum[a];
     if (!momentum.converged) {
       throw std::runtime_error(fmt::format(
-          "fluid solver: the {}-momentum solve did not converge in {} iterations (relative residual {:.3e}, "
-          "tolerance {:.1e}) at dt = {} s; raise max_iterations or check β and the boundary velocities",
-          kAxes[static_cast<std::size_t>(a)], momentum.iterations, momentum.relative_residual,
+          "fluid solver, step {}: the {}-momentum solve did not converge in {} iterations (relative residual "
+          "{:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations or check β and the boundary velocities",
+          step_count_, kAxes[static_cast<std::size_t>(a)], momentum.iterations, momentum.relative_residual,
           options_.velocity_tolerance, dt));
     }
   }
   if (!report_.pressure.converged) {
     throw std::runtime_error(fmt::format(
-        "fluid solver: the pressure solve did not converge in {} iterations (relative residual {:.3e}, "
-        "tolerance {:.1e}) at dt = {} s; raise max_iterations, or check for fluid regions cut off from "
-        "every outlet whose volume changes (Σ ∂ε/∂t ≠ 0)",
-        report_.pressure.iterations, report_.pressure.relative_residual, options_.pressure_tolerance, dt));
+        "fluid solver, step {}: the pressure solve did not converge in {} iterations (relative residual "
+        "{:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations, or check for fluid regions cut off "
+        "from every outlet whose volume changes (Σ ∂ε/∂t ≠ 0)",
+        step_count_, report_.pressure.iterations, report_.pressure.relative_residual, options_.pressure_tolerance, dt));
   }
   if (!std::isfinite(report_.divergence)) {
     throw std::runtime_error(fmt::format(
-        "fluid solver: the velocity is no longer finite after a step of dt = {} s; the stable step before "
-        "it was about stable_time_step() (CFL and 2ν/|u|²): use half of it",
-        dt));
+        "fluid solver, step {}: the velocity is no longer finite after a step of dt = {} s; keep dt at "
+        "about half of stable_time_step() (CFL and 2ν/|u|²)",
+        step_count_, dt));
   }
 }
 

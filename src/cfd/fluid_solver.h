@@ -128,6 +128,7 @@ class FluidSolver {
   std::array<int, 3> padded_size_{};
   std::array<std::ptrdiff_t, 3> stride_{};
   bool void_fraction_started_ = false;
+  long long step_count_ = 0;  // steps taken, for messages
 
   // Inputs (flat, unpadded) and their padded copies.
   std::vector<double> drag_input_;

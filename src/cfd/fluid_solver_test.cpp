@@ -198,6 +198,15 @@ TEST(FluidSolverTest, DivergenceFreeToSolverToleranceAfterEveryStep) {
     EXPECT_LE(report.divergence,
               tolerance * std::sqrt(static_cast<double>(grid.cell_count())) * report.predicted_divergence);
   }
+  // No flow through the blocked block's faces (cells 6-8 × 3-5 × all k).
+  for (int k = 0; k < 8; ++k) {
+    for (int j = 3; j < 6; ++j) {
+      for (int i = 6; i < 10; ++i) EXPECT_EQ(solver.face_velocity(0, i, j, k), 0.0);
+    }
+    for (int j = 3; j < 7; ++j) {
+      for (int i = 6; i < 9; ++i) EXPECT_EQ(solver.face_velocity(1, i, j, k), 0.0);
+    }
+  }
 }
 
 // Same inputs and steps on 1 and on 2 threads (every loop on a team: threshold 0): identical bits.
@@ -419,6 +428,42 @@ TEST(FluidSolverTest, RefusesBadInputAndReportsAFailedSolve) {
   inlet.face(0, 1).kind = BoundaryKind::pressure_outlet;
   FluidSolver stalled(grid, FluidProperties{}, inlet, options);
   EXPECT_THROW(stalled.step(0.01), std::runtime_error);
+}
+
+// A velocity inlet facing a pressure outlet across a box periodic in y and z: plug flow, which
+// is an exact solution (u = U, p = p_outlet) that the scheme keeps to round-off.
+TEST(FluidSolverTest, InletToOutletPlugFlowStaysUniform) {
+  FluidGrid grid;
+  grid.cells = {10, 4, 4};
+  grid.cell_size = {0.1, 0.1, 0.1};
+  FluidBoundaries boundaries;
+  boundaries.face(0, 0).kind = BoundaryKind::velocity_inlet;
+  boundaries.face(0, 0).velocity = {0.3, 0.0, 0.0};
+  boundaries.face(0, 1).kind = BoundaryKind::pressure_outlet;
+  boundaries.face(0, 1).reference_pressure = 5.0;
+  boundaries.set_periodic(1);
+  boundaries.set_periodic(2);
+  FluidSolver solver(grid, FluidProperties{1000.0, 1e-3}, boundaries);
+  solver.set_velocity([](const Vec3&) { return Vec3{0.3, 0.0, 0.0}; });
+  for (int n = 0; n < 20; ++n) solver.step(0.1);
+  for (int i = 0; i < 10; ++i) {
+    EXPECT_NEAR(norm(solver.cell_velocity(i, 1, 2) - Vec3{0.3, 0.0, 0.0}), 0.0, 1e-12);
+    EXPECT_NEAR(solver.pressure(i, 1, 2), 5.0, 1e-9);
+  }
+}
+
+// stable_time_step = min(1/Σ_a(max|u_a|/Δx_a), 2ν/Σ_a max u_a²): uniform u = (2, 0, 0) m/s,
+// Δx = 0.1 m, ν = 1e-3 m²/s gives min(0.05, 5e-4) s; at rest it is unbounded.
+TEST(FluidSolverTest, StableTimeStepFromAdvectionLimits) {
+  FluidGrid grid;
+  grid.cells = {4, 4, 4};
+  grid.cell_size = {0.1, 0.1, 0.1};
+  FluidBoundaries boundaries;
+  for (int a = 0; a < 3; ++a) boundaries.set_periodic(a);
+  FluidSolver solver(grid, FluidProperties{1000.0, 1.0}, boundaries);
+  EXPECT_TRUE(std::isinf(solver.stable_time_step()));
+  solver.set_velocity([](const Vec3&) { return Vec3{2.0, 0.0, 0.0}; });
+  EXPECT_DOUBLE_EQ(solver.stable_time_step(), 2.0 * 1e-3 / 4.0);
 }
 
 }  // namespace
