@@ -26,7 +26,8 @@ struct FluidGrid {
   std::size_t cell_index(int i, int j, int k) const {
     return static_cast<std::size_t>(i) +
            static_cast<std::size_t>(cells[0]) *
-               (static_cast<std::size_t>(j) + static_cast<std::size_t>(cells[1]) * static_cast<std::size_t>(k));
+               (static_cast<std::size_t>(j) +
+                static_cast<std::size_t>(cells[1]) * static_cast<std::size_t>(k));
   }
   Vec3 cell_centre(int i, int j, int k) const {
     return {origin.x + (i + 0.5) * cell_size.x, origin.y + (j + 0.5) * cell_size.y,
@@ -36,8 +37,8 @@ struct FluidGrid {
 };
 
 struct FluidProperties {
-  double density = 1000.0;   // ρ (kg/m³), > 0
-  double viscosity = 1e-3;   // μ, dynamic (Pa·s), > 0
+  double density = 1000.0;  // ρ (kg/m³), > 0
+  double viscosity = 1e-3;  // μ, dynamic (Pa·s), > 0
 };
 
 enum class BoundaryKind {
@@ -49,7 +50,7 @@ enum class BoundaryKind {
 
 struct FaceBoundary {
   BoundaryKind kind = BoundaryKind::wall;
-  Vec3 velocity;             // wall: its velocity (tangential part used); inlet: the velocity (m/s)
+  Vec3 velocity;  // wall: its velocity (tangential part used); inlet: the velocity (m/s)
   double reference_pressure = 0.0;  // outlet: p_ref (Pa)
   Vec3 reference_point;             // outlet: x_ref (m), where p = p_ref
 };
@@ -58,7 +59,9 @@ struct FaceBoundary {
 struct FluidBoundaries {
   std::array<FaceBoundary, 6> faces;
 
-  FaceBoundary& face(int axis, int side) { return faces[static_cast<std::size_t>(2 * axis + side)]; }
+  FaceBoundary& face(int axis, int side) {
+    return faces[static_cast<std::size_t>(2 * axis + side)];
+  }
   const FaceBoundary& face(int axis, int side) const {
     return faces[static_cast<std::size_t>(2 * axis + side)];
   }

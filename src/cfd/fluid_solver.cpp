@@ -23,7 +23,8 @@ void check_construction(const FluidGrid& grid, const FluidProperties& properties
                         const FluidBoundaries& boundaries, const FluidSolverOptions& options) {
   for (int a = 0; a < 3; ++a) {
     if (grid.cells[a] < 1) {
-      throw std::invalid_argument(fmt::format("fluid grid: cells[{}] must be ≥ 1, got {}", a, grid.cells[a]));
+      throw std::invalid_argument(
+          fmt::format("fluid grid: cells[{}] must be ≥ 1, got {}", a, grid.cells[a]));
     }
     if (!(grid.cell_size[a] > 0.0) || !std::isfinite(grid.cell_size[a])) {
       throw std::invalid_argument(
@@ -32,12 +33,13 @@ void check_construction(const FluidGrid& grid, const FluidProperties& properties
     const bool low = boundaries.face(a, 0).kind == BoundaryKind::periodic;
     const bool high = boundaries.face(a, 1).kind == BoundaryKind::periodic;
     if (low != high) {
-      throw std::invalid_argument(
-          fmt::format("fluid boundaries: axis {} is periodic on one face only; both or neither", a));
+      throw std::invalid_argument(fmt::format(
+          "fluid boundaries: axis {} is periodic on one face only; both or neither", a));
     }
   }
   if (!(properties.density > 0.0) || !std::isfinite(properties.density)) {
-    throw std::invalid_argument(fmt::format("fluid: density must be > 0 (kg/m³), got {}", properties.density));
+    throw std::invalid_argument(
+        fmt::format("fluid: density must be > 0 (kg/m³), got {}", properties.density));
   }
   if (!(properties.viscosity > 0.0) || !std::isfinite(properties.viscosity)) {
     throw std::invalid_argument(
@@ -54,7 +56,10 @@ void check_construction(const FluidGrid& grid, const FluidProperties& properties
 FluidSolver::FluidSolver(const FluidGrid& grid, const FluidProperties& properties,
                          const FluidBoundaries& boundaries, const FluidSolverOptions& options,
                          std::unique_ptr<PressureSolver> pressure_solver)
-    : grid_(grid), properties_(properties), boundaries_(boundaries), options_(options),
+    : grid_(grid),
+      properties_(properties),
+      boundaries_(boundaries),
+      options_(options),
       pressure_solver_(std::move(pressure_solver)) {
   check_construction(grid, properties, boundaries, options);
   if (!pressure_solver_) pressure_solver_ = make_multigrid_cg_solver(options_.threading);
@@ -83,7 +88,8 @@ FluidSolver::FluidSolver(const FluidGrid& grid, const FluidProperties& propertie
     if (face.kind != BoundaryKind::pressure_outlet) continue;
     // Hydrostatic start: p = p_ref + ρ g·(x − x_ref) from the first outlet.
     set_pressure([&](const Vec3& x) {
-      return face.reference_pressure + properties_.density * dot(options_.gravity, x - face.reference_point);
+      return face.reference_pressure +
+             properties_.density * dot(options_.gravity, x - face.reference_point);
     });
     break;
   }
@@ -134,7 +140,8 @@ void FluidSolver::momentum_unknown_range(int axis, int& first, int& last) const 
   const BoundaryKind low = boundaries_.face(axis, 0).kind;
   const BoundaryKind high = boundaries_.face(axis, 1).kind;
   const int n = grid_.cells[axis];
-  first = (low == BoundaryKind::pressure_outlet || low == BoundaryKind::periodic) ? kGhost : kGhost + 1;
+  first =
+      (low == BoundaryKind::pressure_outlet || low == BoundaryKind::periodic) ? kGhost : kGhost + 1;
   last = high == BoundaryKind::pressure_outlet ? n + kGhost : n + kGhost - 1;
 }
 
@@ -164,7 +171,8 @@ void FluidSolver::predict_momentum(double dt) {
     std::array<int, 3> size = grid_.cells;
     size[a] = last - first + 1;
     StencilSystem& system = momentum_system_[a];
-    system.reset(size, {is_periodic(boundaries_, 0), is_periodic(boundaries_, 1), is_periodic(boundaries_, 2)});
+    system.reset(size, {is_periodic(boundaries_, 0), is_periodic(boundaries_, 1),
+                        is_periodic(boundaries_, 2)});
     rhs_.assign(system.count(), 0.0);
     unknowns_.assign(system.count(), 0.0);
     predicted_[a] = velocity_[a];
@@ -195,16 +203,24 @@ void FluidSolver::predict_momentum(double dt) {
           const std::ptrdiff_t sb = stride_[b];
           double flux_high = 0.0, flux_low = 0.0;
           if (b == a) {
-            flux_high = 0.5 * (face_eps_old(a, face) * u[face] + face_eps_old(a, face + sa) * u[face + sa]) *
-                        0.5 * (u[face] + u[face + sa]);
-            flux_low = 0.5 * (face_eps_old(a, face - sa) * u[face - sa] + face_eps_old(a, face) * u[face]) *
-                       0.5 * (u[face - sa] + u[face]);
+            flux_high =
+                0.5 *
+                (face_eps_old(a, face) * u[face] + face_eps_old(a, face + sa) * u[face + sa]) *
+                0.5 * (u[face] + u[face + sa]);
+            flux_low =
+                0.5 *
+                (face_eps_old(a, face - sa) * u[face - sa] + face_eps_old(a, face) * u[face]) *
+                0.5 * (u[face - sa] + u[face]);
           } else {
             const std::vector<double>& v = velocity_[b];
             const std::size_t low_up = cell_low + sb, high_up = cell_high + sb;
-            flux_high = 0.5 * (face_eps_old(b, low_up) * v[low_up] + face_eps_old(b, high_up) * v[high_up]) *
-                        0.5 * (u[face] + u[face + sb]);
-            flux_low = 0.5 * (face_eps_old(b, cell_low) * v[cell_low] + face_eps_old(b, cell_high) * v[cell_high]) *
+            flux_high =
+                0.5 *
+                (face_eps_old(b, low_up) * v[low_up] + face_eps_old(b, high_up) * v[high_up]) *
+                0.5 * (u[face] + u[face + sb]);
+            flux_low = 0.5 *
+                       (face_eps_old(b, cell_low) * v[cell_low] +
+                        face_eps_old(b, cell_high) * v[cell_high]) *
                        0.5 * (u[face - sb] + u[face]);
           }
           advection += (flux_high - flux_low) / h[b];
@@ -212,7 +228,8 @@ void FluidSolver::predict_momentum(double dt) {
         const double pressure_gradient = (pressure_[cell_high] - pressure_[cell_low]) / h[a];
         const double pressure_factor = model_a ? eps_face : 1.0;
         double rhs = (rho * face_eps_old(a, face) * u[face] / dt - rho * advection -
-                      pressure_factor * pressure_gradient + force_face + eps_face * rho * options_.gravity[a]) *
+                      pressure_factor * pressure_gradient + force_face +
+                      eps_face * rho * options_.gravity[a]) *
                      volume;
         system.mass[q] = (rho * eps_face / dt + beta_face) * volume;
 
@@ -237,8 +254,9 @@ void FluidSolver::predict_momentum(double dt) {
             }
             continue;
           }
-          const double low = coefficient * 0.25 *
-                             (eps[cell_low] + eps[cell_high] + eps[cell_low - se] + eps[cell_high - se]);
+          const double low =
+              coefficient * 0.25 *
+              (eps[cell_low] + eps[cell_high] + eps[cell_low - se] + eps[cell_high - se]);
           if (box[e] > 0 || periodic) {
             system.conductance[e][q] = low;
           } else {
@@ -251,8 +269,9 @@ void FluidSolver::predict_momentum(double dt) {
           if (box[e] == size[e] - 1 && !periodic) {
             const FaceBoundary& wall = boundaries_.face(e, 1);
             if (wall.kind != BoundaryKind::pressure_outlet) {
-              const double high = coefficient * 0.25 *
-                                  (eps[cell_low] + eps[cell_high] + eps[cell_low + se] + eps[cell_high + se]);
+              const double high =
+                  coefficient * 0.25 *
+                  (eps[cell_low] + eps[cell_high] + eps[cell_low + se] + eps[cell_high + se]);
               system.boundary[e][q] += 2.0 * high;
               rhs += 2.0 * high * wall.velocity[a];
             }
@@ -263,8 +282,8 @@ void FluidSolver::predict_momentum(double dt) {
       }
     }
     momentum_solver_[a]->set_system(system);
-    report_.momentum[a] =
-        momentum_solver_[a]->solve(rhs_, unknowns_, options_.velocity_tolerance, options_.max_iterations);
+    report_.momentum[a] = momentum_solver_[a]->solve(rhs_, unknowns_, options_.velocity_tolerance,
+                                                     options_.max_iterations);
     std::vector<double>& star = predicted_[a];
 #pragma omp parallel for schedule(static) num_threads(team)
     for (int row = 0; row < rows; ++row) {
@@ -294,7 +313,8 @@ void FluidSolver::predict_momentum(double dt) {
 
 // Face coefficient a of the correction u = u* − a ∇φ: from [ρ ε/dt + β](u − u*) = −(ε | 1) ∇φ,
 // a = ε/(ρ ε/dt + β) (model A) or 1/(ρ ε/dt + β) (model B), at the face between the cells.
-double FluidSolver::correction_coefficient(std::size_t low_cell, std::size_t high_cell, double dt) const {
+double FluidSolver::correction_coefficient(std::size_t low_cell, std::size_t high_cell,
+                                           double dt) const {
   const double eps_face = 0.5 * (void_fraction_new_[low_cell] + void_fraction_new_[high_cell]);
   const double beta_face = 0.5 * (drag_[low_cell] + drag_[high_cell]);
   const double denominator = properties_.density * eps_face / dt + beta_face;
@@ -302,7 +322,8 @@ double FluidSolver::correction_coefficient(std::size_t low_cell, std::size_t hig
 }
 
 // ∇·(εu) + (ε^{n+1} − ε^n)/dt in one cell (1/s), ε^{n+1} on the faces.
-double FluidSolver::continuity_residual(std::size_t cell, const std::array<std::vector<double>, 3>& velocity,
+double FluidSolver::continuity_residual(std::size_t cell,
+                                        const std::array<std::vector<double>, 3>& velocity,
                                         double dt) const {
   const std::vector<double>& eps = void_fraction_new_;
   double residual = (eps[cell] - void_fraction_old_[cell]) / dt;
@@ -322,7 +343,8 @@ void FluidSolver::solve_pressure_correction(double dt) {
   const double volume = grid_.cell_volume();
   const Vec3& h = grid_.cell_size;
   StencilSystem& system = pressure_system_;
-  system.reset(grid_.cells, {is_periodic(boundaries_, 0), is_periodic(boundaries_, 1), is_periodic(boundaries_, 2)});
+  system.reset(grid_.cells, {is_periodic(boundaries_, 0), is_periodic(boundaries_, 1),
+                             is_periodic(boundaries_, 2)});
   rhs_.assign(system.count(), 0.0);
   unknowns_.assign(system.count(), 0.0);
   const std::array<int, 3>& n = grid_.cells;
@@ -352,23 +374,27 @@ void FluidSolver::solve_pressure_correction(double dt) {
         }
         if (at[a] == n[a] - 1 && boundaries_.face(a, 1).kind == BoundaryKind::pressure_outlet) {
           const double eps_high = 0.5 * (void_fraction_new_[cell] + void_fraction_new_[cell + s]);
-          system.boundary[a][q] += 2.0 * eps_high * correction_coefficient(cell, cell + s, dt) * area_over_h;
+          system.boundary[a][q] +=
+              2.0 * eps_high * correction_coefficient(cell, cell + s, dt) * area_over_h;
         }
       }
       const double residual = continuity_residual(cell, predicted_, dt);
       rhs_[q] = -residual * volume;
-      row_max[static_cast<std::size_t>(row)] = std::max(row_max[static_cast<std::size_t>(row)], std::abs(residual));
+      row_max[static_cast<std::size_t>(row)] =
+          std::max(row_max[static_cast<std::size_t>(row)], std::abs(residual));
     }
   }
   report_.predicted_divergence = *std::max_element(row_max.begin(), row_max.end());
   pressure_solver_->set_system(system);
-  report_.pressure = pressure_solver_->solve(rhs_, unknowns_, options_.pressure_tolerance, options_.max_iterations);
+  report_.pressure = pressure_solver_->solve(rhs_, unknowns_, options_.pressure_tolerance,
+                                             options_.max_iterations);
   std::fill(correction_.begin(), correction_.end(), 0.0);
   for (int k = 0; k < n[2]; ++k) {
     for (int j = 0; j < n[1]; ++j) {
       for (int i = 0; i < n[0]; ++i) {
         const std::size_t q = system.index(i, j, k);
-        correction_[padded(i + kGhost, j + kGhost, k + kGhost)] = system.active[q] ? unknowns_[q] : 0.0;
+        correction_[padded(i + kGhost, j + kGhost, k + kGhost)] =
+            system.active[q] ? unknowns_[q] : 0.0;
       }
     }
   }
@@ -384,7 +410,8 @@ void FluidSolver::correct_velocity(double dt) {
     int first = 0, last = 0;
     momentum_unknown_range(a, first, last);
     std::array<int, 3> low{kGhost, kGhost, kGhost};
-    std::array<int, 3> high{grid_.cells[0] + kGhost - 1, grid_.cells[1] + kGhost - 1, grid_.cells[2] + kGhost - 1};
+    std::array<int, 3> high{grid_.cells[0] + kGhost - 1, grid_.cells[1] + kGhost - 1,
+                            grid_.cells[2] + kGhost - 1};
     low[a] = first;
     high[a] = last;
     const int team = options_.threading.team(grid_.cell_count());
@@ -394,16 +421,17 @@ void FluidSolver::correct_velocity(double dt) {
         for (int i = low[0]; i <= high[0]; ++i) {
           const std::size_t face = padded(i, j, k);
           if (blocked_[face] > 0.0 || blocked_[face - s] > 0.0) continue;
-          u[face] = star[face] -
-                    correction_coefficient(face - s, face, dt) * (correction_[face] - correction_[face - s]) /
-                        grid_.cell_size[a];
+          u[face] = star[face] - correction_coefficient(face - s, face, dt) *
+                                     (correction_[face] - correction_[face - s]) /
+                                     grid_.cell_size[a];
         }
       }
     }
   }
   for (int k = kGhost; k < grid_.cells[2] + kGhost; ++k) {
     for (int j = kGhost; j < grid_.cells[1] + kGhost; ++j) {
-      for (int i = kGhost; i < grid_.cells[0] + kGhost; ++i) pressure_[padded(i, j, k)] += correction_[padded(i, j, k)];
+      for (int i = kGhost; i < grid_.cells[0] + kGhost; ++i)
+        pressure_[padded(i, j, k)] += correction_[padded(i, j, k)];
     }
   }
 }
@@ -419,25 +447,31 @@ void FluidSolver::check_step_health(double dt) const {
   for (int a = 0; a < 3; ++a) {
     const SolveReport& momentum = report_.momentum[a];
     if (!momentum.converged) {
-      throw std::runtime_error(fmt::format(
-          "fluid solver, step {}: the {}-momentum solve did not converge in {} iterations (relative residual "
-          "{:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations or check β and the boundary velocities",
-          step_count_, kAxes[static_cast<std::size_t>(a)], momentum.iterations, momentum.relative_residual,
-          options_.velocity_tolerance, dt));
+      throw std::runtime_error(
+          fmt::format("fluid solver, step {}: the {}-momentum solve did not converge in {} "
+                      "iterations (relative residual "
+                      "{:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations or check β and "
+                      "the boundary velocities",
+                      step_count_, kAxes[static_cast<std::size_t>(a)], momentum.iterations,
+                      momentum.relative_residual, options_.velocity_tolerance, dt));
     }
   }
   if (!report_.pressure.converged) {
-    throw std::runtime_error(fmt::format(
-        "fluid solver, step {}: the pressure solve did not converge in {} iterations (relative residual "
-        "{:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations, or check for fluid regions cut off "
-        "from every outlet whose volume changes (Σ ∂ε/∂t ≠ 0)",
-        step_count_, report_.pressure.iterations, report_.pressure.relative_residual, options_.pressure_tolerance, dt));
+    throw std::runtime_error(
+        fmt::format("fluid solver, step {}: the pressure solve did not converge in {} iterations "
+                    "(relative residual "
+                    "{:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations, or check for "
+                    "fluid regions cut off "
+                    "from every outlet whose volume changes (Σ ∂ε/∂t ≠ 0)",
+                    step_count_, report_.pressure.iterations, report_.pressure.relative_residual,
+                    options_.pressure_tolerance, dt));
   }
   if (!std::isfinite(report_.divergence)) {
-    throw std::runtime_error(fmt::format(
-        "fluid solver, step {}: the velocity is no longer finite after a step of dt = {} s; keep dt at "
-        "about half of stable_time_step() (CFL and 2ν/|u|²)",
-        step_count_, dt));
+    throw std::runtime_error(
+        fmt::format("fluid solver, step {}: the velocity is no longer finite after a step of dt = "
+                    "{} s; keep dt at "
+                    "about half of stable_time_step() (CFL and 2ν/|u|²)",
+                    step_count_, dt));
   }
 }
 

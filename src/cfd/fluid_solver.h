@@ -28,10 +28,10 @@ enum class VolumeAveragedModel { a, b };
 
 struct FluidSolverOptions {
   VolumeAveragedModel model = VolumeAveragedModel::a;
-  Vec3 gravity;                        // g (m/s²)
-  double pressure_tolerance = 1e-10;   // relative residual of the pressure solve
-  double velocity_tolerance = 1e-10;   // relative residual of the implicit momentum solves
-  int max_iterations = 500;            // per linear solve
+  Vec3 gravity;                       // g (m/s²)
+  double pressure_tolerance = 1e-10;  // relative residual of the pressure solve
+  double velocity_tolerance = 1e-10;  // relative residual of the implicit momentum solves
+  int max_iterations = 500;           // per linear solve
   Threading threading;
 };
 
@@ -65,8 +65,8 @@ class FluidSolver {
   // value too (no ∂ε/∂t in the first step); set_initial_void_fraction does so at any time.
   void set_void_fraction(std::span<const double> void_fraction);
   void set_initial_void_fraction(std::span<const double> void_fraction);
-  std::span<double> drag_coefficient();   // β ≥ 0 (kg/(m³·s))
-  std::span<Vec3> force_density();        // f (N/m³)
+  std::span<double> drag_coefficient();  // β ≥ 0 (kg/(m³·s))
+  std::span<Vec3> force_density();       // f (N/m³)
   // Blocked cells hold no fluid (u = 0 on their faces, no flux through them); 1 = blocked.
   std::span<std::uint8_t> blocked();
   // Initial or imposed state: each face's normal velocity from velocity(x) at its centre;
@@ -117,7 +117,8 @@ class FluidSolver {
   std::size_t padded(int pi, int pj, int pk) const {
     return static_cast<std::size_t>(pi) +
            static_cast<std::size_t>(padded_size_[0]) *
-               (static_cast<std::size_t>(pj) + static_cast<std::size_t>(padded_size_[1]) * static_cast<std::size_t>(pk));
+               (static_cast<std::size_t>(pj) +
+                static_cast<std::size_t>(padded_size_[1]) * static_cast<std::size_t>(pk));
   }
 
   FluidGrid grid_;
@@ -139,10 +140,10 @@ class FluidSolver {
   std::vector<double> blocked_;  // 1.0 where blocked (padded copy of blocked_input_)
 
   // State (padded).
-  std::array<std::vector<double>, 3> velocity_;        // u at faces (m/s)
-  std::array<std::vector<double>, 3> predicted_;       // u* at faces
-  std::vector<double> pressure_;                       // p at cells (Pa)
-  std::vector<double> correction_;                     // φ = p^{n+1} − p^n (Pa)
+  std::array<std::vector<double>, 3> velocity_;   // u at faces (m/s)
+  std::array<std::vector<double>, 3> predicted_;  // u* at faces
+  std::vector<double> pressure_;                  // p at cells (Pa)
+  std::vector<double> correction_;                // φ = p^{n+1} − p^n (Pa)
 
   // Linear systems and their solvers (one per momentum component: each keeps its hierarchy).
   StencilSystem pressure_system_;

@@ -49,7 +49,8 @@ double FluidSolver::boundary_pressure(int axis, int side, int i, int j, int k) c
   Vec3 x = grid_.cell_centre(i - kGhost, j - kGhost, k - kGhost);
   x[axis] = grid_.origin[axis] + (side == 0 ? 0.0 : grid_.cells[axis] * grid_.cell_size[axis]);
   // p = p_ref + ρ g·(x − x_ref): the outlet's hydrostatic pressure.
-  return face.reference_pressure + properties_.density * dot(options_.gravity, x - face.reference_point);
+  return face.reference_pressure +
+         properties_.density * dot(options_.gravity, x - face.reference_point);
 }
 
 // Pressure: periodic wrap; outlets hold p on the face (ghost = 2 p_face − p_inside);
@@ -85,7 +86,8 @@ void FluidSolver::fill_correction_ghosts() {
       const int inside = side == 0 ? kGhost : n + kGhost - 1;
       for_layer(padded_size_, a, inside, [&](int i, int j, int k) {
         const std::size_t p = padded(i, j, k);
-        for (int g = 1; g <= kGhost; ++g) correction_[side == 0 ? p - g * s : p + g * s] = -correction_[p];
+        for (int g = 1; g <= kGhost; ++g)
+          correction_[side == 0 ? p - g * s : p + g * s] = -correction_[p];
       });
     }
   }

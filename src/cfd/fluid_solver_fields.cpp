@@ -15,13 +15,13 @@ namespace quarry::cfd {
 namespace {
 void check_void_fraction(std::span<const double> values, std::size_t expected) {
   if (values.size() != expected) {
-    throw std::invalid_argument(
-        fmt::format("fluid solver: void fraction has {} values, the grid {} cells", values.size(), expected));
+    throw std::invalid_argument(fmt::format(
+        "fluid solver: void fraction has {} values, the grid {} cells", values.size(), expected));
   }
   for (std::size_t c = 0; c < values.size(); ++c) {
     if (!(values[c] > 0.0 && values[c] <= 1.0)) {
-      throw std::invalid_argument(
-          fmt::format("fluid solver: void fraction of cell {} must be in (0, 1], got {}", c, values[c]));
+      throw std::invalid_argument(fmt::format(
+          "fluid solver: void fraction of cell {} must be in (0, 1], got {}", c, values[c]));
     }
   }
 }
@@ -32,7 +32,8 @@ void FluidSolver::set_void_fraction(std::span<const double> void_fraction) {
   for (int k = 0; k < grid_.cells[2]; ++k) {
     for (int j = 0; j < grid_.cells[1]; ++j) {
       for (int i = 0; i < grid_.cells[0]; ++i) {
-        void_fraction_new_[padded(i + kGhost, j + kGhost, k + kGhost)] = void_fraction[grid_.cell_index(i, j, k)];
+        void_fraction_new_[padded(i + kGhost, j + kGhost, k + kGhost)] =
+            void_fraction[grid_.cell_index(i, j, k)];
       }
     }
   }
@@ -48,9 +49,15 @@ void FluidSolver::set_initial_void_fraction(std::span<const double> void_fractio
   set_void_fraction(void_fraction);
 }
 
-std::span<double> FluidSolver::drag_coefficient() { return drag_input_; }
-std::span<Vec3> FluidSolver::force_density() { return force_input_; }
-std::span<std::uint8_t> FluidSolver::blocked() { return blocked_input_; }
+std::span<double> FluidSolver::drag_coefficient() {
+  return drag_input_;
+}
+std::span<Vec3> FluidSolver::force_density() {
+  return force_input_;
+}
+std::span<std::uint8_t> FluidSolver::blocked() {
+  return blocked_input_;
+}
 
 void FluidSolver::set_velocity(const std::function<Vec3(const Vec3&)>& velocity) {
   for (int a = 0; a < 3; ++a) {
@@ -71,7 +78,8 @@ void FluidSolver::set_pressure(const std::function<double(const Vec3&)>& pressur
   for (int k = 0; k < grid_.cells[2]; ++k) {
     for (int j = 0; j < grid_.cells[1]; ++j) {
       for (int i = 0; i < grid_.cells[0]; ++i) {
-        pressure_[padded(i + kGhost, j + kGhost, k + kGhost)] = pressure(grid_.cell_centre(i, j, k));
+        pressure_[padded(i + kGhost, j + kGhost, k + kGhost)] =
+            pressure(grid_.cell_centre(i, j, k));
       }
     }
   }
@@ -81,7 +89,8 @@ void FluidSolver::set_pressure(const std::function<double(const Vec3&)>& pressur
 Vec3 FluidSolver::cell_velocity(int i, int j, int k) const {
   const std::size_t cell = padded(i + kGhost, j + kGhost, k + kGhost);
   Vec3 result;
-  for (int a = 0; a < 3; ++a) result[a] = 0.5 * (velocity_[a][cell] + velocity_[a][cell + stride_[a]]);
+  for (int a = 0; a < 3; ++a)
+    result[a] = 0.5 * (velocity_[a][cell] + velocity_[a][cell + stride_[a]]);
   return result;
 }
 

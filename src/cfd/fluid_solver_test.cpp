@@ -4,7 +4,6 @@
 #include "cfd/fluid_solver.h"
 
 #include <gtest/gtest.h>
-
 #include <omp.h>
 
 #include <cmath>
@@ -66,8 +65,8 @@ TEST(FluidSolverTest, PoiseuilleDrivenByBodyForce) {
   // Implicit viscosity: steps of 10 diffusion times h²/ν reach the steady state in a few.
   for (int n = 0; n < 20; ++n) solver.step(10.0);
   const PoiseuilleErrors errors = poiseuille_errors(solver, gradient, fluid.viscosity);
-  std::printf("body-force Poiseuille, 32 cells across: profile %.3e, flow rate %.3e\n", errors.profile,
-              errors.flow_rate);
+  std::printf("body-force Poiseuille, 32 cells across: profile %.3e, flow rate %.3e\n",
+              errors.profile, errors.flow_rate);
   EXPECT_LT(errors.profile, 0.01);
   EXPECT_LT(errors.flow_rate, 0.01);
 }
@@ -87,8 +86,10 @@ TEST(FluidSolverTest, PoiseuilleDrivenByPressureOutlets) {
   // (here 20); the velocity develops over h²/ν = 1 s, run 4 s.
   for (int n = 0; n < 200; ++n) solver.step(0.02);
   const PoiseuilleErrors errors = poiseuille_errors(solver, gradient, fluid.viscosity);
-  std::printf("pressure-driven Poiseuille, 32 cells across: profile %.3e, flow rate %.3e, pressure iterations %d\n",
-              errors.profile, errors.flow_rate, solver.last_report().pressure.iterations);
+  std::printf(
+      "pressure-driven Poiseuille, 32 cells across: profile %.3e, flow rate %.3e, pressure "
+      "iterations %d\n",
+      errors.profile, errors.flow_rate, solver.last_report().pressure.iterations);
   EXPECT_LT(errors.profile, 0.01);
   EXPECT_LT(errors.flow_rate, 0.01);
   // The pressure falls linearly: p(x) = G (L − x) at every cell centre.
@@ -114,8 +115,12 @@ double taylor_green_error(int cells) {
   FluidSolverOptions options;
   options.threading.threads = 1;  // fast on shared CI cores; OneAndTwoThreads covers 2 threads
   FluidSolver solver(grid, fluid, boundaries, options);
-  solver.set_velocity([](const Vec3& x) { return Vec3{std::sin(x.x) * std::cos(x.y), -std::cos(x.x) * std::sin(x.y), 0.0}; });
-  solver.set_pressure([&](const Vec3& x) { return fluid.density / 4.0 * (std::cos(2.0 * x.x) + std::cos(2.0 * x.y)); });
+  solver.set_velocity([](const Vec3& x) {
+    return Vec3{std::sin(x.x) * std::cos(x.y), -std::cos(x.x) * std::sin(x.y), 0.0};
+  });
+  solver.set_pressure([&](const Vec3& x) {
+    return fluid.density / 4.0 * (std::cos(2.0 * x.x) + std::cos(2.0 * x.y));
+  });
   const int steps = static_cast<int>(std::ceil(end_time / (0.13 * h * h)));
   const double dt = end_time / steps;
   for (int n = 0; n < steps; ++n) solver.step(dt);
@@ -125,17 +130,20 @@ double taylor_green_error(int cells) {
     for (int i = 0; i < cells; ++i) {
       const double x = i * h, y = (j + 0.5) * h;  // the u face at the low side of cell (i, j)
       const double exact = std::sin(x) * std::cos(y) * decay;
-      sum += (solver.face_velocity(0, i, j, 0) - exact) * (solver.face_velocity(0, i, j, 0) - exact);
+      sum +=
+          (solver.face_velocity(0, i, j, 0) - exact) * (solver.face_velocity(0, i, j, 0) - exact);
     }
   }
   return std::sqrt(sum / (cells * cells)) / decay;
 }
 
 TEST(FluidSolverTest, TaylorGreenSecondOrderInSpace) {
-  const double coarse = taylor_green_error(12), medium = taylor_green_error(24), fine = taylor_green_error(48);
+  const double coarse = taylor_green_error(12), medium = taylor_green_error(24),
+               fine = taylor_green_error(48);
   const double order_coarse = std::log2(coarse / medium), order_fine = std::log2(medium / fine);
-  std::printf("Taylor-Green L2 errors (relative): 12² %.3e, 24² %.3e, 48² %.3e; orders %.3f, %.3f\n", coarse,
-              medium, fine, order_coarse, order_fine);
+  std::printf(
+      "Taylor-Green L2 errors (relative): 12² %.3e, 24² %.3e, 48² %.3e; orders %.3f, %.3f\n",
+      coarse, medium, fine, order_coarse, order_fine);
   EXPECT_GT(order_coarse, 1.8);
   EXPECT_GT(order_fine, 1.8);
   EXPECT_LT(order_fine, 2.3);
@@ -173,7 +181,8 @@ std::vector<double> porosity_at(const FluidGrid& grid, double time) {
     for (int j = 0; j < grid.cells[1]; ++j) {
       for (int i = 0; i < grid.cells[0]; ++i) {
         const Vec3 x = grid.cell_centre(i, j, k);
-        eps[grid.cell_index(i, j, k)] = 0.7 + 0.2 * std::sin(4.0 * x.x + 2.0 * time) * std::cos(3.0 * x.y + x.z);
+        eps[grid.cell_index(i, j, k)] =
+            0.7 + 0.2 * std::sin(4.0 * x.x + 2.0 * time) * std::cos(3.0 * x.y + x.z);
       }
     }
   }
@@ -190,13 +199,14 @@ TEST(FluidSolverTest, DivergenceFreeToSolverToleranceAfterEveryStep) {
     solver.set_void_fraction(porosity_at(grid, n * dt));
     solver.step(dt);
     const FluidStepReport& report = solver.last_report();
-    std::printf("step %d: pressure %d iterations, momentum %d/%d/%d, |r*| %.3e -> |r| %.3e 1/s\n", n,
-                report.pressure.iterations, report.momentum[0].iterations, report.momentum[1].iterations,
-                report.momentum[2].iterations, report.predicted_divergence, report.divergence);
+    std::printf("step %d: pressure %d iterations, momentum %d/%d/%d, |r*| %.3e -> |r| %.3e 1/s\n",
+                n, report.pressure.iterations, report.momentum[0].iterations,
+                report.momentum[1].iterations, report.momentum[2].iterations,
+                report.predicted_divergence, report.divergence);
     EXPECT_TRUE(report.pressure.converged);
     EXPECT_GT(report.predicted_divergence, 1e-4);
-    EXPECT_LE(report.divergence,
-              tolerance * std::sqrt(static_cast<double>(grid.cell_count())) * report.predicted_divergence);
+    EXPECT_LE(report.divergence, tolerance * std::sqrt(static_cast<double>(grid.cell_count())) *
+                                     report.predicted_divergence);
   }
   // No flow through the blocked block's faces (cells 6-8 × 3-5 × all k).
   for (int k = 0; k < 8; ++k) {
@@ -234,7 +244,8 @@ TEST(FluidSolverTest, OneAndTwoThreadsBitIdentical) {
     results.push_back(state);
   }
   ASSERT_EQ(results[0].size(), results[1].size());
-  EXPECT_EQ(std::memcmp(results[0].data(), results[1].data(), results[0].size() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(results[0].data(), results[1].data(), results[0].size() * sizeof(double)),
+            0);
 }
 
 // Lid-driven cavity at Re = U L/ν = 100 (n × n cells, one deep, periodic in z) against Ghia,
@@ -242,16 +253,18 @@ TEST(FluidSolverTest, OneAndTwoThreadsBitIdentical) {
 // and Table II (v on the horizontal centreline y = 0.5), Re = 100 columns; run until
 // |∂u/∂t| < 1e-4 m/s² at (0.5, 0.25).
 void check_cavity_against_ghia(int n, double dt) {
-  constexpr std::array<double, 17> kGhiaY{1.0,    0.9766, 0.9688, 0.9609, 0.9531, 0.8516, 0.7344, 0.6172, 0.5,
-                                          0.4531, 0.2813, 0.1719, 0.1016, 0.0703, 0.0625, 0.0547, 0.0};
-  constexpr std::array<double, 17> kGhiaU{1.0,      0.84123,  0.78871,  0.73722,  0.68717,  0.23151,
-                                          0.00332,  -0.13641, -0.20581, -0.21090, -0.15662, -0.10150,
-                                          -0.06434, -0.04775, -0.04192, -0.03717, 0.0};
-  constexpr std::array<double, 17> kGhiaX{1.0,    0.9688, 0.9609, 0.9531, 0.9453, 0.9063, 0.8594, 0.8047, 0.5,
-                                          0.2344, 0.2266, 0.1563, 0.0938, 0.0781, 0.0703, 0.0625, 0.0};
-  constexpr std::array<double, 17> kGhiaV{0.0,      -0.05906, -0.07391, -0.08864, -0.10313, -0.16914,
-                                          -0.22445, -0.24533, 0.05454,  0.17527,  0.17507,  0.16077,
-                                          0.12317,  0.10890,  0.10091,  0.09233,  0.0};
+  constexpr std::array<double, 17> kGhiaY{1.0,    0.9766, 0.9688, 0.9609, 0.9531, 0.8516,
+                                          0.7344, 0.6172, 0.5,    0.4531, 0.2813, 0.1719,
+                                          0.1016, 0.0703, 0.0625, 0.0547, 0.0};
+  constexpr std::array<double, 17> kGhiaU{
+      1.0,      0.84123,  0.78871,  0.73722,  0.68717,  0.23151,  0.00332,  -0.13641, -0.20581,
+      -0.21090, -0.15662, -0.10150, -0.06434, -0.04775, -0.04192, -0.03717, 0.0};
+  constexpr std::array<double, 17> kGhiaX{1.0,    0.9688, 0.9609, 0.9531, 0.9453, 0.9063,
+                                          0.8594, 0.8047, 0.5,    0.2344, 0.2266, 0.1563,
+                                          0.0938, 0.0781, 0.0703, 0.0625, 0.0};
+  constexpr std::array<double, 17> kGhiaV{
+      0.0,     -0.05906, -0.07391, -0.08864, -0.10313, -0.16914, -0.22445, -0.24533, 0.05454,
+      0.17527, 0.17507,  0.16077,  0.12317,  0.10890,  0.10091,  0.09233,  0.0};
   FluidGrid grid;
   grid.cells = {n, n, 1};
   grid.cell_size = {1.0 / n, 1.0 / n, 1.0 / n};
@@ -274,19 +287,24 @@ void check_cavity_against_ghia(int n, double dt) {
   auto interpolate = [&](double position, auto&& value_at_cell, double at_zero, double at_one) {
     const double s = position * n - 0.5;
     if (s <= 0.0) return at_zero + (value_at_cell(0) - at_zero) * (position * n / 0.5);
-    if (s >= n - 1) return value_at_cell(n - 1) + (at_one - value_at_cell(n - 1)) * ((s - (n - 1)) / 0.5);
+    if (s >= n - 1)
+      return value_at_cell(n - 1) + (at_one - value_at_cell(n - 1)) * ((s - (n - 1)) / 0.5);
     const int c = static_cast<int>(s);
     return value_at_cell(c) + (value_at_cell(c + 1) - value_at_cell(c)) * (s - c);
   };
   double worst_u = 0.0, worst_v = 0.0;
   for (std::size_t p = 0; p < kGhiaY.size(); ++p) {
-    const double u = interpolate(kGhiaY[p], [&](int j) { return solver.face_velocity(0, n / 2, j, 0); }, 0.0, 1.0);
-    const double v = interpolate(kGhiaX[p], [&](int i) { return solver.face_velocity(1, i, n / 2, 0); }, 0.0, 0.0);
+    const double u = interpolate(
+        kGhiaY[p], [&](int j) { return solver.face_velocity(0, n / 2, j, 0); }, 0.0, 1.0);
+    const double v = interpolate(
+        kGhiaX[p], [&](int i) { return solver.face_velocity(1, i, n / 2, 0); }, 0.0, 0.0);
     worst_u = std::max(worst_u, std::abs(u - kGhiaU[p]));
     worst_v = std::max(worst_v, std::abs(v - kGhiaV[p]));
   }
-  std::printf("cavity Re 100, %d²: %d steps (t = %.1f s), max |u − u_Ghia| %.4f, max |v − v_Ghia| %.4f (× U)\n",
-              n, steps, steps * dt, worst_u, worst_v);
+  std::printf(
+      "cavity Re 100, %d²: %d steps (t = %.1f s), max |u − u_Ghia| %.4f, max |v − v_Ghia| %.4f (× "
+      "U)\n",
+      n, steps, steps * dt, worst_u, worst_v);
   EXPECT_LT(change, 1e-4);
   EXPECT_LT(worst_u, 0.03);
   EXPECT_LT(worst_v, 0.03);
@@ -297,12 +315,15 @@ TEST(FluidSolverTest, LidDrivenCavityRe100MatchesGhia) {
 }
 
 // The same on 64² (about ten times the work; run with --gtest_also_run_disabled_tests).
-TEST(FluidSolverTest, DISABLED_LidDrivenCavityRe100At64MatchesGhia) { check_cavity_against_ghia(64, 0.01); }
+TEST(FluidSolverTest, DISABLED_LidDrivenCavityRe100At64MatchesGhia) {
+  check_cavity_against_ghia(64, 0.01);
+}
 
 // A packed bed: uniform ε < 1 and β > 0, periodic across, driven by two pressure outlets
 // (Δp over L). At steady state u is uniform and the momentum balance is the drag alone:
 // model A: ε Δp/L = β u; model B: Δp/L = β u (Zhou et al. 2010, eqs. for the fluid phase).
-double packed_bed_velocity(VolumeAveragedModel model, double porosity, double drag, double gradient) {
+double packed_bed_velocity(VolumeAveragedModel model, double porosity, double drag,
+                           double gradient) {
   FluidGrid grid;
   grid.cells = {12, 4, 4};
   grid.cell_size = {0.05, 0.05, 0.05};
@@ -322,7 +343,8 @@ double packed_bed_velocity(VolumeAveragedModel model, double porosity, double dr
   for (int n = 0; n < 200; ++n) solver.step(0.05);
   double largest_spread = 0.0;
   const double u = solver.face_velocity(0, 0, 0, 0);
-  for (int i = 0; i <= 12; ++i) largest_spread = std::max(largest_spread, std::abs(solver.face_velocity(0, i, 2, 1) - u));
+  for (int i = 0; i <= 12; ++i)
+    largest_spread = std::max(largest_spread, std::abs(solver.face_velocity(0, i, 2, 1) - u));
   EXPECT_LT(largest_spread, 1e-12 * std::abs(u));
   return u;
 }
@@ -331,8 +353,9 @@ TEST(FluidSolverTest, PackedBedPressureDropBalancesDrag) {
   const double porosity = 0.4, drag = 4000.0, gradient = 1000.0;  // β (kg/(m³ s)), Δp/L (Pa/m)
   const double u_a = packed_bed_velocity(VolumeAveragedModel::a, porosity, drag, gradient);
   const double u_b = packed_bed_velocity(VolumeAveragedModel::b, porosity, drag, gradient);
-  std::printf("packed bed: model A u = %.12g (ε Δp/L / β = %.12g), model B u = %.12g (Δp/L / β = %.12g)\n", u_a,
-              porosity * gradient / drag, u_b, gradient / drag);
+  std::printf(
+      "packed bed: model A u = %.12g (ε Δp/L / β = %.12g), model B u = %.12g (Δp/L / β = %.12g)\n",
+      u_a, porosity * gradient / drag, u_b, gradient / drag);
   EXPECT_NEAR(u_a, porosity * gradient / drag, 1e-9 * u_a);
   EXPECT_NEAR(u_b, gradient / drag, 1e-9 * u_b);
 }
@@ -390,16 +413,19 @@ TEST(FluidSolverTest, VoidFractionRateDrivesConsistentVelocity) {
     solver.step(dt);
     double cumulative = 0.0, worst = 0.0, scale = 0.0;
     for (int i = 0; i <= n; ++i) {
-      const double eps_face = i == 0 ? after[grid.cell_index(0, 1, 1)]
-                              : i == n ? after[grid.cell_index(n - 1, 1, 1)]
-                                       : 0.5 * (after[grid.cell_index(i - 1, 1, 1)] + after[grid.cell_index(i, 1, 1)]);
+      const double eps_face =
+          i == 0   ? after[grid.cell_index(0, 1, 1)]
+          : i == n ? after[grid.cell_index(n - 1, 1, 1)]
+                   : 0.5 * (after[grid.cell_index(i - 1, 1, 1)] + after[grid.cell_index(i, 1, 1)]);
       const double expected = -cumulative / dt;
       const double flux = eps_face * solver.face_velocity(0, i, 1, 1);
       worst = std::max(worst, std::abs(flux - expected));
       scale = std::max(scale, std::abs(expected));
-      if (i < n) cumulative += (after[grid.cell_index(i, 1, 1)] - before[grid.cell_index(i, 1, 1)]) * dx;
+      if (i < n)
+        cumulative += (after[grid.cell_index(i, 1, 1)] - before[grid.cell_index(i, 1, 1)]) * dx;
     }
-    std::printf("dε/dt %s: max |εu − expected| %.3e of %.3e m/s\n", closed ? "closed box" : "outlet", worst, scale);
+    std::printf("dε/dt %s: max |εu − expected| %.3e of %.3e m/s\n",
+                closed ? "closed box" : "outlet", worst, scale);
     EXPECT_GT(scale, 1e-3);
     EXPECT_LT(worst, 1e-8 * scale);
   }
@@ -412,10 +438,12 @@ TEST(FluidSolverTest, RefusesBadInputAndReportsAFailedSolve) {
   FluidBoundaries boundaries;
   boundaries.face(0, 0).kind = BoundaryKind::periodic;  // x+ stays a wall: unpaired
   EXPECT_THROW(FluidSolver(grid, FluidProperties{}, boundaries), std::invalid_argument);
-  EXPECT_THROW(FluidSolver(grid, FluidProperties{-1.0, 1e-3}, FluidBoundaries{}), std::invalid_argument);
+  EXPECT_THROW(FluidSolver(grid, FluidProperties{-1.0, 1e-3}, FluidBoundaries{}),
+               std::invalid_argument);
   FluidSolver solver(grid, FluidProperties{}, FluidBoundaries{});
   EXPECT_THROW(solver.step(0.0), std::invalid_argument);
-  EXPECT_THROW(solver.set_void_fraction(std::vector<double>(grid.cell_count(), 1.5)), std::invalid_argument);
+  EXPECT_THROW(solver.set_void_fraction(std::vector<double>(grid.cell_count(), 1.5)),
+               std::invalid_argument);
   EXPECT_THROW(solver.set_void_fraction(std::vector<double>(3, 0.5)), std::invalid_argument);
 
   // One Krylov iteration cannot reach 1e-14 on a nontrivial pressure solve.

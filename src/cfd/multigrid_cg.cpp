@@ -33,7 +33,7 @@ struct Level {
   std::vector<double> link_conductance;
   std::vector<double> solution, rhs, residual;  // work vectors of this level
   std::array<int, 3> ratio{1, 1, 1};            // coarsening ratio towards the next level
-  bool colours_independent = true;  // a red-black half sweep may run on a team
+  bool colours_independent = true;              // a red-black half sweep may run on a team
   // Coarsest level only: dense Cholesky factor (row-major, lower) over the active unknowns.
   std::vector<double> cholesky;
   std::vector<std::size_t> dense_to_cell;
@@ -41,11 +41,12 @@ struct Level {
 };
 
 // Neighbour of P = (i, j, k) along axis a on side -1/+1, or -1 when there is none.
-inline std::ptrdiff_t neighbour(const StencilSystem& s, const std::array<int, 3>& at, int a, int side,
-                                std::size_t p) {
+inline std::ptrdiff_t neighbour(const StencilSystem& s, const std::array<int, 3>& at, int a,
+                                int side, std::size_t p) {
   const int n = s.size[a];
   if (n == 1) return -1;
-  const std::ptrdiff_t stride = a == 0 ? 1 : (a == 1 ? s.size[0] : std::ptrdiff_t{s.size[0]} * s.size[1]);
+  const std::ptrdiff_t stride =
+      a == 0 ? 1 : (a == 1 ? s.size[0] : std::ptrdiff_t{s.size[0]} * s.size[1]);
   const auto pi = static_cast<std::ptrdiff_t>(p);
   if (side < 0) {
     if (at[a] > 0) return pi - stride;
@@ -62,8 +63,9 @@ inline double coupling(const StencilSystem& s, int a, int side, std::size_t p, s
 
 // Σ over active neighbours of g x_N from the level's flattened links.
 inline double linked_sum(const std::uint32_t* index, const double* conductance, const double* x) {
-  return conductance[0] * x[index[0]] + conductance[1] * x[index[1]] + conductance[2] * x[index[2]] +
-         conductance[3] * x[index[3]] + conductance[4] * x[index[4]] + conductance[5] * x[index[5]];
+  return conductance[0] * x[index[0]] + conductance[1] * x[index[1]] +
+         conductance[2] * x[index[2]] + conductance[3] * x[index[3]] +
+         conductance[4] * x[index[4]] + conductance[5] * x[index[5]];
 }
 
 class MultigridCgSolver final : public PressureSolver {
@@ -155,7 +157,8 @@ class MultigridCgSolver final : public PressureSolver {
   // Σ_rows (Σ_i in row f(p)), the rows summed in order: identical bits for any team.
   template <class F>
   double row_sum(const StencilSystem& s, F&& f) const {
-    const std::size_t rows = static_cast<std::size_t>(s.size[1]) * static_cast<std::size_t>(s.size[2]);
+    const std::size_t rows =
+        static_cast<std::size_t>(s.size[1]) * static_cast<std::size_t>(s.size[2]);
     const std::size_t row_length = static_cast<std::size_t>(s.size[0]);
     std::vector<double> partial(rows, 0.0);
     const int team = threading_.team(s.count());
@@ -222,7 +225,8 @@ class MultigridCgSolver final : public PressureSolver {
               const std::size_t link = 6 * p + static_cast<std::size_t>(2 * a + (side + 1) / 2);
               const std::ptrdiff_t q = neighbour(s, at, a, side, p);
               const bool coupled = q >= 0 && s.active[p] && s.active[static_cast<std::size_t>(q)];
-              level.link_index[link] = static_cast<std::uint32_t>(coupled ? static_cast<std::size_t>(q) : p);
+              level.link_index[link] =
+                  static_cast<std::uint32_t>(coupled ? static_cast<std::size_t>(q) : p);
               level.link_conductance[link] = coupled ? coupling(s, a, side, p, q) : 0.0;
             }
           }
@@ -255,7 +259,8 @@ class MultigridCgSolver final : public PressureSolver {
           for (int a = 0; a < 3; ++a) {
             for (int side = -1; side <= 1; side += 2) {
               const std::ptrdiff_t q = neighbour(s, at, a, side, p);
-              if (q >= 0 && !s.active[static_cast<std::size_t>(q)] && coupling(s, a, side, p, q) > 0.0) {
+              if (q >= 0 && !s.active[static_cast<std::size_t>(q)] &&
+                  coupling(s, a, side, p, q) > 0.0) {
                 return true;
               }
             }
@@ -315,7 +320,8 @@ class MultigridCgSolver final : public PressureSolver {
     const std::size_t m = level.dense_to_cell.size();
     if (m == 0 || m > kDirectSolveLimit) return;
     std::vector<std::ptrdiff_t> cell_to_dense(s.count(), -1);
-    for (std::size_t d = 0; d < m; ++d) cell_to_dense[level.dense_to_cell[d]] = static_cast<std::ptrdiff_t>(d);
+    for (std::size_t d = 0; d < m; ++d)
+      cell_to_dense[level.dense_to_cell[d]] = static_cast<std::ptrdiff_t>(d);
     std::vector<double> a(m * m, 0.0);
     for (int k = 0; k < s.size[2]; ++k) {
       for (int j = 0; j < s.size[1]; ++j) {
@@ -370,9 +376,10 @@ class MultigridCgSolver final : public PressureSolver {
       const int j = row % ny, k = row / ny;
       for (int i = 0; i < nx; ++i) {
         const std::size_t p = s.index(i, j, k);
-        y[p] = s.active[p] ? level.diagonal[p] * x[p] -
-                                 linked_sum(&level.link_index[6 * p], &level.link_conductance[6 * p], x.data())
-                           : x[p];
+        y[p] = s.active[p]
+                   ? level.diagonal[p] * x[p] - linked_sum(&level.link_index[6 * p],
+                                                           &level.link_conductance[6 * p], x.data())
+                   : x[p];
       }
     }
   }
@@ -390,7 +397,8 @@ class MultigridCgSolver final : public PressureSolver {
       for (int i = (j + k + colour) % 2; i < nx; i += 2) {
         const std::size_t p = s.index(i, j, k);
         if (!s.active[p]) continue;
-        x[p] = (level.rhs[p] + linked_sum(&level.link_index[6 * p], &level.link_conductance[6 * p], x.data())) /
+        x[p] = (level.rhs[p] +
+                linked_sum(&level.link_index[6 * p], &level.link_conductance[6 * p], x.data())) /
                level.diagonal[p];
       }
     }
@@ -450,7 +458,8 @@ class MultigridCgSolver final : public PressureSolver {
         for (int i = 0; i < s.size[0]; ++i) {
           const std::size_t p = s.index(i, j, k);
           if (!s.active[p]) continue;
-          const std::size_t c = cs.index(i / level.ratio[0], j / level.ratio[1], k / level.ratio[2]);
+          const std::size_t c =
+              cs.index(i / level.ratio[0], j / level.ratio[1], k / level.ratio[2]);
           coarse.rhs[c] += level.rhs[p] - level.residual[p];
         }
       }

@@ -19,7 +19,7 @@ namespace quarry::cfd {
 // only without mass, without boundary terms (all Neumann or periodic) — then the solution is
 // defined up to a constant and the solvers return the one with zero mean over active unknowns.
 struct StencilSystem {
-  std::array<int, 3> size{1, 1, 1};               // unknowns along x, y, z (≥ 1)
+  std::array<int, 3> size{1, 1, 1};  // unknowns along x, y, z (≥ 1)
   std::array<bool, 3> periodic{false, false, false};
   // conductance[a][P] couples P with its low neighbour along axis a (P − e_a, or the last
   // unknown of the row when periodic and P is first). Units: those of the row (the fluid
@@ -29,8 +29,8 @@ struct StencilSystem {
   // Dirichlet terms of the faces on the box boundary along each axis (a conductance to a value
   // held at the face); coarsened like conductances along that axis.
   std::array<std::vector<double>, 3> boundary;
-  std::vector<double> mass;           // a diagonal term with no spatial coupling (ρε/dt V + βV)
-  std::vector<std::uint8_t> active;   // 1: an unknown; 0: held at 0
+  std::vector<double> mass;          // a diagonal term with no spatial coupling (ρε/dt V + βV)
+  std::vector<std::uint8_t> active;  // 1: an unknown; 0: held at 0
 
   std::size_t count() const {
     return static_cast<std::size_t>(size[0]) * static_cast<std::size_t>(size[1]) *
@@ -39,7 +39,8 @@ struct StencilSystem {
   std::size_t index(int i, int j, int k) const {
     return static_cast<std::size_t>(i) +
            static_cast<std::size_t>(size[0]) *
-               (static_cast<std::size_t>(j) + static_cast<std::size_t>(size[1]) * static_cast<std::size_t>(k));
+               (static_cast<std::size_t>(j) +
+                static_cast<std::size_t>(size[1]) * static_cast<std::size_t>(k));
   }
   // Sizes every array for `size` and fills them with zeros (active with 1).
   void reset(std::array<int, 3> new_size, std::array<bool, 3> new_periodic) {
