@@ -75,6 +75,9 @@ class MultigridCgSolver final : public PressureSolver {
   std::string_view name() const override { return "multigrid-cg"; }
 
   void set_system(const StencilSystem& system) override {
+    // A fluid step often repeats the previous operator (same dt, ε and β): keep the hierarchy.
+    if (!levels_.empty() && same_system(system, input_)) return;
+    input_ = system;
     levels_.clear();
     levels_.emplace_back();
     levels_[0].system = system;
@@ -496,7 +499,13 @@ class MultigridCgSolver final : public PressureSolver {
     if (singular_) subtract_on_active(z, active_mean(z));
   }
 
+  static bool same_system(const StencilSystem& a, const StencilSystem& b) {
+    return a.size == b.size && a.periodic == b.periodic && a.conductance == b.conductance &&
+           a.boundary == b.boundary && a.mass == b.mass && a.active == b.active;
+  }
+
   Threading threading_;
+  StencilSystem input_;  // the operator as last given to set_system
   std::vector<Level> levels_;
   bool singular_ = false;
 };

@@ -25,7 +25,8 @@ class PressureSolver {
  public:
   virtual ~PressureSolver() = default;
   virtual std::string_view name() const = 0;
-  // Takes the operator; call again whenever a coefficient changes. Cost O(unknowns).
+  // Takes the operator; call again whenever a coefficient changes. Cost O(unknowns) (the
+  // multigrid backend keeps its hierarchy when the operator equals the previous one).
   virtual void set_system(const StencilSystem& system) = 0;
   // Solves A x = b to ‖b − A x‖₂ ≤ relative_tolerance ‖b‖₂, starting from x as given. b and x
   // have system.count() entries; inactive entries of x are set to b. For a singular system the
