@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -23,6 +24,8 @@ constexpr std::size_t kCoarsestTarget = 64;
 // pairs that stand in for the direct solve when the coarsest level is too large for it.
 constexpr int kSmoothingSweeps = 2;
 constexpr int kCoarsestSweeps = 40;
+// An axis is coarsened when its mean coupling is at least this fraction of the strongest axis'.
+constexpr double kStrongCoupling = 0.25;
 
 struct Level {
   StencilSystem system;
@@ -279,16 +282,26 @@ class MultigridCgSolver final : public PressureSolver {
     const StencilSystem& fine = fine_level.system;
     std::array<int, 3> ratio{1, 1, 1};
     std::array<int, 3> size = fine.size;
-    bool any = false;
+    // Semi-coarsening (as PFMG, Ashby & Falgout 1996): only the axes whose mean coupling is at
+    // least kStrongCoupling of the strongest are coarsened, so that a point smoother still
+    // smooths the error along the others (anisotropic cells).
+    std::array<double, 3> strength{0.0, 0.0, 0.0};
+    double strongest = 0.0;
     for (int a = 0; a < 3; ++a) {
       const int n = fine.size[a];
-      if (n >= 2 && (!fine.periodic[a] || n % 2 == 0)) {
+      if (n < 2 || (fine.periodic[a] && n % 2 != 0)) continue;
+      double sum = 0.0;
+      for (double g : fine.conductance[a]) sum += g;
+      strength[a] = sum / static_cast<double>(fine.count()) + std::numeric_limits<double>::min();
+      strongest = std::max(strongest, strength[a]);
+    }
+    if (strongest == 0.0) return false;
+    for (int a = 0; a < 3; ++a) {
+      if (strength[a] > 0.0 && strength[a] >= kStrongCoupling * strongest) {
         ratio[a] = 2;
-        size[a] = (n + 1) / 2;
-        any = true;
+        size[a] = (fine.size[a] + 1) / 2;
       }
     }
-    if (!any) return false;
     StencilSystem& coarse = coarse_level.system;
     coarse.reset(size, fine.periodic);
     std::fill(coarse.active.begin(), coarse.active.end(), std::uint8_t{0});

@@ -37,7 +37,8 @@ class PressureSolver {
 };
 
 // Conjugate gradients with a symmetric multigrid V-cycle preconditioner: cell-centred
-// aggregation (2 per axis while the size allows), coarse conductances the sum of the fine ones
+// aggregation (2 per axis along the strongly coupled axes: semi-coarsening as in PFMG, so
+// anisotropic cells keep few iterations), coarse conductances the sum of the fine ones
 // through a coarse face divided by the coarsening ratio along the axis, symmetric red-black
 // Gauss-Seidel (2 sweeps before, 2 after), a dense Cholesky solve on the coarsest level.
 // Reductions are summed per grid row and the rows in order: the same bits for any team.

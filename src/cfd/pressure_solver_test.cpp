@@ -153,5 +153,20 @@ TEST(PressureSolverTest, IterationsIndependentOfGridSize) {
   EXPECT_LE(iterations[2], 30);
 }
 
+// Anisotropic cells (Δx = 8 Δy: couplings along y 64 times those along x): semi-coarsening keeps
+// the count near the isotropic one, where full coarsening with a point smoother needed 36.
+TEST(PressureSolverTest, AnisotropicCellsKeepFewIterations) {
+  StencilSystem s = rough_poisson({16, 64, 4}, {false, false, true}, true, 0.0, 6);
+  for (double& g : s.conductance[1]) g *= 64.0;
+  for (double& g : s.boundary[1]) g *= 64.0;
+  std::vector<double> b(s.count(), 1.0), x(s.count(), 0.0);
+  auto solver = make_multigrid_cg_solver(Threading{});
+  solver->set_system(s);
+  const SolveReport report = solver->solve(b, x, 1e-8, 200);
+  std::printf("anisotropic 16x64x4, couplings 1:64: %d iterations\n", report.iterations);
+  EXPECT_TRUE(report.converged);
+  EXPECT_LE(report.iterations, 15);
+}
+
 }  // namespace
 }  // namespace quarry::cfd
