@@ -81,17 +81,19 @@ class MultigridCgSolver final : public PressureSolver {
     // A fluid step often repeats the previous operator (same dt, ε and β): keep the hierarchy.
     if (!levels_.empty() && same_system(system, input_)) return;
     input_ = system;
-    levels_.clear();
-    levels_.emplace_back();
+    // The levels are rebuilt in place: their arrays keep their storage from step to step.
+    if (levels_.empty()) levels_.emplace_back();
     levels_[0].system = system;
     prepare_level(levels_[0]);
     singular_ = !has_fixed_part(levels_[0]);
-    while (levels_.back().system.count() > kCoarsestTarget) {
-      Level coarse;
-      if (!coarsen(levels_.back(), coarse)) break;
-      prepare_level(coarse);
-      levels_.push_back(std::move(coarse));
+    std::size_t count = 1;
+    while (levels_[count - 1].system.count() > kCoarsestTarget) {
+      if (levels_.size() == count) levels_.emplace_back();
+      if (!coarsen(levels_[count - 1], levels_[count])) break;
+      prepare_level(levels_[count]);
+      ++count;
     }
+    levels_.resize(count);
     factor_coarsest(levels_.back());
   }
 
