@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/surface_contact.h"
 #include "integrate/integrator.h"
 #include "sim/step.h"
 #include "sim/time_step_choice.h"
@@ -91,6 +92,9 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
                         (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
     tally.non_finite |= !(zero == 0.0);
     if (domain) tally.any_outside |= !domain->contains(x);
+    // Moved more than half its radius (|v| dt > R/2): check_tunnelling looks closer.
+    tally.fast |=
+        (v.x * v.x + v.y * v.y + v.z * v.z) * (dt * dt) > 0.25 * p.radius[i] * p.radius[i];
     if (reference) {
       // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
       const double d2 = norm2(x - reference[i]);  // m²
@@ -138,6 +142,47 @@ void check_finite(const World& world, const DriftScan& scan) {
         "material stiffness, restitution and external forces",
         world.step_count, world.time, p.id[i], show(p.position[i]), show(p.velocity[i]),
         show(p.angular_velocity[i]), show(p.force[i]), world.dt));
+  }
+}
+
+void check_tunnelling(const World& world, const DriftScan& scan, double dt) {
+  if (!scan.fast || world.surfaces.empty()) return;
+  const ParticleStore& p = world.particles;
+  std::vector<std::uint32_t> candidates;
+  std::vector<SurfaceContact> contacts;
+  for (std::size_t i = 0; i < p.size();
+       ++i) {                              // in index order: the same message for any thread count
+    const double r = p.radius[i];          // m
+    const Vec3 step = p.velocity[i] * dt;  // m, this drift (x_new = x_old + v dt)
+    const double length = norm(step);
+    if (!(length > 0.5 * r)) continue;
+    // The swept segment, sampled every R/2 (at most 1000 samples): a sphere of radius R at each
+    // sample covers the whole sweep. The grids were built for the vertices at the last list
+    // build; the skin covers what a surface moved since.
+    const int samples = static_cast<int>(std::min(1000.0, std::ceil(length / (0.5 * r))));
+    const double reach = r + world.skin;
+    for (int k = 0; k <= samples; ++k) {
+      const Vec3 at = p.position[i] - step * (1.0 - static_cast<double>(k) / samples);
+      for (const WorldSurface& s : world.surfaces) {
+        s.grid.query(Aabb{at - Vec3{reach, reach, reach}, at + Vec3{reach, reach, reach}},
+                     candidates);
+        if (candidates.empty()) continue;
+        find_surface_contacts(s.mesh, s.topology, at, r, candidates, contacts);
+        if (contacts.empty()) continue;
+        // The suggested step moves the particle a tenth of its radius (the default overlap guard).
+        throw PhysicsError(fmt::format(
+            "step {} (t = {:.6g} s): particle id {} moved {:.4g} m in one step ({:.0f} % of its "
+            "radius "
+            "{:.4g} m) at {:.4g} m/s past surface '{}' (element {}): its contact cannot be "
+            "resolved and it "
+            "can pass through the surface unseen (tunnelling)\n"
+            "  hint: reduce simulation.time_step (now {:.4g} s) to at most {:.3g} s for this "
+            "speed, or give "
+            "simulation.impact_speed ≥ {:.3g} m/s so that check sizes the time step for it",
+            world.step_count, world.time, p.id[i], length, 100.0 * length / r, r, length / dt,
+            s.mesh.name, contacts.front().triangle, dt, 0.1 * r / (length / dt), length / dt));
+      }
+    }
   }
 }
 

@@ -56,6 +56,7 @@ void step(World& world) {
     // mistaken for one that left the domain.
     ScopedStage timer(world.timers, world.timers.stage("guards"));
     check_finite(world, scan);
+    check_tunnelling(world, scan, dt);
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("geometry"));

@@ -40,19 +40,25 @@ struct DriftScan : OpeningTally {
 // Kick by h (s), drift by dt (s), and scan the new state.
 DriftScan kick_drift_scan(World& world, double h, double dt);
 void check_finite(const World& world, const DriftScan& scan);  // NaN/inf guard (after the drift)
+// Tunnelling guard (after the drift): a particle that moved more than half its radius in the
+// drift and passed within its radius of a surface on the way stops the run (PhysicsError): its
+// contact cannot be resolved, and a thin wall can be crossed without being seen. Costs nothing
+// unless scan.fast.
+void check_tunnelling(const World& world, const DriftScan& scan, double dt);
 // Moves every surface to its driver's pose at `time` (s): prescribed motion, or a coupled
 // surface's last set vertices moved on with their velocities.
 void drive_surfaces(World& world, double time);
-void insert_and_remove(World& world, const DriftScan& scan);  // factories; particles leaving the domain
-void update_neighbors(World& world, const DriftScan& scan);   // Verlet/candidate lists when needed
+void insert_and_remove(World& world,
+                       const DriftScan& scan);  // factories; particles leaving the domain
+void update_neighbors(World& world, const DriftScan& scan);  // Verlet/candidate lists when needed
 // particles.force = m g + external force (held and one-step), torque = external torque: the
 // sums the contact stage adds onto.
 void set_body_forces(World& world);
 // Particle–particle and particle–surface contacts added onto the body forces; the surfaces'
 // per-step loads (per triangle and vertex) filled.
 void compute_contact_forces(World& world);
-void run_hooks(World& world, HookStage stage);                 // post_force, end_of_step
-void check_overlaps(const World& world);                      // overlap guard (after the forces)
+void run_hooks(World& world, HookStage stage);  // post_force, end_of_step
+void check_overlaps(const World& world);        // overlap guard (after the forces)
 // The loads of the step added to every sized load window; the one-step external loads expire
 // (taken out of the forces, which hold them until here).
 void end_of_step_loads(World& world);

@@ -48,22 +48,22 @@ struct WallContact {
   std::uint32_t particle = 0;  // index
   std::uint16_t surface = 0;
   std::uint32_t triangle = 0;
-  Vec3 normal;                 // unit, surface → particle
+  Vec3 normal;  // unit, surface → particle
   ContactHistory history;
   // This step's result, gathered onto the surface's triangles in a fixed order.
   std::array<double, 3> weights{};
-  Vec3 point;                  // m
-  Vec3 force_on_particle;      // N
+  Vec3 point;              // m
+  Vec3 force_on_particle;  // N
 };
 
 // Candidate triangles for particle–surface contacts, rebuilt with the pair list (triangles
 // whose bounding box comes within skin of the particle). CSR over the particles that have
 // any (most of a bed has none).
 struct SurfaceCandidates {
-  std::vector<std::uint32_t> particles;       // ascending particle indices
-  std::vector<std::uint32_t> offsets;         // particles.size()+1
-  std::vector<std::uint16_t> surface;         // per entry
-  std::vector<std::uint32_t> triangle;        // per entry
+  std::vector<std::uint32_t> particles;  // ascending particle indices
+  std::vector<std::uint32_t> offsets;    // particles.size()+1
+  std::vector<std::uint16_t> surface;    // per entry
+  std::vector<std::uint32_t> triangle;   // per entry
 };
 
 // What moves a surface's vertices (DESIGN §5): nothing, the deck's prescribed motion, or a
@@ -83,10 +83,10 @@ struct SurfaceDriver {
 // One surface of the world: its mesh and loads, everything derived from the mesh for the
 // contact search, its driver, and its load windows.
 struct WorldSurface {
-  Surface mesh;                        // vertices now, this step's loads
-  MeshTopology topology;               // edges and incidences (face/edge/vertex contacts)
-  SurfaceGrid grid;                    // search grid over vertices_at_build
-  std::vector<Vec3> vertices_at_build; // m: the vertices the grid and the candidates were made for
+  Surface mesh;                         // vertices now, this step's loads
+  MeshTopology topology;                // edges and incidences (face/edge/vertex contacts)
+  SurfaceGrid grid;                     // search grid over vertices_at_build
+  std::vector<Vec3> vertices_at_build;  // m: the vertices the grid and the candidates were made for
   SurfaceDriver driver;
   // Elements as the partner or the deck numbered them: a quad of the input is two triangles of
   // one element (LoadWindow::element_of_triangle); empty when element = triangle.
@@ -106,9 +106,11 @@ struct OpeningTally {
   bool non_finite = false;   // some x, v or ω is not finite
   bool any_outside = false;  // some particle is outside the domain
   bool ids_changed = false;  // some id differs from the pair list's at its build
+  bool fast = false;         // some particle moved more than half its radius in this drift
   double largest_displacement_squared = 0.0;  // m², max |xi − xi(build)|² over finite particles
   void merge(const OpeningTally& o) {
     non_finite |= o.non_finite, any_outside |= o.any_outside, ids_changed |= o.ids_changed;
+    fast |= o.fast;
     largest_displacement_squared = o.largest_displacement_squared > largest_displacement_squared
                                        ? o.largest_displacement_squared
                                        : largest_displacement_squared;
@@ -129,11 +131,11 @@ struct ForceWorkspace {
     std::uint64_t builds = ~std::uint64_t{0};  // PairList::builds it was made for
     std::size_t rows = 0, pairs = 0;
     int threads = 0;
-    std::vector<std::uint32_t> range_start;     // threads + 1: first row of each range, then n
+    std::vector<std::uint32_t> range_start;  // threads + 1: first row of each range, then n
     // The crossing pairs of all ranges, by range, row and pair (ascending): row i, pair k.
     std::vector<std::uint32_t> crossing_row, crossing_pair;
     std::vector<std::uint32_t> crossing_begin;  // threads + 1: range t's are [begin[t], begin[t+1])
-    std::vector<double> share;                  // threads: the fraction of rows + pairs in each range
+    std::vector<double> share;  // threads: the fraction of rows + pairs in each range
   };
   PairPlan plan;
   // Balance of the ranges, learnt from the time each thread spent on its rows: the fraction of
@@ -141,8 +143,8 @@ struct ForceWorkspace {
   // the same for any split); a plan is made at each list build, or as soon as the shares move
   // by more than 1 % of the work. range_time: seconds per thread in the last step.
   std::vector<double> range_share, range_time;
-  std::vector<CrossingPair> crossing;                 // results, aligned with plan.crossing_pair
-  std::vector<HertzMindlinBatch> batches;             // per thread (batched contact kernel)
+  std::vector<CrossingPair> crossing;      // results, aligned with plan.crossing_pair
+  std::vector<HertzMindlinBatch> batches;  // per thread (batched contact kernel)
   // Surface contacts are found in chunks of candidates that any thread may take (the filler
   // that evens out the threads' pair ranges): each chunk's contacts, then gathered in order.
   std::vector<std::vector<WallContact>> wall_chunks;
@@ -162,7 +164,7 @@ struct ForceWorkspace {
   std::vector<int> chunk_found;
   std::size_t reactions_next = 0;
   int reactions_busy = 0;
-  std::vector<int> rows_done;                       // per thread: 1 once its pair rows are summed
+  std::vector<int> rows_done;  // per thread: 1 once its pair rows are summed
 };
 
 struct World;
@@ -181,8 +183,8 @@ enum class HookStage : std::uint8_t {
 
 struct StepHook {
   HookStage stage = HookStage::end_of_step;
-  std::string name;                   // for messages and the stage table
-  std::function<void(World&)> run;    // may throw UserError/PhysicsError: the step stops there
+  std::string name;                 // for messages and the stage table
+  std::function<void(World&)> run;  // may throw UserError/PhysicsError: the step stops there
 };
 
 namespace sim {
@@ -241,11 +243,11 @@ struct World {
   std::vector<WallContact> wall_contacts;  // this step's, ascending particle index
   ForceWorkspace force_workspace;
 
-  double time = 0.0;                  // s
+  double time = 0.0;  // s
   std::uint64_t step_count = 0;
-  double dt = 0.0;                    // s
-  double skin = 0.0;                  // m
-  double max_radius = 0.0;            // m, largest particle radius that can exist
+  double dt = 0.0;          // s
+  double skin = 0.0;        // m
+  double max_radius = 0.0;  // m, largest particle radius that can exist
   ParticleId next_id = 1;
   std::uint64_t removed_outside = 0;  // particles that left the domain
   std::uint64_t steps_since_sort = 0;
@@ -261,11 +263,11 @@ struct World {
   // early; the run loop then stops with a checkpoint. Set by sim::run; null: never asked.
   const std::atomic<int>* stop_request = nullptr;
   std::vector<StepHook> hooks;
-  NotCopied<sim::Output> output;      // null: the step writes nothing
+  NotCopied<sim::Output> output;  // null: the step writes nothing
   StageTimers timers;
 
   bool has_moving_surfaces() const;
-  std::size_t pair_contact_count() const;   // listed pairs with overlap > 0 now
+  std::size_t pair_contact_count() const;  // listed pairs with overlap > 0 now
   std::size_t wall_contact_count() const;
 };
 
