@@ -1,0 +1,87 @@
+// From the model an engineer wrote (StructureModel: bulk data or Gmsh, SI) to what the solvers
+// take: the shell solver's ShellModel, and the EDEM coupling surface as a DEM mesh whose vertex k
+// is one structural node (quads stay quads: the DEM contacts them as two triangles of one element
+// and their loads go back to the quad's four nodes). Issue #17 §3.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/simulation_spec.h"
+#include "fem/shell_model.h"
+
+namespace quarry {
+// core/structure_model.h; declared only, since its Surface (a SURF card) and geometry's Surface
+// (a triangle mesh) share a name and cannot meet in one translation unit.
+struct StructureModel;
+}  // namespace quarry
+
+namespace quarry::fsi {
+
+struct AdapterOptions {
+  // The SPC/SPC1 set id to apply; absent: the model's only set (none: no SPCs; several: an
+  // error asking for one). GRID permanent constraints (PS) always apply.
+  std::optional<int> constraint_set;
+  int integration_points = 5;  // through the thickness (Lobatto), as fem::ShellSection
+};
+
+struct AdaptedStructure {
+  fem::ShellModel model;
+  std::vector<int> grid_id;     // per solver node: its GRID id (nodes sorted by id)
+  std::vector<int> element_id;  // per solver element: its CQUAD4/CTRIA3 id (file order)
+};
+
+// Pre: `structure` came from a reader (references resolve). Throws UserError at the card for
+// what the solver cannot represent: an element without a property (a Gmsh mesh needs the deck's
+// thickness), a PSHELL that is a membrane (no MID2) or has a bending ratio 12I/T³ ≠ 1, a
+// non-structural mass, different MID1/MID2/MID3 materials, a material with no density, a
+// constraint set that does not exist or is ambiguous. Cost: O(model size · log).
+AdaptedStructure adapt_structure(const StructureModel& structure, const AdapterOptions& options = {});
+
+// The coupling surface's mesh in the DEM's terms: vertex k is solver node node_of_vertex[k]
+// (ascending), triangles and quads in vertex indices, corners as the elements were written
+// (their normals are the shells' normals).
+struct CouplingMesh {
+  std::vector<std::int32_t> node_of_vertex;
+  std::vector<Vec3> vertices;  // m, the nodes' initial positions
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<std::array<std::uint32_t, 4>> quads;
+};
+
+// The mesh of SURF `surface_id` of `structure` (its elements as adapted). Throws UserError for a
+// surface id the model does not define.
+CouplingMesh coupling_mesh(const StructureModel& structure, const AdaptedStructure& adapted,
+                           int surface_id);
+
+// A DEM surface entry (type mesh, coupled) for `mesh`, named `name`, with DEM material
+// `material` (the deck's equipment material: the seed's "first equipment material").
+SurfaceSpec coupling_surface_spec(const CouplingMesh& mesh, const std::string& name,
+                                  const std::string& material);
+
+}  // namespace quarry::fsi
+
+namespace quarry::fsi {
+
+// What the coupling takes from a model file: the adapted structure, the mesh of the first EDEM
+// card's first COUPLING surface, and that card's PERIOD and FILTER (absent: the seed's
+// defaults, resolved against the run's end time by resolve_schedule).
+struct CoupledStructure {
+  AdaptedStructure adapted;
+  CouplingMesh mesh;
+  std::string label;  // the COUPLING line's LABEL, or Quarry's default name for it
+  std::optional<double> period, filter;  // s
+};
+
+// Pre: the model has an EDEM card (throws UserError otherwise). Throws UserError as
+// adapt_structure and coupling_mesh do.
+CoupledStructure prepare_coupling(const StructureModel& structure, const AdapterOptions& options = {});
+
+// read_bulk_data (io/bulk_data.h) then prepare_coupling: a file, or bulk data held in memory
+// (tests) whose locations name `display_name`. Model units: the file's declaration.
+CoupledStructure read_coupled_structure(const std::string& path, const AdapterOptions& options = {});
+CoupledStructure coupled_structure_from_text(const std::string& text, const std::string& display_name,
+                                             const AdapterOptions& options = {});
+
+}  // namespace quarry::fsi
