@@ -40,54 +40,64 @@ StructureCoupler::StructureCoupler(World& world, std::size_t surface, fem::Shell
   }
   sim::set_surface_vertices(world_, surface_, x, v);
   s.coupling_window = LoadWindow(s.mesh, s.element_of_triangle, s.element_count);
+  begin_structure_period();
 }
 
 void StructureCoupler::advance_period() {
-  advance_structure();
-  advance_dem();
-  exchange();
-  check_period_stability();
+  do {
+    sim::step(world_);
+  } while (!after_dem_step());
 }
 
 void StructureCoupler::advance_to(double time) {
   while (world_.time < time - 1e-6 * world_.dt) advance_period();
 }
 
-// 1. The structure to its sync point at a constant step, loaded by the previous exchange's
-// impulse spread evenly over the period: loads = J / (n·dt), applied for n steps, Σ = J.
-void StructureCoupler::advance_structure() {
+bool StructureCoupler::after_dem_step() {
+  // 1. The structure up to the DEM's time, not past its sync point.
+  while (!structure_at_sync() && solver_.time() < world_.time) step_structure();
+  // 2. The DEM at its sync point: the structure finishes its period, then 3. the exchange.
+  if (!schedule_.reached(world_.time, world_.dt)) return false;
+  while (!structure_at_sync()) step_structure();
+  exchange();
+  check_period_stability();
+  begin_structure_period();
+  return true;
+}
+
+StepHook StructureCoupler::step_hook() {
+  return {HookStage::end_of_step, "structure coupling", [this](World&) { after_dem_step(); }};
+}
+
+// A structure period at a constant step, loaded by the previous exchange's impulse J spread
+// evenly over it: loads = J / (n·dt) for its n steps, Σ = J.
+void StructureCoupler::begin_structure_period() {
   structure_dt_ = options_.structure_step_fraction * solver_.stable_time_step().time_step;
-  const auto before_cycle = [&] {
-    if (auto line = schedule_.before_structure_cycle(solver_.step_count() + 1, structure_dt_, world_.dt))
-      messages_.push_back(*line);
-  };
-  before_cycle();
-  std::int64_t steps = schedule_.steps_to_sync(solver_.time(), structure_dt_);
-  const double period = static_cast<double>(steps) * structure_dt_;  // s
+  if (auto line = schedule_.before_structure_cycle(solver_.step_count() + 1, structure_dt_, world_.dt))
+    messages_.push_back(*line);
+  period_steps_ = schedule_.steps_to_sync(solver_.time(), structure_dt_);
+  period_steps_done_ = 0;
+  const double period = static_cast<double>(period_steps_) * structure_dt_;  // s
   for (fem::NodalLoad& load : loads_) load = {};
   for (std::size_t k = 0; k < node_of_vertex_.size(); ++k)
     loads_[static_cast<std::size_t>(node_of_vertex_[k])].force += pending_impulse_[k] / period;
   solver_.set_loads(loads_);
-  for (std::int64_t i = 0; i < steps; ++i) {
-    if (i > 0) {
-      // The cycle-2 reset can only fall inside the first period (which starts at cycle 1 and
-      // carries no load yet): the request moved, so the step count is counted again.
-      const double old_request = schedule_.requested();
-      before_cycle();
-      if (schedule_.requested() != old_request) steps = i + schedule_.steps_to_sync(solver_.time(), structure_dt_);
-    }
-    solver_.step(structure_dt_);
-    ++structure_steps_;
-  }
-  std::fill(pending_impulse_.begin(), pending_impulse_.end(), Vec3{});
 }
 
-// 2. The DEM to its sync point: its first step ending at or after the request. The coupled
-// surface moves as x + v (t − t_set) (sim::drive_surfaces) and its load window accumulates.
-void StructureCoupler::advance_dem() {
-  do {
-    sim::step(world_);
-  } while (!schedule_.reached(world_.time, world_.dt));
+void StructureCoupler::step_structure() {
+  if (period_steps_done_ > 0) {
+    // The cycle-2 reset can only fall inside the first period (which starts at cycle 1 and
+    // carries no load yet): the request moved, so the steps to it are counted again.
+    const double old_request = schedule_.requested();
+    if (auto line = schedule_.before_structure_cycle(solver_.step_count() + 1, structure_dt_, world_.dt))
+      messages_.push_back(*line);
+    if (schedule_.requested() != old_request)
+      period_steps_ = period_steps_done_ + schedule_.steps_to_sync(solver_.time(), structure_dt_);
+  }
+  solver_.step(structure_dt_);
+  ++period_steps_done_;
+  ++structure_steps_;
+  if (structure_at_sync()) std::fill(pending_impulse_.begin(), pending_impulse_.end(), Vec3{});
 }
 
 // 3. Exchange at the sync point.

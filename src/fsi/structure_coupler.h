@@ -1,14 +1,16 @@
 // Two-way coupling of a DEM world and the built-in shell solver (issue #17 §3), with the EDEM
 // card's schedule (coupling_schedule.h). Each solver keeps its own step: the structure steps at
-// a fraction of its stable estimate, the DEM at its own dt. One coupling period reads top to
-// bottom in advance_period():
-//   1. the structure steps to its sync point (its first step at or after the request), loaded
-//      by the nodal forces of the previous exchange;
+// a fraction of its stable estimate, the DEM at its own dt. One coupling period:
+//   1. the structure steps towards its sync point (its first step at or after the request),
+//      loaded by the nodal forces of the previous exchange, keeping up with the DEM's time;
 //   2. the DEM steps to its sync point; its coupled surface moves on from the last nodal
 //      positions with the nodal velocities (no jumps) and collects the impulses of its loads;
-//   3. exchange: the structure's nodal positions (advanced by v·(t_dem − t_fem) to the DEM's
-//      time) and velocities go to the DEM surface; the DEM's per-node impulses, filtered over
-//      FILTER, go back as the load of the next period.
+//   3. exchange, once both are at their sync points: the structure's nodal positions (advanced
+//      by v·(t_dem − t_fem) to the DEM's time) and velocities go to the DEM surface; the DEM's
+//      per-node impulses, filtered over FILTER, go back as the load of the next period.
+// Between syncs neither solver sees the other, so the structure may run after each DEM step
+// (after_dem_step: the run loop's end-of-step hook) or a period at a time (advance_period):
+// the results are the same.
 // Nodal forces are the DEM load window's consistent nodal forces: each contact force split to
 // its triangle's three vertices by the barycentric weights of the contact point, which keeps the
 // force and its moment about any point (Σ λ_i F = F, Σ x_i × λ_i F = p × F); a quad's two
@@ -47,6 +49,13 @@ class StructureCoupler {
 
   // One coupling period: both solvers to their next sync point, then the exchange.
   void advance_period();
+  // To run after every DEM step (sim::step's end-of-step hooks): the structure keeps up with
+  // the DEM's time, never past its own sync point; at the DEM's sync point the structure
+  // finishes its period and they exchange. Returns whether an exchange took place.
+  bool after_dem_step();
+  // The hook that calls after_dem_step, for World::hooks (the coupler must outlive the world's
+  // use of it).
+  StepHook step_hook();
   // Periods until the DEM's time reaches `time` (s).
   void advance_to(double time);
 
@@ -57,14 +66,15 @@ class StructureCoupler {
   // applied to the structure. Particles + structure + this is conserved (gravity off, free
   // structure) with FILTER = PERIOD.
   Vec3 impulse_in_transit() const;
-  // The nodal loads (N) the structure carries in the current period.
+  // The nodal loads (N) of the structure's current period (set at the last exchange).
   const std::vector<fem::NodalLoad>& loads() const { return loads_; }
   double structure_step() const { return structure_dt_; }  // s, of the last period
   std::int64_t structure_steps() const { return structure_steps_; }
 
  private:
-  void advance_structure();
-  void advance_dem();
+  void begin_structure_period();
+  void step_structure();
+  bool structure_at_sync() const { return period_steps_done_ == period_steps_; }
   void exchange();
   void check_period_stability();
 
@@ -80,6 +90,7 @@ class StructureCoupler {
   std::vector<Vec3> filtered_force_;      // N per vertex, scratch
   std::vector<fem::NodalLoad> loads_;     // per solver node
   double structure_dt_ = 0.0;
+  std::int64_t period_steps_ = 0, period_steps_done_ = 0;  // the structure's, this period
   std::int64_t structure_steps_ = 0;
   bool stability_checked_ = false;
   std::vector<std::string> messages_;
