@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/diagnostics.h"
+#include "core/structure_spec.h"
 #include "core/vec3.h"
 
 namespace quarry {
@@ -203,6 +204,7 @@ struct SimulationSpec {
   std::vector<MonitorSpec> monitors;
   OutputSpec output;
   ExportSpec fem_export;                // `export:` section (export is a C++ keyword)
+  std::vector<StructureSpec> structures;  // `structures:` section (two-way shell coupling)
 };
 
 }  // namespace quarry

@@ -28,6 +28,11 @@ void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
 void read_factories_section(MapReader& root, std::vector<FactorySpec>& factories);
 void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors);
 
+// deck_structures.cpp: the optional `structures:` section (two-way shell coupling, issue #17);
+// needs the materials, surfaces and end time read before it (names and PERIOD are checked).
+void read_structures_section(MapReader& root, const DeckParseOptions& options, const SimulationSpec& spec,
+                             std::vector<StructureSpec>& structures);
+
 // The map behind each element of a list-valued key: `what` names an element in messages.
 // Null elements (a bare "-") are reported; their location falls back to the list's key.
 std::vector<MapReader> list_of_maps(MapReader& parent, const std::string& key,

@@ -1,0 +1,44 @@
+// The deck's structures: section as parsed (io/deck_structures.cpp); its bad-deck cases are
+// tests/bad_decks/fsi_*.yaml.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "io/deck.h"
+
+namespace quarry {
+namespace {
+
+TEST(DeckStructures, EntriesAsWritten) {
+  const std::string model = std::string(QUARRY_SOURCE_DIR) + "/tests/models/plate_free.bdf";
+  const SimulationSpec spec = parse_deck_string(R"(simulation:
+  end_time: 1.0
+  domain: {min: [0, 0, 0], max: [1, 1, 1]}
+materials:
+  - {name: steel, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
+structures:
+  - {name: bed, model: )" + model + R"(, material: steel, constraint_set: 1, surface: 2,
+     period: 1.0e-4, filter: 3.0e-4, mass_scaling_time_step: 1.0e-6, damping: 50}
+  - {name: liner, model: )" + model + R"(, material: steel}
+)",
+                                                "deck.yaml");
+  ASSERT_EQ(spec.structures.size(), 2u);
+  const StructureSpec& bed = spec.structures[0];
+  EXPECT_EQ(bed.name.value, "bed");
+  EXPECT_EQ(bed.model.value, model);
+  EXPECT_EQ(bed.material.value, "steel");
+  ASSERT_TRUE(bed.constraint_set && bed.surface && bed.period && bed.filter);
+  EXPECT_EQ(bed.constraint_set->value, 1);
+  EXPECT_EQ(bed.surface->value, 2);
+  EXPECT_DOUBLE_EQ(bed.period->value, 1e-4);
+  EXPECT_DOUBLE_EQ(bed.filter->value, 3e-4);
+  EXPECT_DOUBLE_EQ(bed.mass_scaling_time_step.value, 1e-6);
+  EXPECT_DOUBLE_EQ(bed.damping.value, 50.0);
+  EXPECT_EQ(bed.where.line, 7);
+  const StructureSpec& liner = spec.structures[1];
+  EXPECT_FALSE(liner.period || liner.filter || liner.constraint_set || liner.surface);
+  EXPECT_EQ(liner.damping.value, 0.0);
+}
+
+}  // namespace
+}  // namespace quarry

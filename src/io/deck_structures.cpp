@@ -1,0 +1,86 @@
+// The deck's `structures:` section (issue #17 §5): shell models coupled two-way to the
+// particles, each naming its bulk-data file and what the file does not say. Reference:
+// docs/fem.md, "Coupling"; the model itself is read when the run starts (fsi).
+#include <filesystem>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "io/deck_sections.h"
+
+namespace quarry::deck_detail {
+
+namespace {
+
+const std::vector<std::string> kStructureKeys = {"name",   "model",  "material", "constraint_set",
+                                                 "surface", "period", "filter",   "mass_scaling_time_step",
+                                                 "damping"};
+
+// The model path against the deck's folder, stored absolute; it must exist when files are
+// required (as STL files are).
+void read_model_path(MapReader& map, const DeckParseOptions& options, Located<std::string>& model) {
+  if (!map.read("model", model, Presence::required)) return;
+  namespace fs = std::filesystem;
+  fs::path path(model.value);
+  if (path.is_relative()) path = fs::path(options.base_directory) / path;
+  std::error_code ignored;
+  const fs::path resolved = fs::absolute(path, ignored).lexically_normal();
+  if (options.require_files && !fs::is_regular_file(resolved, ignored)) {
+    map.context().error(model.where, fmt::format("structure model \"{}\" not found", model.value),
+                        fmt::format("looked for \"{}\"; relative paths start at the deck's folder",
+                                    resolved.string()));
+    return;
+  }
+  model.value = resolved.string();
+}
+
+}  // namespace
+
+void read_structures_section(MapReader& root, const DeckParseOptions& options, const SimulationSpec& spec,
+                             std::vector<StructureSpec>& structures) {
+  if (!root.has("structures")) return;
+  std::vector<std::string> materials;
+  for (const MaterialSpec& m : spec.materials) materials.push_back(m.name.value);
+  std::set<std::string> taken;  // surface and structure names
+  for (const SurfaceSpec& s : spec.surfaces) taken.insert(s.name.value);
+
+  for (MapReader& map : list_of_maps(root, "structures", "structure")) {
+    if (!map.is_map()) continue;
+    map.reject_unknown_keys(kStructureKeys);
+    StructureSpec structure;
+    structure.where = map.location();
+    DeckContext& context = map.context();
+    if (map.read("name", structure.name, Presence::required) && !taken.insert(structure.name.value).second)
+      context.error(structure.name.where,
+                    fmt::format("the name \"{}\" is taken by another surface or structure", structure.name.value),
+                    "the structure's coupling surface is a surface of the world: give it a name of its own");
+    read_model_path(map, options, structure.model);
+    if (map.read("material", structure.material, Presence::required) &&
+        std::find(materials.begin(), materials.end(), structure.material.value) == materials.end())
+      context.error(structure.material.where, fmt::format("unknown material \"{}\"", structure.material.value),
+                    suggestion_hint(structure.material.value, materials));
+    Located<int> integer;
+    if (map.read("constraint_set", integer, positive())) structure.constraint_set = integer;
+    if (map.read("surface", integer, positive())) structure.surface = integer;
+    Located<double> time;
+    if (map.read("period", time, positive(), "s")) {
+      structure.period = time;
+      const double end = spec.simulation.end_time.value;
+      if (end > 0.0 && !(time.value < end))
+        context.error(time.where, fmt::format("period {} s is not below the end time {} s", time.value, end),
+                      "the EDEM card's PERIOD is the time between synchronisations, 0 < PERIOD < TTERM");
+    }
+    if (map.read("filter", time, positive(), "s")) {
+      structure.filter = time;
+      if (structure.period && !(time.value > structure.period->value))
+        context.error(time.where,
+                      fmt::format("filter {} s must exceed period {} s", time.value, structure.period->value),
+                      "FILTER > PERIOD (seed 000); leave it out to filter over one period");
+    }
+    map.read("mass_scaling_time_step", structure.mass_scaling_time_step, non_negative(), "s");
+    map.read("damping", structure.damping, non_negative(), "1/s");
+    structures.push_back(std::move(structure));
+  }
+}
+
+}  // namespace quarry::deck_detail
