@@ -20,6 +20,7 @@
 
 #include "api/server.h"
 #include "cli/udf_build.h"
+#include "fsi/structure_run.h"
 #include "core/allocator.h"
 #include "io/deck.h"
 #include "sim/estimate.h"
@@ -65,7 +66,11 @@ int exit_code(const sim::RunSummary& s) { return s.interrupted() ? 130 : 0; }
 int command_run(const std::string& deck, const Common& c) {
   SimulationSpec spec = parse_deck(deck);
   World world = build_world(spec);
-  return exit_code(sim::run(world, run_options(c)));
+  // The deck's structures (two-way shell coupling) run as end-of-step hooks of the run loop.
+  const fsi::CoupledStructures structures(world, std::cerr);
+  const sim::RunSummary summary = sim::run(world, run_options(c));
+  structures.print_summary(std::cerr);
+  return exit_code(summary);
 }
 
 int command_check(const std::string& deck) {

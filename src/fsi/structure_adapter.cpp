@@ -175,24 +175,27 @@ SurfaceSpec coupling_surface_spec(const CouplingMesh& mesh, const std::string& n
   return s;
 }
 
-CoupledStructure prepare_coupling(const StructureModel& structure, const AdapterOptions& options) {
+CoupledStructure prepare_coupling(const StructureModel& structure, const AdapterOptions& options,
+                                  std::optional<int> surface_id) {
   if (structure.couplings.empty() || structure.couplings.front().surfaces.empty())
     throw UserError({structure.source_files.empty() ? std::string() : structure.source_files.front(), 0, 0},
                     "the model has no EDEM card with a COUPLING surface",
                     "add `EDEM,<id>,CONTROL,<PERIOD>,<FILTER>,COUPLING,SURF,<surf id>,<label>`");
   const EdemCoupling& edem = structure.couplings.front();
   const CouplingSurfaceRef& first = edem.surfaces.front();
+  const int surface = surface_id ? *surface_id : first.surface_id;
   CoupledStructure out;
   out.adapted = adapt_structure(structure, options);
-  out.mesh = coupling_mesh(structure, out.adapted, first.surface_id);
-  out.label = first.label ? *first.label : default_coupling_label(edem.id, first.surface_id);
+  out.mesh = coupling_mesh(structure, out.adapted, surface);
+  out.label = surface == first.surface_id && first.label ? *first.label : default_coupling_label(edem.id, surface);
   out.period = edem.period;
   out.filter = edem.filter;
   return out;
 }
 
-CoupledStructure read_coupled_structure(const std::string& path, const AdapterOptions& options) {
-  return prepare_coupling(read_bulk_data(path), options);
+CoupledStructure read_coupled_structure(const std::string& path, const AdapterOptions& options,
+                                        std::optional<int> surface_id) {
+  return prepare_coupling(read_bulk_data(path), options, surface_id);
 }
 
 CoupledStructure coupled_structure_from_text(const std::string& text, const std::string& display_name,

@@ -74,13 +74,16 @@ struct CoupledStructure {
   std::optional<double> period, filter;  // s
 };
 
-// Pre: the model has an EDEM card (throws UserError otherwise). Throws UserError as
-// adapt_structure and coupling_mesh do.
-CoupledStructure prepare_coupling(const StructureModel& structure, const AdapterOptions& options = {});
+// Pre: the model has an EDEM card (throws UserError otherwise). `surface_id`: the SURF to couple
+// (absent: the card's first COUPLING surface). Throws UserError as adapt_structure and
+// coupling_mesh do.
+CoupledStructure prepare_coupling(const StructureModel& structure, const AdapterOptions& options = {},
+                                  std::optional<int> surface_id = std::nullopt);
 
 // read_bulk_data (io/bulk_data.h) then prepare_coupling: a file, or bulk data held in memory
 // (tests) whose locations name `display_name`. Model units: the file's declaration.
-CoupledStructure read_coupled_structure(const std::string& path, const AdapterOptions& options = {});
+CoupledStructure read_coupled_structure(const std::string& path, const AdapterOptions& options = {},
+                                        std::optional<int> surface_id = std::nullopt);
 CoupledStructure coupled_structure_from_text(const std::string& text, const std::string& display_name,
                                              const AdapterOptions& options = {});
 
