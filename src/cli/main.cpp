@@ -67,9 +67,10 @@ int command_run(const std::string& deck, const Common& c) {
   SimulationSpec spec = parse_deck(deck);
   World world = build_world(spec);
   // The deck's structures (two-way shell coupling) run as end-of-step hooks of the run loop.
-  const fsi::CoupledStructures structures(world, std::cerr);
+  fsi::CoupledStructures structures(world, std::cerr,
+                                    c.output_dir.empty() ? spec.output.directory.value : c.output_dir);
   const sim::RunSummary summary = sim::run(world, run_options(c));
-  structures.print_summary(std::cerr);
+  structures.finish(std::cerr);
   return exit_code(summary);
 }
 

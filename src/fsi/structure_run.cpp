@@ -6,9 +6,15 @@
 
 #include <fmt/format.h>
 
+#include "fsi/structure_vtu.h"
+#include "io/atomic_file.h"
+
 namespace quarry::fsi {
 
-CoupledStructures::CoupledStructures(World& world, std::ostream& log) {
+CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::filesystem::path output_directory)
+    : output_directory_(std::move(output_directory)),
+      interval_(world.spec.output.interval.value),
+      next_output_(world.time + world.spec.output.interval.value) {
   const double end_time = world.spec.simulation.end_time.value;  // s
   for (const StructureSpec& spec : world.spec.structures) {
     auto entry = std::make_unique<Entry>();
@@ -49,6 +55,7 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log) {
         structure.mesh.triangles.size() + structure.mesh.quads.size(), entry->solver->total_mass(),
         entry->solver->added_mass(), stable.time_step, structure.adapted.element_id.at(static_cast<std::size_t>(stable.element)),
         schedule.period, schedule.filter);
+    entry->series.emplace(output_directory_ / ("structure_" + entry->name + ".pvd"));
     Entry* raw = entry.get();
     world.hooks.push_back({HookStage::end_of_step, "structure " + entry->name, [raw, &log](World&) {
                              raw->coupler->after_dem_step();
@@ -58,10 +65,30 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log) {
                            }});
     entries_.push_back(std::move(entry));
   }
+  // Frames at the output interval, after every structure has run its part of the step.
+  if (interval_ > 0.0 && !entries_.empty())
+    world.hooks.push_back({HookStage::end_of_step, "structure frames", [this](World& w) {
+                             if (w.time < next_output_ - 1e-6 * w.dt) return;
+                             for (auto& entry : entries_) write_frame(*entry);
+                             next_output_ += interval_;
+                           }});
 }
 
-void CoupledStructures::print_summary(std::ostream& out) const {
+// The structure as it is now (its own time, which is within a sync period of the DEM's).
+void CoupledStructures::write_frame(Entry& entry) {
+  const fem::ShellSolver& solver = *entry.solver;
+  if (solver.time() == entry.last_frame_time) return;
+  const std::string file = fmt::format("structure_{}_{:04d}.vtu", entry.name, entry.frames++);
+  std::filesystem::create_directories(output_directory_);
+  write_file_atomically(output_directory_ / file,
+                        structure_vtu(solver, entry.structure.adapted.model, entry.coupler->loads()));
+  entry.series->add(solver.time(), file);
+  entry.last_frame_time = solver.time();
+}
+
+void CoupledStructures::finish(std::ostream& out) {
   for (const auto& entry : entries_) {
+    write_frame(*entry);
     const fem::ShellSolver& solver = *entry->solver;
     double largest = 0.0;  // m
     for (int n = 0; n < solver.node_count(); ++n) {
