@@ -41,8 +41,11 @@ void read_structures_section(MapReader& root, const DeckParseOptions& options, c
   if (!root.has("structures")) return;
   std::vector<std::string> materials;
   for (const MaterialSpec& m : spec.materials) materials.push_back(m.name.value);
-  std::set<std::string> taken;  // surface and structure names
-  for (const SurfaceSpec& s : spec.surfaces) taken.insert(s.name.value);
+  std::set<std::string> taken, coupled_meshes;  // surface and structure names
+  for (const SurfaceSpec& s : spec.surfaces) {
+    taken.insert(s.name.value);
+    if (s.coupled.value && s.kind.value == SurfaceKind::mesh) coupled_meshes.insert(s.name.value);
+  }
 
   for (MapReader& map : list_of_maps(root, "structures", "structure")) {
     if (!map.is_map()) continue;
@@ -50,7 +53,13 @@ void read_structures_section(MapReader& root, const DeckParseOptions& options, c
     StructureSpec structure;
     structure.where = map.location();
     DeckContext& context = map.context();
-    if (map.read("name", structure.name, Presence::required) && !taken.insert(structure.name.value).second)
+    if (map.read("name", structure.name, Presence::required) && coupled_meshes.contains(structure.name.value))
+      context.error(structure.name.where,
+                    fmt::format("structure \"{}\" is also a coupled surface of this deck: a deck written into a "
+                                "checkpoint of a run with structures, which cannot be restarted yet",
+                                structure.name.value),
+                    "the structures' state (displacements, stresses) is not in the checkpoint; run the deck again");
+    else if (!structure.name.value.empty() && !taken.insert(structure.name.value).second)
       context.error(structure.name.where,
                     fmt::format("the name \"{}\" is taken by another surface or structure", structure.name.value),
                     "the structure's coupling surface is a surface of the world: give it a name of its own");

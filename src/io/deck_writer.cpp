@@ -399,6 +399,25 @@ void write_export(DeckText& deck, const ExportSpec& fem_export) {
   if (fem_export.calculix) write_calculix(deck, *fem_export.calculix);
 }
 
+// The structures: entries (deck_structures.cpp). Their coupled surfaces are in `surfaces:` as
+// well (added when the run started), which a parse refuses as a restart (the structures' state
+// is not in a checkpoint).
+void write_structures(DeckText& deck, const std::vector<StructureSpec>& structures) {
+  if (structures.empty()) return;
+  deck.line(0, "structures:");
+  for (const StructureSpec& s : structures) {
+    deck.line(2, "- name: {}", text(s.name));
+    deck.line(4, "model: {}", text(s.model));
+    deck.line(4, "material: {}", text(s.material));
+    if (s.constraint_set) deck.line(4, "constraint_set: {}", s.constraint_set->value);
+    if (s.surface) deck.line(4, "surface: {}", s.surface->value);
+    if (s.period) deck.line(4, "period: {}", number(*s.period));
+    if (s.filter) deck.line(4, "filter: {}", number(*s.filter));
+    deck.line(4, "mass_scaling_time_step: {}", number(s.mass_scaling_time_step));
+    deck.line(4, "damping: {}", number(s.damping));
+  }
+}
+
 }  // namespace
 
 std::string write_deck(const SimulationSpec& spec) {
@@ -415,6 +434,7 @@ std::string write_deck(const SimulationSpec& spec) {
   write_monitors(deck, spec.monitors);
   write_output(deck, spec.output);
   write_export(deck, spec.fem_export);
+  write_structures(deck, spec.structures);
   return deck.take();
 }
 
