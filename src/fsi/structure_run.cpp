@@ -14,7 +14,9 @@ namespace quarry::fsi {
 CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::filesystem::path output_directory)
     : output_directory_(std::move(output_directory)),
       interval_(world.spec.output.interval.value),
-      next_output_(world.time + world.spec.output.interval.value) {
+      next_output_(world.time + world.spec.output.interval.value),
+      monitor_interval_(world.spec.output.monitor_interval.value),
+      next_monitor_(world.time + world.spec.output.monitor_interval.value) {
   const double end_time = world.spec.simulation.end_time.value;  // s
   for (const StructureSpec& spec : world.spec.structures) {
     auto entry = std::make_unique<Entry>();
@@ -56,6 +58,10 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::files
         entry->solver->added_mass(), stable.time_step, structure.adapted.element_id.at(static_cast<std::size_t>(stable.element)),
         schedule.period, schedule.filter);
     entry->series.emplace(output_directory_ / ("structure_" + entry->name + ".pvd"));
+    entry->monitors.emplace(output_directory_ / ("structure_" + entry->name + ".csv"),
+                            std::vector<std::string>{"time_s", "max_displacement_m", "reaction_x_N", "reaction_y_N",
+                                                     "reaction_z_N", "load_x_N", "load_y_N", "load_z_N",
+                                                     "kinetic_J", "internal_J", "hourglass_J", "external_work_J"});
     Entry* raw = entry.get();
     world.hooks.push_back({HookStage::end_of_step, "structure " + entry->name, [raw, &log](World&) {
                              raw->coupler->after_dem_step();
@@ -65,13 +71,39 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::files
                            }});
     entries_.push_back(std::move(entry));
   }
-  // Frames at the output interval, after every structure has run its part of the step.
-  if (interval_ > 0.0 && !entries_.empty())
-    world.hooks.push_back({HookStage::end_of_step, "structure frames", [this](World& w) {
-                             if (w.time < next_output_ - 1e-6 * w.dt) return;
-                             for (auto& entry : entries_) write_frame(*entry);
+  // Monitor rows and frames, after every structure has run its part of the step.
+  if (entries_.empty()) return;
+  world.hooks.push_back({HookStage::end_of_step, "structure output", [this](World& w) {
+                           const double due = 1e-6 * w.dt;  // s, clock round-off
+                           if (monitor_interval_ > 0.0 && w.time >= next_monitor_ - due) {
+                             for (auto& entry : entries_) add_monitor_row(*entry);
+                             next_monitor_ += monitor_interval_;
+                           }
+                           if (interval_ > 0.0 && w.time >= next_output_ - due) {
+                             for (auto& entry : entries_) {
+                               if (monitor_interval_ == 0.0) add_monitor_row(*entry);
+                               write_frame(*entry);
+                             }
                              next_output_ += interval_;
-                           }});
+                           }
+                         }});
+}
+
+void CoupledStructures::add_monitor_row(Entry& entry) {
+  const fem::ShellSolver& solver = *entry.solver;
+  double largest = 0.0;  // m
+  for (int n = 0; n < solver.node_count(); ++n) {
+    const auto k = static_cast<std::size_t>(n);
+    const Vec3 u = solver.positions()[k] - entry.structure.adapted.model.nodes[k];
+    largest = std::max(largest, std::sqrt(dot(u, u)));
+  }
+  Vec3 reaction, load;  // N
+  for (const auto& r : solver.reactions()) reaction += Vec3{r[0], r[1], r[2]};
+  for (const fem::NodalLoad& l : entry.coupler->loads()) load += l.force;
+  const fem::ShellEnergies& e = solver.energies();
+  const std::vector<double> row = {solver.time(), largest,    reaction.x, reaction.y, reaction.z, load.x,
+                                   load.y,        load.z,     e.kinetic,  e.internal, e.hourglass, e.external_work};
+  entry.monitors->add_row(row);
 }
 
 // The structure as it is now (its own time, which is within a sync period of the DEM's).
@@ -83,29 +115,24 @@ void CoupledStructures::write_frame(Entry& entry) {
   write_file_atomically(output_directory_ / file,
                         structure_vtu(solver, entry.structure.adapted.model, entry.coupler->loads()));
   entry.series->add(solver.time(), file);
+  entry.monitors->flush();
   entry.last_frame_time = solver.time();
 }
 
 void CoupledStructures::finish(std::ostream& out) {
   for (const auto& entry : entries_) {
+    if (entry->monitors->rows().empty() || entry->monitors->rows().back()[0] != entry->solver->time())
+      add_monitor_row(*entry);
     write_frame(*entry);
-    const fem::ShellSolver& solver = *entry->solver;
-    double largest = 0.0;  // m
-    for (int n = 0; n < solver.node_count(); ++n) {
-      const auto k = static_cast<std::size_t>(n);
-      const Vec3 u = solver.positions()[k] - entry->structure.adapted.model.nodes[k];
-      largest = std::max(largest, std::sqrt(dot(u, u)));
-    }
-    Vec3 reaction;  // N
-    for (const auto& r : solver.reactions()) reaction += Vec3{r[0], r[1], r[2]};
-    const fem::ShellEnergies& e = solver.energies();
+    entry->monitors->flush();
+    const std::vector<double>& r = entry->monitors->rows().back();
     out << fmt::format(
         "structure \"{}\": t {:.4g} s, {} steps of {:.4g} s, {} syncs; largest displacement {:.4g} m; "
-        "reactions [{:.4g}, {:.4g}, {:.4g}] N; energies (J): kinetic {:.4g}, internal {:.4g}, hourglass {:.4g}, "
-        "external work {:.4g}{}\n",
-        entry->name, solver.time(), entry->coupler->structure_steps(), entry->coupler->structure_step(),
-        entry->coupler->schedule().synchronisations(), largest, reaction.x, reaction.y, reaction.z, e.kinetic,
-        e.internal, e.hourglass, e.external_work, e.hourglass_warning ? " (hourglass above 5 % of internal)" : "");
+        "reactions [{:.4g}, {:.4g}, {:.4g}] N, coupled load [{:.4g}, {:.4g}, {:.4g}] N; energies (J): kinetic {:.4g}, "
+        "internal {:.4g}, hourglass {:.4g}, external work {:.4g}{}\n",
+        entry->name, r[0], entry->coupler->structure_steps(), entry->coupler->structure_step(),
+        entry->coupler->schedule().synchronisations(), r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11],
+        entry->solver->energies().hourglass_warning ? " (hourglass above 5 % of internal)" : "");
   }
 }
 

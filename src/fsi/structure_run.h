@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "io/csv_table.h"
 #include "io/pvd_series.h"
 #include "fem/shell_solver.h"
 #include "fsi/structure_adapter.h"
@@ -26,7 +27,8 @@ class CoupledStructures {
   // Coupling messages (the cycle-2 reset, the PERIOD warning) go to `log` as they arise.
   // Frames (structure_vtu.h) go to `output_directory` as structure_<name>_NNNN.vtu with a
   // structure_<name>.pvd series, every output.interval of the deck (0: only the final one,
-  // written by finish()). Throws UserError for a model that cannot be read or adapted, at its
+  // written by finish()); monitors to structure_<name>.csv every output.monitor_interval (0: at
+  // the frames): time, largest displacement, total reaction, total coupled load, energies. Throws UserError for a model that cannot be read or adapted, at its
   // file and card.
   CoupledStructures(World& world, std::ostream& log, std::filesystem::path output_directory);
 
@@ -46,12 +48,15 @@ class CoupledStructures {
     std::unique_ptr<StructureCoupler> coupler;
     std::size_t messages_printed = 0;
     std::optional<PvdSeries> series;
+    std::optional<CsvTable> monitors;
     int frames = 0;
     double last_frame_time = -1.0;  // s
   };
   void write_frame(Entry& entry);
+  void add_monitor_row(Entry& entry);
   std::filesystem::path output_directory_;
   double interval_ = 0.0, next_output_ = 0.0;  // s
+  double monitor_interval_ = 0.0, next_monitor_ = 0.0;  // s
   std::vector<std::unique_ptr<Entry>> entries_;
 };
 
