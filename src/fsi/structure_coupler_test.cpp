@@ -151,8 +151,9 @@ double static_deflection_under_pressure(const fem::ShellModel& model, const fem:
 // none of it). The coupled plate's centre deflection is that of the shell solver alone under the
 // run's time-mean nodal loads within 1 % (linear statics: the mean deflection answers the mean
 // load). Reported beside it, not asserted: the same force as a uniform pressure over the whole
-// plate and over [R̄, a − R̄]² (a sphere touches the plate at least its radius from a wall); the
-// bed's real load lies between (the wall layer), 5 % from either is not a property of this bed.
+// plate and over [R̄, a − R̄]² (a sphere touches the plate at least its radius from a wall):
+// the bed loads the centre more than a uniform pressure does (docs/fem.md, "Coupling",
+// the open finding), so 5 % from a uniform pressure is not asserted.
 // The mesh against Kirchhoff, w = α q a⁴/D, α = 0.00126 for a clamped square plate, ν = 0.3
 // (Timoshenko & Woinowsky-Krieger, "Theory of Plates and Shells", 1959, §44, Table 35): 2 %.
 // The plate is mass scaled to a 10 µs step (statics do not depend on mass) and critically damped.
