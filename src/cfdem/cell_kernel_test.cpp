@@ -1,0 +1,135 @@
+// The coupling kernel: partition of unity, continuity, the void fraction's integral and
+// Newton's third law of the deposited drag, each to round-off.
+#include "cfdem/cell_kernel.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace quarry::cfdem {
+namespace {
+
+cfd::FluidGrid test_grid() {
+  cfd::FluidGrid grid;
+  grid.origin = {-0.01, 0.02, 0.0};
+  grid.cell_size = {0.002, 0.0025, 0.003};
+  grid.cells = {5, 4, 6};
+  return grid;
+}
+
+// Particles anywhere in the grid, many in the border half-cells where weights fold or wrap.
+std::vector<Vec3> random_positions(const cfd::FluidGrid& grid, int count, unsigned seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Vec3> positions;
+  for (int n = 0; n < count; ++n) {
+    Vec3 x;
+    for (int a = 0; a < 3; ++a)
+      x[a] = grid.origin[a] + unit(random) * grid.cells[static_cast<std::size_t>(a)] * grid.cell_size[a];
+    positions.push_back(x);
+  }
+  return positions;
+}
+
+TEST(CellKernel, WeightsArePositiveAndSumToOne) {
+  const cfd::FluidGrid grid = test_grid();
+  for (const PeriodicAxes periodic : {PeriodicAxes{false, false, false}, PeriodicAxes{true, false, true}}) {
+    for (const Vec3& x : random_positions(grid, 500, 7)) {
+      const CellWeights w = cell_weights(grid, periodic, x);
+      double sum = 0.0;
+      for (std::size_t c = 0; c < 8; ++c) {
+        EXPECT_GE(w.weight[c], 0.0);
+        EXPECT_LT(w.cell[c], grid.cell_count());
+        sum += w.weight[c];
+      }
+      EXPECT_NEAR(sum, 1.0, 4e-16);
+    }
+  }
+}
+
+// A particle crossing a cell centre and a cell face: each cell's weight changes by O(step),
+// with no jump (the ∂ε/∂t of the fluid stays finite).
+TEST(CellKernel, WeightsAreContinuousInPosition) {
+  const cfd::FluidGrid grid = test_grid();
+  const PeriodicAxes periodic{false, true, false};
+  const double step = 1e-7;  // m
+  const Vec3 start{-0.0095, 0.0201, 0.0001};  // from the low corner's border half-cell
+  std::vector<double> previous;
+  for (int n = 0; n <= 40000; ++n) {
+    const Vec3 x = start + Vec3{1.0, 0.7, 0.9} * (n * step);
+    const CellWeights w = cell_weights(grid, periodic, x);
+    std::vector<double> field(grid.cell_count(), 0.0);
+    for (std::size_t c = 0; c < 8; ++c) field[w.cell[c]] += w.weight[c];
+    if (!previous.empty()) {
+      for (std::size_t c = 0; c < field.size(); ++c)
+        ASSERT_LT(std::abs(field[c] - previous[c]), 3.0 * step / 0.002) << "cell " << c << " at step " << n;
+    }
+    previous = field;
+  }
+}
+
+TEST(CellKernel, VoidFractionIntegratesToParticleVolume) {
+  const cfd::FluidGrid grid = test_grid();
+  for (const PeriodicAxes periodic : {PeriodicAxes{false, false, false}, PeriodicAxes{true, true, false}}) {
+    const std::vector<Vec3> positions = random_positions(grid, 300, 11);
+    std::vector<CellWeights> weights;
+    std::vector<double> radius;
+    std::mt19937_64 random(3);
+    std::uniform_real_distribution<double> size(1e-4, 4e-4);
+    double particle_volume = 0.0;  // m³
+    for (const Vec3& x : positions) {
+      weights.push_back(cell_weights(grid, periodic, x));
+      radius.push_back(size(random));
+      particle_volume += 4.0 / 3.0 * std::numbers::pi * std::pow(radius.back(), 3);
+    }
+    std::vector<double> epsilon;
+    const double smallest = void_fraction(grid, weights, radius, epsilon);
+    ASSERT_EQ(epsilon.size(), grid.cell_count());
+    double solid = 0.0;  // m³
+    double least = 1.0;
+    for (double e : epsilon) solid += (1.0 - e) * grid.cell_volume(), least = std::min(least, e);
+    EXPECT_EQ(smallest, least);
+    EXPECT_LT(smallest, 1.0);
+    // Round-off: 120 cells of |1 − ε| ≤ 1 summed, each to an ulp of 1, times the cell volume.
+    EXPECT_NEAR(solid, particle_volume, 1e-13 * grid.cell_volume() * grid.cell_count());
+    EXPECT_NEAR(solid / particle_volume, 1.0, 1e-12);
+  }
+}
+
+// The fluid gets −β_p (u_p − v_p) through β (implicit, times its cell velocity) and β_p v_p
+// (explicit), each spread by the weights; with u_p interpolated by the same weights, the sum
+// over cells is minus the sum of the particles' drag, whatever the velocity field.
+TEST(CellKernel, DepositedDragIsMinusTheParticlesDrag) {
+  const cfd::FluidGrid grid = test_grid();
+  const PeriodicAxes periodic{true, false, false};
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  std::vector<Vec3> cell_velocity(grid.cell_count());
+  for (Vec3& u : cell_velocity) u = {value(random), value(random), value(random)};
+  const std::vector<Vec3> positions = random_positions(grid, 200, 13);
+  std::vector<CellWeights> weights;
+  std::vector<double> coefficient;
+  std::vector<Vec3> momentum;
+  Vec3 particle_drag;  // N, Σ_p β_p (u_p − v_p)
+  for (const Vec3& x : positions) {
+    weights.push_back(cell_weights(grid, periodic, x));
+    coefficient.push_back(1e-5 * (1.5 + value(random)));  // kg/s
+    const Vec3 v{value(random), value(random), value(random)};
+    momentum.push_back(v * coefficient.back());
+    particle_drag += (interpolate(weights.back(), cell_velocity) - v) * coefficient.back();
+  }
+  std::vector<double> beta(grid.cell_count(), 0.0);
+  std::vector<Vec3> force(grid.cell_count());
+  deposit(grid, weights, coefficient, beta);
+  deposit(grid, weights, momentum, force);
+  Vec3 fluid_drag;  // N, Σ_c V (f_c − β_c u_c)
+  for (std::size_t c = 0; c < grid.cell_count(); ++c)
+    fluid_drag += (force[c] - cell_velocity[c] * beta[c]) * grid.cell_volume();
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(fluid_drag[a], -particle_drag[a], 1e-14 * 200 * 2.5e-5);
+  EXPECT_GT(std::abs(particle_drag.x) + std::abs(particle_drag.y) + std::abs(particle_drag.z), 1e-5);
+}
+
+}  // namespace
+}  // namespace quarry::cfdem
