@@ -1,0 +1,249 @@
+// The coupled step of CFD-DEM (docs/cfd.md "Coupling"): exchange (void fraction, frozen drag
+// coefficient, fluid step) every coupling_steps DEM steps, fluid forces on the particles at
+// every DEM step. Model A of Zhou, Kuang, Chu & Yu 2010 (J. Fluid Mech. 661:482-510): the
+// particle feels drag and −V_p ∇p, the fluid −ε∇p and minus the deposited drag.
+#include "cfdem/fluid_coupling.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "core/diagnostics.h"
+
+namespace quarry::cfdem {
+
+namespace {
+
+double sphere_volume(double radius) { return 4.0 / 3.0 * std::numbers::pi * radius * radius * radius; }
+
+void add_warning_once(World& world, const std::string& text) {
+  if (std::find(world.warnings.begin(), world.warnings.end(), text) == world.warnings.end())
+    world.warnings.push_back(text);
+}
+
+}  // namespace
+
+FluidCoupling::FluidCoupling(const World& world, FluidCouplingOptions options)
+    : options_(std::move(options)) {
+  if (options_.coupling_steps < 1)
+    throw std::invalid_argument(fmt::format("coupling_steps must be ≥ 1, got {}", options_.coupling_steps));
+  if (options_.solver.model != cfd::VolumeAveragedModel::a)
+    throw std::invalid_argument("the CFD-DEM coupling supports model A only (the drag laws' form)");
+  if (!(options_.minimum_void_fraction > 0.0 && options_.minimum_void_fraction < 1.0))
+    throw std::invalid_argument(fmt::format("minimum_void_fraction must be in (0, 1), got {}",
+                                            options_.minimum_void_fraction));
+  // Cells too small for the particles (coupling-notes §3.4: V_cell ≥ 3 V_p as a hard floor).
+  const double largest_particle = sphere_volume(world.max_radius);
+  const double cell_volume = options_.grid.cell_volume();
+  if (world.max_radius > 0.0 && cell_volume < 3.0 * largest_particle)
+    throw UserError(
+        SourceLocation{},
+        fmt::format("fluid cells of {:.4g} m³ ({:.4g} x {:.4g} x {:.4g} m) hold less than 3 times the "
+                    "volume of the largest particle ({:.4g} m³, radius {:.4g} m): ratio {:.3g}",
+                    cell_volume, options_.grid.cell_size.x, options_.grid.cell_size.y,
+                    options_.grid.cell_size.z, largest_particle, world.max_radius,
+                    cell_volume / largest_particle),
+        "unresolved CFD-DEM averages over cells larger than the particles: use cells of at least "
+        "3 particle diameters per side (the void fraction of a smaller cell jumps between 1 and ~0)");
+  for (int axis = 0; axis < 3; ++axis)
+    periodic_[static_cast<std::size_t>(axis)] =
+        options_.boundaries.face(axis, 0).kind == cfd::BoundaryKind::periodic;
+  cfd::FluidSolverOptions solver = options_.solver;
+  solver.gravity = world.spec.simulation.gravity.value;
+  solver.threading = world.threading;
+  fluid_ = std::make_unique<cfd::FluidSolver>(options_.grid, options_.properties, options_.boundaries,
+                                              solver);
+  void_fraction_.assign(options_.grid.cell_count(), 1.0);
+  update_cell_fields();
+}
+
+std::shared_ptr<FluidCoupling> FluidCoupling::attach(World& world, FluidCouplingOptions options) {
+  auto coupling = std::make_shared<FluidCoupling>(world, std::move(options));
+  StepHook forces;
+  forces.stage = HookStage::post_force;
+  forces.name = "fluid forces";
+  forces.run = [coupling](World& w) {
+    if (coupling->exchanges() == 0) coupling->exchange(w);
+    coupling->add_forces(w);
+  };
+  StepHook exchange;
+  exchange.stage = HookStage::end_of_step;
+  exchange.name = "fluid exchange";
+  exchange.run = [coupling](World& w) {
+    if (w.step_count % static_cast<std::uint64_t>(coupling->options().coupling_steps) == 0)
+      coupling->exchange(w);
+  };
+  world.hooks.push_back(std::move(forces));
+  world.hooks.push_back(std::move(exchange));
+  return coupling;
+}
+
+void FluidCoupling::update_cell_fields() {
+  const cfd::FluidGrid& g = options_.grid;
+  cell_velocity_.resize(g.cell_count());
+  cell_pressure_gradient_.resize(g.cell_count());
+  const std::array<int, 3> n = g.cells;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const std::size_t c = g.cell_index(i, j, k);
+        cell_velocity_[c] = fluid_->cell_velocity(i, j, k);
+        // ∇p by central differences of the cell pressures (one-sided at a non-periodic border;
+        // exact for the hydrostatic field, which is linear).
+        Vec3 gradient;
+        const std::array<int, 3> at{i, j, k};
+        for (int axis = 0; axis < 3; ++axis) {
+          const auto a = static_cast<std::size_t>(axis);
+          if (n[a] == 1) continue;
+          std::array<int, 3> low = at, high = at;
+          low[a] -= 1;
+          high[a] += 1;
+          double span = 2.0;
+          if (periodic_[a]) {
+            low[a] = (low[a] + n[a]) % n[a];
+            high[a] = high[a] % n[a];
+          } else {
+            if (low[a] < 0) low[a] = 0, span = 1.0;
+            if (high[a] >= n[a]) high[a] = n[a] - 1, span = 1.0;
+          }
+          gradient[axis] = (fluid_->pressure(high[0], high[1], high[2]) -
+                            fluid_->pressure(low[0], low[1], low[2])) /
+                           (span * g.cell_size[axis]);
+        }
+        cell_pressure_gradient_[c] = gradient;
+      }
+}
+
+void FluidCoupling::compute_weights(const World& world) {
+  const ParticleStore& p = world.particles;
+  weights_.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+    weights_[i] = cell_weights(options_.grid, periodic_, p.position[i]);
+}
+
+cfd::DragResult FluidCoupling::evaluate_drag(const World& world, std::size_t i,
+                                             const Vec3& fluid_velocity, double porosity,
+                                             const Vec3& pressure_gradient) const {
+  const ParticleStore& p = world.particles;
+  cfd::DragInput input;
+  input.diameter = 2.0 * p.radius[i];
+  input.particle_velocity = p.velocity[i];
+  input.fluid_velocity = fluid_velocity;
+  input.porosity = porosity;
+  input.fluid_density = options_.properties.density;
+  input.fluid_viscosity = options_.properties.viscosity;
+  if (options_.drag_udf) {
+    cfd::DragUdfContext context;
+    context.pressure_gradient = pressure_gradient;
+    context.particle_id = p.id[i];
+    context.particle_type = p.type[i];
+    context.time = world.time;
+    context.particle_volume = sphere_volume(p.radius[i]);
+    return options_.drag_udf->evaluate(input, context);
+  }
+  return cfd::drag_force(options_.drag_law, input);
+}
+
+void FluidCoupling::freeze_fluid_values(const World& world) {
+  const ParticleStore& p = world.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    frozen_[i].fluid_velocity = interpolate(weights_[i], cell_velocity_);
+    frozen_[i].pressure_gradient = interpolate(weights_[i], cell_pressure_gradient_);
+    frozen_[i].volume = sphere_volume(p.radius[i]);
+  }
+  layout_epoch_ = p.layout_epoch;
+  frozen_count_ = p.size();
+}
+
+void FluidCoupling::check_relaxation(World& world) const {
+  // The particle side updates v each DEM step with β_p frozen (explicit in v): stable and
+  // accurate only while dt ≪ m/β_p, the particle's relaxation time.
+  const ParticleStore& p = world.particles;
+  const double coupling_step = options_.coupling_steps * world.dt;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double rate = frozen_[i].coefficient * p.inv_mass[i];  // 1/τ_p (1/s)
+    if (world.dt * rate > 1.0)
+      throw PhysicsError(fmt::format(
+          "step {}, t = {:.6g} s: particle {} has a drag relaxation time m/β_p = {:.4g} s shorter "
+          "than the DEM time step {:.4g} s (β_p = {:.4g} kg/s, m = {:.4g} kg); the drag would "
+          "overshoot. hint: a smaller time_step, or larger particles",
+          world.step_count, world.time, p.id[i], 1.0 / rate, world.dt, frozen_[i].coefficient,
+          1.0 / p.inv_mass[i]));
+    if (coupling_step * rate > 1.0)
+      add_warning_once(world, fmt::format(
+          "the fluid coupling step {:.4g} s is longer than the drag relaxation time m/β_p = {:.4g} s "
+          "of particle {} at t = {:.6g} s: the frozen drag coefficient lags the slip; use fewer "
+          "DEM steps per fluid step",
+          coupling_step, 1.0 / rate, p.id[i], world.time));
+  }
+}
+
+void FluidCoupling::exchange(World& world) {
+  const ParticleStore& p = world.particles;
+  const cfd::FluidGrid& g = options_.grid;
+  compute_weights(world);
+  const double smallest = cfdem::void_fraction(g, weights_, p.radius, void_fraction_);
+  if (smallest < options_.minimum_void_fraction) {
+    const auto crowded = static_cast<std::size_t>(
+        std::min_element(void_fraction_.begin(), void_fraction_.end()) - void_fraction_.begin());
+    throw PhysicsError(fmt::format(
+        "step {}, t = {:.6g} s: the void fraction of fluid cell {} fell to {:.4g} (minimum {:.4g}): "
+        "more particle volume than the cell holds. hint: coarser fluid cells (≥ 3 particle "
+        "diameters), or check for particles piled against a wall of the fluid grid",
+        world.step_count, world.time, crowded, smallest, options_.minimum_void_fraction));
+  }
+  fluid_->set_void_fraction(void_fraction_);
+
+  // β_p at the slip now, with u, ε and ∇p at the particle by the same weights.
+  frozen_.resize(p.size());
+  std::span<double> beta = fluid_->drag_coefficient();
+  std::span<Vec3> force = fluid_->force_density();
+  std::fill(beta.begin(), beta.end(), 0.0);
+  std::fill(force.begin(), force.end(), Vec3{});
+  std::vector<double> coefficient(p.size());
+  std::vector<Vec3> momentum(p.size());  // β_p v_p (N)
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3 u = interpolate(weights_[i], cell_velocity_);
+    const double porosity = interpolate(weights_[i], void_fraction_);
+    const Vec3 gradient = interpolate(weights_[i], cell_pressure_gradient_);
+    coefficient[i] = evaluate_drag(world, i, u, porosity, gradient).coefficient;
+    frozen_[i].coefficient = coefficient[i];
+    momentum[i] = p.velocity[i] * coefficient[i];
+  }
+  // The fluid's share of the drag, −Σ_p β_p (u − v_p) spread by the weights: β u implicit in the
+  // fluid step, β_p v_p explicit.
+  deposit(g, weights_, coefficient, beta);
+  deposit(g, weights_, momentum, force);
+  fluid_->step(options_.coupling_steps * world.dt);
+  update_cell_fields();
+  freeze_fluid_values(world);
+  ++exchanges_;
+  check_relaxation(world);
+}
+
+void FluidCoupling::refreeze(World& world) {
+  compute_weights(world);
+  frozen_.resize(world.particles.size());
+  freeze_fluid_values(world);
+  for (std::size_t i = 0; i < world.particles.size(); ++i)
+    frozen_[i].coefficient =
+        evaluate_drag(world, i, frozen_[i].fluid_velocity, interpolate(weights_[i], void_fraction_),
+                      frozen_[i].pressure_gradient)
+            .coefficient;
+}
+
+Vec3 FluidCoupling::drag_force(const World& world, std::size_t i) const {
+  return (frozen_[i].fluid_velocity - world.particles.velocity[i]) * frozen_[i].coefficient;
+}
+
+void FluidCoupling::add_forces(World& world) {
+  ParticleStore& p = world.particles;
+  if (p.layout_epoch != layout_epoch_ || p.size() != frozen_count_) refreeze(world);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    p.force[i] += drag_force(world, i) - frozen_[i].pressure_gradient * frozen_[i].volume;
+}
+
+}  // namespace quarry::cfdem

@@ -1,0 +1,102 @@
+// Two-way CFD-DEM coupling of a World with the built-in fluid solver (issue #18 §2-3): every
+// `coupling_steps` DEM steps the particles give the fluid its void fraction and drag (one
+// kernel, cell_kernel.h), the fluid takes one step, and the particles then feel drag with the
+// exchange coefficient frozen and the pressure-gradient force −V_p ∇p at each DEM step.
+// Zhou, Kuang, Chu & Yu 2010 model A. docs/cfd.md "Coupling" gives the timeline.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cfd/drag_laws.h"
+#include "cfd/drag_udf.h"
+#include "cfd/fluid_solver.h"
+#include "cfdem/cell_kernel.h"
+#include "sim/world.h"
+
+namespace quarry::cfdem {
+
+struct FluidCouplingOptions {
+  cfd::FluidGrid grid;
+  cfd::FluidProperties properties;
+  cfd::FluidBoundaries boundaries;
+  // Tolerances and model of the fluid solver. Its gravity and threads are taken from the world.
+  // Only model A: the drag laws return model-A drag (drag_laws.h).
+  cfd::FluidSolverOptions solver;
+  int coupling_steps = 1;                // DEM steps per fluid step (≥ 1): Δt_f = n Δt_DEM
+  cfd::DragLaw drag_law = cfd::DragLaw::stokes;
+  std::optional<cfd::DragUdf> drag_udf;  // replaces drag_law when set
+  // A cell whose void fraction falls below this stops the run (PhysicsError with a hint): the
+  // particles crowd a cell more than any packing, so the grid is too fine for them.
+  double minimum_void_fraction = 0.05;
+};
+
+// The coupling's state between exchanges, per particle (engine index at `layout_epoch`).
+struct FrozenParticle {
+  double coefficient = 0.0;  // β_p (kg/s), frozen over the coupling step
+  Vec3 fluid_velocity;       // u at the particle after the fluid step (m/s)
+  Vec3 pressure_gradient;    // ∇p at the particle after the fluid step (Pa/m)
+  double volume = 0.0;       // V_p (m³)
+};
+
+class FluidCoupling {
+ public:
+  // Checks the options and the world: coupling_steps ≥ 1, model A, the grid inside the
+  // world's domain is not required (particles outside it are clamped onto its border cells).
+  // Throws UserError with a hint when a cell holds less than 3 times the volume of the largest
+  // particle the world can hold (world.max_radius): the void fraction of such cells swings
+  // between 1 and ~0 as a particle passes (coupling-notes §3.4); std::invalid_argument for
+  // other bad options. The fluid starts at rest with ε = 1.
+  FluidCoupling(const World& world, FluidCouplingOptions options);
+
+  // Builds the coupling and adds its two hooks to the world (post_force: the fluid forces;
+  // end_of_step: the exchange when a coupling step is complete). The hooks share the returned
+  // object. Call before sim::initialize: the first post_force exchanges once to start.
+  static std::shared_ptr<FluidCoupling> attach(World& world, FluidCouplingOptions options);
+
+  // The coupling step at the world's time: weights of the particles now, ε, β_p from the drag
+  // law at the current slip, β and β_p v_p deposited, one fluid step of coupling_steps · dt,
+  // then u and ∇p at the particles frozen for the DEM steps until the next exchange.
+  // Throws PhysicsError (cells too crowded, DEM step longer than a particle's relaxation time
+  // m/β_p, a fluid solve failing) or cfd::DragUdfError. Cost: O(particles + fluid step).
+  void exchange(World& world);
+
+  // Adds to particles.force, for each particle: β_p (u_p − v_p) − V_p ∇p_p with the frozen
+  // β_p, u_p, ∇p_p and the particle's velocity now. Refreezes first if the particles were
+  // reordered, added or removed since the exchange. Cost: O(particles).
+  void add_forces(World& world);
+
+  const cfd::FluidSolver& fluid() const { return *fluid_; }
+  const FluidCouplingOptions& options() const { return options_; }
+  // This exchange's void fraction per cell and each particle's frozen values.
+  const std::vector<double>& void_fraction() const { return void_fraction_; }
+  const std::vector<FrozenParticle>& frozen() const { return frozen_; }
+  const std::vector<CellWeights>& weights() const { return weights_; }
+  long long exchanges() const { return exchanges_; }
+  // The drag of particle i as add_forces applies it now (N): β_p (u_p − v_p).
+  Vec3 drag_force(const World& world, std::size_t i) const;
+
+ private:
+  cfd::DragResult evaluate_drag(const World& world, std::size_t i, const Vec3& fluid_velocity,
+                                double porosity, const Vec3& pressure_gradient) const;
+  void compute_weights(const World& world);
+  void freeze_fluid_values(const World& world);  // u_p, ∇p_p from the fluid now
+  void refreeze(World& world);                   // after a layout change: all frozen values anew
+  void check_relaxation(World& world) const;
+  void update_cell_fields();                     // cell velocities and ∇p from the fluid
+
+  FluidCouplingOptions options_;
+  std::unique_ptr<cfd::FluidSolver> fluid_;
+  PeriodicAxes periodic_{};
+  std::vector<CellWeights> weights_;
+  std::vector<double> void_fraction_;
+  std::vector<FrozenParticle> frozen_;
+  std::vector<Vec3> cell_velocity_, cell_pressure_gradient_;
+  std::uint64_t layout_epoch_ = ~std::uint64_t{0};
+  std::size_t frozen_count_ = 0;
+  long long exchanges_ = 0;
+};
+
+}  // namespace quarry::cfdem

@@ -1,0 +1,255 @@
+// Verification of the coupled step: single-particle settling against the terminal velocity of
+// the force balance (Stokes with the built-in law and with the example's UDF built by `quarry
+// udf build`'s code; Schiller-Naumann at finite Re), and 1 vs 2 threads bit-identical.
+#include "cfdem/fluid_coupling.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <numbers>
+#include <sstream>
+
+#include "cli/udf_build.h"
+#include "io/deck.h"
+#include "sim/exchange.h"
+#include "sim/step.h"
+
+namespace quarry::cfdem {
+namespace {
+
+// One particle in a column of fluid: walls on every side but the top, a pressure outlet there
+// with the hydrostatic reference at the top (seed 001).
+struct SettlingCase {
+  double fluid_density = 1000.0;      // kg/m³
+  double viscosity = 1e-3;            // Pa·s
+  double particle_density = 1500.0;   // kg/m³
+  double diameter = 1e-4;             // m
+  double start_height = 4.8e-3;       // m above the bottom
+  double dem_step = 1e-6;             // s
+  int coupling_steps = 50;            // fluid step 5e-5 s
+  double end_time = 0.015;            // s
+  double cell = 5e-4;                 // m (the seed's mesh size)
+  std::array<int, 3> cells{4, 4, 12}; // a 2 x 2 x 6 mm column
+  int threads = 1;
+};
+
+World settling_world(const SettlingCase& c) {
+  const double half_x = 0.5 * c.cells[0] * c.cell, half_y = 0.5 * c.cells[1] * c.cell;
+  const double height = c.cells[2] * c.cell;
+  const std::string deck = fmt::format(R"(
+simulation:
+  end_time: {end}
+  time_step: {dt}
+  impact_speed: 0.01
+  gravity: [0, 0, -9.81]
+  domain: {{min: [{x0}, {y0}, 0], max: [{x1}, {y1}, {h}]}}
+materials:
+  - {{name: solid, density: {rho}, youngs_modulus: 1.0e7, poisson_ratio: 0.3}}
+interactions:
+  - {{materials: [solid, solid], restitution: 0.5, static_friction: 0.3}}
+particle_types:
+  - {{name: sphere, material: solid, size: {{distribution: fixed, radius: {r}}}}}
+output:
+  directory: out_cfdem_test
+  interval: 0
+  plots: false
+)",
+                                       fmt::arg("end", c.end_time), fmt::arg("dt", c.dem_step),
+                                       fmt::arg("x0", -half_x), fmt::arg("y0", -half_y),
+                                       fmt::arg("x1", half_x), fmt::arg("y1", half_y),
+                                       fmt::arg("h", height), fmt::arg("rho", c.particle_density),
+                                       fmt::arg("r", 0.5 * c.diameter));
+  World world = build_world(parse_deck_string(deck, "settling.yaml"));
+  world.threading = Threading{c.threads, 0};
+  sim::NewParticle particle;
+  particle.position = {0.0, 0.0, c.start_height};
+  particle.radius = 0.5 * c.diameter;
+  sim::add_particles(world, std::span<const sim::NewParticle>(&particle, 1));
+  return world;
+}
+
+FluidCouplingOptions settling_options(const SettlingCase& c) {
+  FluidCouplingOptions options;
+  options.grid.origin = {-0.5 * c.cells[0] * c.cell, -0.5 * c.cells[1] * c.cell, 0.0};
+  options.grid.cell_size = {c.cell, c.cell, c.cell};
+  options.grid.cells = c.cells;
+  options.properties = {c.fluid_density, c.viscosity};
+  cfd::FaceBoundary& top = options.boundaries.face(2, 1);
+  top.kind = cfd::BoundaryKind::pressure_outlet;
+  top.reference_point = {0.0, 0.0, c.cells[2] * c.cell};
+  options.coupling_steps = c.coupling_steps;
+  return options;
+}
+
+struct SettlingResult {
+  double velocity = 0.0;        // m/s, v_z at the end
+  double velocity_before = 0.0; // m/s, v_z 2 ms before the end
+  double porosity = 0.0;        // ε at the particle at the end
+  World world;
+};
+
+SettlingResult settle(const SettlingCase& c, FluidCouplingOptions options) {
+  SettlingResult result;
+  result.world = settling_world(c);
+  World& world = result.world;
+  auto coupling = FluidCoupling::attach(world, std::move(options));
+  sim::initialize(world);
+  const auto steps = static_cast<std::uint64_t>(std::llround(c.end_time / c.dem_step));
+  const auto before = steps - static_cast<std::uint64_t>(std::llround(0.002 / c.dem_step));
+  sim::advance(world, before);
+  result.velocity_before = world.particles.velocity[0].z;
+  sim::advance(world, steps - before);
+  result.velocity = world.particles.velocity[0].z;
+  result.porosity = interpolate(coupling->weights()[0], coupling->void_fraction());
+  return result;
+}
+
+// Stokes' terminal velocity with the seed's porosity factor, from (ρ_p − ρ_f) V_p g =
+// 3π ε d μ v: v = (ρ_p − ρ_f) g d² / (18 μ ε) (Stokes 1851; seed 001: 0.002725 m/s at ε = 1).
+double stokes_terminal_velocity(const SettlingCase& c, double porosity) {
+  return (c.particle_density - c.fluid_density) * 9.81 * c.diameter * c.diameter /
+         (18.0 * c.viscosity * porosity);
+}
+
+// Seed 001 (AcuSolve-EDEM tutorial ACU-T 6108): 0.1 mm, 1500 kg/m³ particle in water, DEM step
+// 1e-6 s, fluid step 5e-5 s, 0.015 s; analytic terminal velocity 0.002725 m/s (EDEM: 0.00274).
+TEST(FluidCoupling, StokesSettlingReachesTheSeedsTerminalVelocity) {
+  const SettlingCase c;
+  const SettlingResult r = settle(c, settling_options(c));
+  const double analytic = stokes_terminal_velocity(c, 1.0);
+  EXPECT_NEAR(analytic, 0.002725, 0.0000005);
+  std::printf("[ measured ] terminal velocity %.7g m/s (analytic %.7g, ε at the particle %.6f, "
+              "ε-corrected %.7g), 2 ms earlier %.7g m/s\n",
+              -r.velocity, analytic, r.porosity, stokes_terminal_velocity(c, r.porosity),
+              -r.velocity_before);
+  EXPECT_NEAR(-r.velocity / analytic, 1.0, 0.01);
+  // Terminal: the last 2 ms changed it by less than 0.1 %.
+  EXPECT_NEAR(r.velocity / r.velocity_before, 1.0, 1e-3);
+}
+
+
+// The same case with the example's user-defined drag (examples/stokes_settling/usrStokesDrag.c)
+// compiled by `quarry udf build`'s code into a temporary folder: the same terminal velocity as
+// the built-in law (both are 3π ε d μ (u − v); only their rounding may differ).
+TEST(FluidCoupling, StokesSettlingWithTheExampleUdfMatchesTheBuiltInLaw) {
+  namespace fs = std::filesystem;
+  std::string folder = (fs::temp_directory_path() / "quarry_cfdem_udf_XXXXXX").string();
+  ASSERT_NE(::mkdtemp(folder.data()), nullptr);
+  cli::UdfBuildOptions build;
+  build.source = std::string(QUARRY_SOURCE_DIR) + "/examples/stokes_settling/usrStokesDrag.c";
+  build.output = folder + "/usrStokesDrag.so";
+  std::ostringstream out, err;
+  ASSERT_EQ(cli::udf_build(build, out, err), 0) << out.str() << err.str();
+  const SettlingCase c;
+  FluidCouplingOptions options = settling_options(c);
+  options.drag_udf = cfd::load_drag_udf(build.output, "usrStokesDrag");
+  const SettlingResult udf = settle(c, options);
+  const SettlingResult built_in = settle(c, settling_options(c));
+  fs::remove_all(folder);
+  std::printf("[ measured ] UDF %.15g m/s, built-in %.15g m/s\n", -udf.velocity, -built_in.velocity);
+  EXPECT_NEAR(udf.velocity / built_in.velocity, 1.0, 1e-12);
+  EXPECT_NEAR(-udf.velocity / 0.002725, 1.0, 0.01);
+}
+
+// Schiller & Naumann (1933) at Re ≈ 0.6: the terminal velocity solves
+// (ρ_p − ρ_f) V_p g = ½ ρ_f C_d(Re) (π d²/4) v², C_d = 24/Re (1 + 0.15 Re^0.687),
+// Re = ρ_f v d / μ; found here by bisection. About 10 % below Stokes' value, so the test tells
+// the laws apart.
+TEST(FluidCoupling, SchillerNaumannSettlingReachesTheForceBalance) {
+  SettlingCase c;
+  c.viscosity = 0.01;
+  c.particle_density = 2000.0;
+  c.diameter = 5e-4;
+  c.cell = 2.5e-3;  // 5 d, as the seed's mesh
+  c.cells = {4, 4, 6};
+  c.start_height = 1.2e-2;
+  c.dem_step = 1e-5;
+  c.coupling_steps = 5;
+  c.end_time = 0.05;  // ≈ 18 relaxation times ρ_p d²/(18 μ) = 2.8 ms
+  const double weight = (c.particle_density - c.fluid_density) * std::numbers::pi *
+                        std::pow(c.diameter, 3) / 6.0 * 9.81;  // N, net of buoyancy
+  const auto drag = [&](double v) {
+    const double re = c.fluid_density * v * c.diameter / c.viscosity;
+    const double cd = 24.0 / re * (1.0 + 0.15 * std::pow(re, 0.687));
+    return 0.5 * c.fluid_density * cd * std::numbers::pi * c.diameter * c.diameter / 4.0 * v * v;
+  };
+  double low = 1e-9, high = 1.0;  // m/s
+  for (int n = 0; n < 200; ++n) {
+    const double mid = 0.5 * (low + high);
+    (drag(mid) < weight ? low : high) = mid;
+  }
+  const double terminal = 0.5 * (low + high);
+  FluidCouplingOptions options = settling_options(c);
+  options.drag_law = cfd::DragLaw::schiller_naumann;
+  const SettlingResult r = settle(c, options);
+  std::printf("[ measured ] Schiller-Naumann terminal velocity %.7g m/s, force balance %.7g m/s "
+              "(Re %.4g; Stokes %.7g), 2 ms earlier %.7g m/s\n",
+              -r.velocity, terminal, c.fluid_density * terminal * c.diameter / c.viscosity,
+              stokes_terminal_velocity(c, 1.0), -r.velocity_before);
+  EXPECT_NEAR(-r.velocity / terminal, 1.0, 0.01);
+  EXPECT_NEAR(r.velocity / r.velocity_before, 1.0, 1e-3);
+  EXPECT_LT(terminal, 0.95 * stokes_terminal_velocity(c, 1.0));
+}
+
+// The coupled step on 1 and 2 threads (every loop on the team, threshold 0): the same bits.
+TEST(FluidCoupling, OneAndTwoThreadsAreBitIdentical) {
+  SettlingCase c;
+  c.end_time = 0.001;
+  std::vector<double> bits[2];
+  for (int t = 0; t < 2; ++t) {
+    c.threads = t + 1;
+    World world = settling_world(c);
+    auto coupling = FluidCoupling::attach(world, settling_options(c));
+    sim::initialize(world);
+    sim::advance(world, 1000);
+    const Vec3 x = world.particles.position[0], v = world.particles.velocity[0];
+    bits[t] = {x.x, x.y, x.z, v.x, v.y, v.z};
+    for (int k = 0; k < c.cells[2]; ++k) {
+      const Vec3 u = coupling->fluid().cell_velocity(1, 2, k);
+      bits[t].insert(bits[t].end(), {u.x, u.y, u.z, coupling->fluid().pressure(2, 1, k)});
+    }
+  }
+  ASSERT_EQ(bits[0].size(), bits[1].size());
+  for (std::size_t n = 0; n < bits[0].size(); ++n) EXPECT_EQ(bits[0][n], bits[1][n]) << "value " << n;
+  EXPECT_NE(bits[0][5], 0.0);
+}
+
+// After the coupled steps the fluid's void fraction still holds exactly the particle's volume.
+TEST(FluidCoupling, VoidFractionHoldsTheParticleVolume) {
+  SettlingCase c;
+  c.end_time = 0.001;
+  World world = settling_world(c);
+  auto coupling = FluidCoupling::attach(world, settling_options(c));
+  sim::initialize(world);
+  sim::advance(world, 1000);
+  EXPECT_EQ(coupling->exchanges(), 1 + 1000 / c.coupling_steps);
+  const double cell_volume = c.cell * c.cell * c.cell;  // m³
+  double solid = 0.0;                                   // m³
+  for (double e : coupling->void_fraction()) solid += (1.0 - e) * cell_volume;
+  const double particle = std::numbers::pi * std::pow(c.diameter, 3) / 6.0;
+  // Round-off: 192 cells, each 1 − ε to an ulp of 1 (1.1e-16), times V_cell/V_p = 239: 5e-12.
+  EXPECT_NEAR(solid / particle, 1.0, 1e-10);
+}
+
+// Cells smaller than 3 particle volumes are refused with a hint.
+TEST(FluidCoupling, RefusesCellsTooSmallForTheParticles) {
+  SettlingCase c;
+  World world = settling_world(c);
+  FluidCouplingOptions options = settling_options(c);
+  options.grid.cell_size = {1.1e-4, 1.1e-4, 1.1e-4};  // 1.33e-12 m³ < 3 x 5.24e-13 m³
+  try {
+    FluidCoupling coupling(world, options);
+    FAIL() << "accepted cells of 1.1 particle diameters";
+  } catch (const UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("less than 3 times the volume"), std::string::npos) << e.what();
+  }
+  options.grid.cell_size = {1.5e-4, 1.5e-4, 1.5e-4};  // 3.375e-12 m³ > 3 x 5.24e-13 m³
+  EXPECT_NO_THROW(FluidCoupling(world, options));
+}
+
+}  // namespace
+}  // namespace quarry::cfdem
