@@ -10,6 +10,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "core/diagnostics.h"
 
@@ -64,20 +65,14 @@ std::shared_ptr<FluidCoupling> FluidCoupling::attach(World& world, FluidCoupling
   auto coupling = std::make_shared<FluidCoupling>(world, std::move(options));
   StepHook forces;
   forces.stage = HookStage::post_force;
-  forces.name = "fluid forces";
+  forces.name = "fluid coupling";
   forces.run = [coupling](World& w) {
-    if (coupling->exchanges() == 0) coupling->exchange(w);
+    const auto steps = static_cast<std::uint64_t>(coupling->options().coupling_steps);
+    if (w.step_count % steps == 0 && w.step_count != coupling->last_exchange_step_)
+      coupling->exchange(w);
     coupling->add_forces(w);
   };
-  StepHook exchange;
-  exchange.stage = HookStage::end_of_step;
-  exchange.name = "fluid exchange";
-  exchange.run = [coupling](World& w) {
-    if (w.step_count % static_cast<std::uint64_t>(coupling->options().coupling_steps) == 0)
-      coupling->exchange(w);
-  };
   world.hooks.push_back(std::move(forces));
-  world.hooks.push_back(std::move(exchange));
   return coupling;
 }
 
@@ -150,9 +145,15 @@ cfd::DragResult FluidCoupling::evaluate_drag(const World& world, std::size_t i,
 void FluidCoupling::freeze_fluid_values(const World& world) {
   const ParticleStore& p = world.particles;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    frozen_[i].fluid_velocity = interpolate(weights_[i], cell_velocity_);
-    frozen_[i].pressure_gradient = interpolate(weights_[i], cell_pressure_gradient_);
-    frozen_[i].volume = sphere_volume(p.radius[i]);
+    FrozenParticle& f = frozen_[i];
+    f.id = p.id[i];
+    f.fluid_velocity = interpolate(weights_[i], cell_velocity_);
+    f.pressure_gradient = interpolate(weights_[i], cell_pressure_gradient_);
+    f.volume = sphere_volume(p.radius[i]);
+    f.exchange_velocity = p.velocity[i];
+    f.velocity_sum = Vec3{};
+    f.samples = 0;
+    f.weights = weights_[i];
   }
   layout_epoch_ = p.layout_epoch;
   frozen_count_ = p.size();
@@ -184,6 +185,17 @@ void FluidCoupling::check_relaxation(World& world) const {
 void FluidCoupling::exchange(World& world) {
   const ParticleStore& p = world.particles;
   const cfd::FluidGrid& g = options_.grid;
+  // The previous interval's drag beyond what its fluid step took: the particles felt
+  // β_p (u_p − v_p) at each force evaluation, the fluid β_p (u_p − v_p at the exchange).
+  follow_layout(world);
+  std::vector<CellWeights> old_weights(frozen_.size());
+  std::vector<Vec3> correction(frozen_.size());  // N
+  for (std::size_t i = 0; i < frozen_.size(); ++i) {
+    const FrozenParticle& f = frozen_[i];
+    old_weights[i] = f.weights;
+    if (f.samples > 0)
+      correction[i] = (f.velocity_sum / f.samples - f.exchange_velocity) * f.coefficient;
+  }
   compute_weights(world);
   const double smallest = cfdem::void_fraction(g, weights_, p.radius, void_fraction_);
   if (smallest < options_.minimum_void_fraction) {
@@ -217,22 +229,47 @@ void FluidCoupling::exchange(World& world) {
   // fluid step, β_p v_p explicit.
   deposit(g, weights_, coefficient, beta);
   deposit(g, weights_, momentum, force);
-  fluid_->step(options_.coupling_steps * world.dt);
+  deposit(g, old_weights, correction, force);
+  coupling_step_ = options_.coupling_steps * world.dt;
+  fluid_->step(coupling_step_);
   update_cell_fields();
   freeze_fluid_values(world);
   ++exchanges_;
+  last_exchange_step_ = world.step_count;
   check_relaxation(world);
 }
 
-void FluidCoupling::refreeze(World& world) {
-  compute_weights(world);
-  frozen_.resize(world.particles.size());
-  freeze_fluid_values(world);
-  for (std::size_t i = 0; i < world.particles.size(); ++i)
-    frozen_[i].coefficient =
-        evaluate_drag(world, i, frozen_[i].fluid_velocity, interpolate(weights_[i], void_fraction_),
-                      frozen_[i].pressure_gradient)
-            .coefficient;
+void FluidCoupling::follow_layout(const World& world) {
+  const ParticleStore& p = world.particles;
+  if (p.layout_epoch == layout_epoch_ && p.size() == frozen_count_) return;
+  // Particles reordered, added or removed: each keeps its frozen values by id; a new particle
+  // gets its values from the fluid as it is now (its drag reaches the fluid from the next
+  // exchange on).
+  std::unordered_map<ParticleId, std::size_t> previous;
+  previous.reserve(frozen_.size());
+  for (std::size_t i = 0; i < frozen_.size(); ++i) previous.emplace(frozen_[i].id, i);
+  std::vector<FrozenParticle> moved(p.size());
+  weights_.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (const auto found = previous.find(p.id[i]); found != previous.end()) {
+      moved[i] = frozen_[found->second];
+      weights_[i] = moved[i].weights;
+      continue;
+    }
+    FrozenParticle& f = moved[i];
+    f.id = p.id[i];
+    f.weights = weights_[i] = cell_weights(options_.grid, periodic_, p.position[i]);
+    f.fluid_velocity = interpolate(f.weights, cell_velocity_);
+    f.pressure_gradient = interpolate(f.weights, cell_pressure_gradient_);
+    f.volume = sphere_volume(p.radius[i]);
+    f.coefficient = evaluate_drag(world, i, f.fluid_velocity, interpolate(f.weights, void_fraction_),
+                                  f.pressure_gradient)
+                        .coefficient;
+    f.exchange_velocity = p.velocity[i];
+  }
+  frozen_ = std::move(moved);
+  layout_epoch_ = p.layout_epoch;
+  frozen_count_ = p.size();
 }
 
 Vec3 FluidCoupling::drag_force(const World& world, std::size_t i) const {
@@ -240,10 +277,46 @@ Vec3 FluidCoupling::drag_force(const World& world, std::size_t i) const {
 }
 
 void FluidCoupling::add_forces(World& world) {
+  follow_layout(world);
   ParticleStore& p = world.particles;
-  if (p.layout_epoch != layout_epoch_ || p.size() != frozen_count_) refreeze(world);
-  for (std::size_t i = 0; i < p.size(); ++i)
-    p.force[i] += drag_force(world, i) - frozen_[i].pressure_gradient * frozen_[i].volume;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    FrozenParticle& f = frozen_[i];
+    p.force[i] += drag_force(world, i) - f.pressure_gradient * f.volume;
+    f.velocity_sum += p.velocity[i];
+    f.samples += 1;
+  }
+}
+
+Vec3 FluidCoupling::fluid_momentum() const {
+  const cfd::FluidGrid& g = options_.grid;
+  Vec3 momentum;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    for (int k = 0; k < g.cells[2]; ++k)
+      for (int j = 0; j < g.cells[1]; ++j)
+        for (int i = 0; i < g.cells[0]; ++i) {
+          std::array<int, 3> low{i, j, k};
+          const std::array<int, 3> high{i, j, k};
+          low[a] -= 1;  // the face at the low side of cell (i, j, k)
+          if (low[a] < 0) {
+            if (!periodic_[a]) continue;
+            low[a] += g.cells[a];
+          }
+          const double face_void_fraction =
+              0.5 * (void_fraction_[g.cell_index(low[0], low[1], low[2])] +
+                     void_fraction_[g.cell_index(high[0], high[1], high[2])]);
+          momentum[axis] += options_.properties.density * face_void_fraction *
+                            fluid_->face_velocity(axis, i, j, k) * g.cell_volume();
+        }
+  }
+  return momentum;
+}
+
+Vec3 FluidCoupling::pending_particle_impulse() const {
+  Vec3 force;  // N
+  for (const FrozenParticle& f : frozen_)
+    force += (f.fluid_velocity - f.exchange_velocity) * f.coefficient - f.pressure_gradient * f.volume;
+  return force * coupling_step_;
 }
 
 }  // namespace quarry::cfdem

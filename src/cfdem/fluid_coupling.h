@@ -1,7 +1,9 @@
 // Two-way CFD-DEM coupling of a World with the built-in fluid solver (issue #18 §2-3): every
 // `coupling_steps` DEM steps the particles give the fluid its void fraction and drag (one
 // kernel, cell_kernel.h), the fluid takes one step, and the particles then feel drag with the
-// exchange coefficient frozen and the pressure-gradient force −V_p ∇p at each DEM step.
+// exchange coefficient frozen and the pressure-gradient force −V_p ∇p at each DEM step. The
+// drag the particles felt beyond what the fluid step took (their velocity changed during the
+// interval) goes to the fluid in the next step, so momentum is exchanged exactly.
 // Zhou, Kuang, Chu & Yu 2010 model A. docs/cfd.md "Coupling" gives the timeline.
 #pragma once
 
@@ -33,12 +35,18 @@ struct FluidCouplingOptions {
   double minimum_void_fraction = 0.05;
 };
 
-// The coupling's state between exchanges, per particle (engine index at `layout_epoch`).
+// The coupling's state between exchanges, per particle (engine index at `layout_epoch`; kept
+// with its particle by id when the particles are reordered).
 struct FrozenParticle {
+  ParticleId id = 0;
   double coefficient = 0.0;  // β_p (kg/s), frozen over the coupling step
   Vec3 fluid_velocity;       // u at the particle after the fluid step (m/s)
   Vec3 pressure_gradient;    // ∇p at the particle after the fluid step (Pa/m)
   double volume = 0.0;       // V_p (m³)
+  Vec3 exchange_velocity;    // v_p the fluid step took (m/s)
+  Vec3 velocity_sum;         // Σ v_p over the DEM steps' force evaluations since (m/s)
+  int samples = 0;           // how many
+  CellWeights weights;       // of the exchange
 };
 
 class FluidCoupling {
@@ -51,14 +59,17 @@ class FluidCoupling {
   // other bad options. The fluid starts at rest with ε = 1.
   FluidCoupling(const World& world, FluidCouplingOptions options);
 
-  // Builds the coupling and adds its two hooks to the world (post_force: the fluid forces;
-  // end_of_step: the exchange when a coupling step is complete). The hooks share the returned
-  // object. Call before sim::initialize: the first post_force exchanges once to start.
+  // Builds the coupling and adds its hook to the world (post_force: the exchange when a
+  // coupling step begins, at steps 0, n, 2n, …, then the fluid forces). The hook shares the
+  // returned object. Call before sim::initialize, whose force evaluation makes the first
+  // exchange.
   static std::shared_ptr<FluidCoupling> attach(World& world, FluidCouplingOptions options);
 
   // The coupling step at the world's time: weights of the particles now, ε, β_p from the drag
-  // law at the current slip, β and β_p v_p deposited, one fluid step of coupling_steps · dt,
-  // then u and ∇p at the particles frozen for the DEM steps until the next exchange.
+  // law at the current slip, β and β_p v_p deposited (with the previous interval's correction
+  // β_p (v̄_p − v_p), v̄_p the mean velocity of its force evaluations, on its weights), one
+  // fluid step of coupling_steps · dt, then u and ∇p at the particles frozen for the DEM steps
+  // until the next exchange.
   // Throws PhysicsError (cells too crowded, DEM step longer than a particle's relaxation time
   // m/β_p, a fluid solve failing) or cfd::DragUdfError. Cost: O(particles + fluid step).
   void exchange(World& world);
@@ -77,13 +88,23 @@ class FluidCoupling {
   long long exchanges() const { return exchanges_; }
   // The drag of particle i as add_forces applies it now (N): β_p (u_p − v_p).
   Vec3 drag_force(const World& world, std::size_t i) const;
+  // Fluid momentum Σ ρ ε_f u_f V over the faces between two cells (periodic faces once; faces
+  // on a non-periodic border left out), ε_f the mean of the two cells' ε of the last step
+  // (kg·m/s): the quantity the model-A momentum equation conserves.
+  Vec3 fluid_momentum() const;
+  // What the fluid step of the last exchange took from the particles and they have not felt
+  // yet, when read right after the DEM step that made the exchange with the symplectic Euler
+  // integrator (that step's forces are applied by the next step's kick): Δt_f Σ_p (β_p (u_p − v_p)
+  // − V_p ∇p_p) at the exchange's velocities (N·s). The particles feel it over the interval;
+  // what their changing velocity adds reaches the fluid at the next exchange.
+  Vec3 pending_particle_impulse() const;
 
  private:
   cfd::DragResult evaluate_drag(const World& world, std::size_t i, const Vec3& fluid_velocity,
                                 double porosity, const Vec3& pressure_gradient) const;
   void compute_weights(const World& world);
   void freeze_fluid_values(const World& world);  // u_p, ∇p_p from the fluid now
-  void refreeze(World& world);                   // after a layout change: all frozen values anew
+  void follow_layout(const World& world);        // after a layout change: frozen values by id
   void check_relaxation(World& world) const;
   void update_cell_fields();                     // cell velocities and ∇p from the fluid
 
@@ -97,6 +118,8 @@ class FluidCoupling {
   std::uint64_t layout_epoch_ = ~std::uint64_t{0};
   std::size_t frozen_count_ = 0;
   long long exchanges_ = 0;
+  std::uint64_t last_exchange_step_ = ~std::uint64_t{0};
+  double coupling_step_ = 0.0;  // Δt_f of the last exchange (s)
 };
 
 }  // namespace quarry::cfdem

@@ -235,6 +235,89 @@ TEST(FluidCoupling, VoidFractionHoldsTheParticleVolume) {
   EXPECT_NEAR(solid / particle, 1.0, 1e-10);
 }
 
+// Conservation (issue #18 "Conservation"): in a box periodic on every side, gravity off, the
+// momentum of fluid (Σ ρ ε u V, model A's conserved quantity) plus particles, plus what the
+// last fluid step took and the particles have yet to feel, stays what it was: drag is deposited
+// and interpolated with the same weights, the pressure force −V_p ∇p with central differences
+// is the complement of the fluid's −ε_f ∇p on the faces, and the drag the particles felt beyond
+// the fluid step's share goes to the fluid at the next exchange. Exact but for the linear
+// solves, whose relative residual is set to 1e-13 here (the fluid's momentum is only as
+// conserved as its momentum and pressure equations are solved).
+TEST(FluidCoupling, MomentumOfFluidAndParticlesIsConservedInAPeriodicBox) {
+  const double cell = 3e-3;  // m
+  const int cells = 6;
+  const double side = cell * cells;
+  const std::string deck = fmt::format(R"(
+simulation:
+  end_time: 0.02
+  time_step: 1.0e-5
+  impact_speed: 0.05
+  gravity: [0, 0, 0]
+  integrator: symplectic_euler
+  domain: {{min: [0, 0, 0], max: [{s}, {s}, {s}]}}
+materials:
+  - {{name: solid, density: 2500, youngs_modulus: 1.0e6, poisson_ratio: 0.3}}
+interactions:
+  - {{materials: [solid, solid], restitution: 0.5, static_friction: 0.3}}
+particle_types:
+  - {{name: sphere, material: solid, size: {{distribution: fixed, radius: 5.0e-4}}}}
+output:
+  directory: out_cfdem_test
+  interval: 0
+  plots: false
+)",
+                                       fmt::arg("s", side));
+  World world = build_world(parse_deck_string(deck, "periodic.yaml"));
+  std::vector<sim::NewParticle> particles;
+  for (int n = 0; n < 8; ++n) {
+    sim::NewParticle particle;
+    particle.position = {side * (0.3 + 0.4 * (n % 2)) + 1e-4 * n, side * (0.3 + 0.4 * ((n / 2) % 2)),
+                         side * (0.3 + 0.4 * (n / 4)) - 2e-4 * n};
+    particle.velocity = {0.02 * (n % 3 - 1), 0.01 + 0.005 * n, -0.015 * (n % 2)};
+    particle.radius = 5e-4;
+    particles.push_back(particle);
+  }
+  sim::add_particles(world, particles);
+  FluidCouplingOptions options;
+  options.grid.cell_size = {cell, cell, cell};
+  options.grid.cells = {cells, cells, cells};
+  options.properties = {1000.0, 0.01};
+  for (int axis = 0; axis < 3; ++axis) options.boundaries.set_periodic(axis);
+  options.solver.pressure_tolerance = 1e-13;
+  options.solver.velocity_tolerance = 1e-13;
+  options.coupling_steps = 5;
+  options.drag_law = cfd::DragLaw::schiller_naumann;
+  auto coupling = FluidCoupling::attach(world, options);
+  const auto total = [&] {
+    Vec3 sum = coupling->fluid_momentum() + coupling->pending_particle_impulse();
+    for (std::size_t i = 0; i < world.particles.size(); ++i)
+      sum += world.particles.velocity[i] * world.particles.mass(i);
+    return sum;
+  };
+  sim::initialize(world);
+  const Vec3 start = total();
+  double particle_start = 0.0;  // kg·m/s, Σ m |v|: the scale of what is exchanged
+  for (std::size_t i = 0; i < world.particles.size(); ++i)
+    particle_start += std::sqrt(dot(world.particles.velocity[i], world.particles.velocity[i])) *
+                      world.particles.mass(i);
+  double largest_change = 0.0;
+  for (int interval = 0; interval < 400; ++interval) {
+    sim::advance(world, 5);
+    const Vec3 change = total() - start;
+    largest_change = std::max({largest_change, std::abs(change.x), std::abs(change.y), std::abs(change.z)});
+  }
+  const Vec3 fluid = coupling->fluid_momentum();
+  const double fluid_share = std::max({std::abs(fluid.x), std::abs(fluid.y), std::abs(fluid.z)});
+  std::printf("[ measured ] over 400 exchanges: largest change of the total %.3g kg·m/s, Σ m|v| at "
+              "the start %.3g kg·m/s, fluid momentum at the end %.3g kg·m/s\n",
+              largest_change, particle_start, fluid_share);
+  // The particles have given a good part of their momentum to the fluid: the test tests.
+  EXPECT_GT(fluid_share, 0.1 * particle_start);
+  // 400 fluid steps, each conserving to its solves' 1e-13: 4e-11 of what moves. Without the
+  // next-exchange correction the drift measured 1.2e-3 of Σ m|v| (4.3e-10 kg·m/s).
+  EXPECT_LT(largest_change, 1e-10 * particle_start);
+}
+
 // Cells smaller than 3 particle volumes are refused with a hint.
 TEST(FluidCoupling, RefusesCellsTooSmallForTheParticles) {
   SettlingCase c;
