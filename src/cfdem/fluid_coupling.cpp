@@ -41,7 +41,7 @@ FluidCoupling::FluidCoupling(const World& world, FluidCouplingOptions options)
   const double cell_volume = options_.grid.cell_volume();
   if (world.max_radius > 0.0 && cell_volume < 3.0 * largest_particle)
     throw UserError(
-        SourceLocation{},
+        options_.grid_where,
         fmt::format("fluid cells of {:.4g} m³ ({:.4g} x {:.4g} x {:.4g} m) hold less than 3 times the "
                     "volume of the largest particle ({:.4g} m³, radius {:.4g} m): ratio {:.3g}",
                     cell_volume, options_.grid.cell_size.x, options_.grid.cell_size.y,

@@ -22,6 +22,7 @@ namespace quarry::cfdem {
 
 struct FluidCouplingOptions {
   cfd::FluidGrid grid;
+  SourceLocation grid_where;  // where the deck sets the cell size (for the cell-size check)
   cfd::FluidProperties properties;
   cfd::FluidBoundaries boundaries;
   // Tolerances and model of the fluid solver. Its gravity and threads are taken from the world.

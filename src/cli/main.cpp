@@ -19,6 +19,7 @@
 #include <iostream>
 
 #include "api/server.h"
+#include "cfdem/fluid_setup.h"
 #include "cli/udf_build.h"
 #include "fsi/structure_run.h"
 #include "core/allocator.h"
@@ -66,6 +67,7 @@ int exit_code(const sim::RunSummary& s) { return s.interrupted() ? 130 : 0; }
 int command_run(const std::string& deck, const Common& c) {
   SimulationSpec spec = parse_deck(deck);
   World world = build_world(spec);
+  const auto fluid = cfdem::attach_fluid_from_spec(world);  // null without a fluid: section
   // The deck's structures (two-way shell coupling) run as end-of-step hooks of the run loop.
   fsi::CoupledStructures structures(world, std::cerr,
                                     c.output_dir.empty() ? spec.output.directory.value : c.output_dir);
@@ -85,6 +87,7 @@ int command_check(const std::string& deck) {
   if (d.has_errors()) throw UserError(d);
   std::cerr << d.format();
   World world = build_world(spec);
+  cfdem::attach_fluid_from_spec(world);  // the fluid: section's checks (grid, time step, UDF)
   // The world's own notes (e.g. facets an STL reader removed); the time step's are printed above.
   for (const std::string& note : world.warnings)
     if (std::none_of(choice.problems.begin(), choice.problems.end(), [&](const Diagnostic& p) { return p.message == note; }))

@@ -11,6 +11,7 @@
 
 #include "core/diagnostics.h"
 #include "core/structure_spec.h"
+#include "core/fluid_spec.h"
 #include "core/vec3.h"
 
 namespace quarry {
@@ -205,6 +206,7 @@ struct SimulationSpec {
   OutputSpec output;
   ExportSpec fem_export;                // `export:` section (export is a C++ keyword)
   std::vector<StructureSpec> structures;  // `structures:` section (two-way shell coupling)
+  std::optional<FluidSpec> fluid;       // `fluid:` section (CFD-DEM, issue #18)
 };
 
 }  // namespace quarry

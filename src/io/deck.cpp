@@ -25,7 +25,7 @@ using deck_detail::MapReader;
 const std::vector<std::string> kTopLevelKeys = {"simulation",     "materials", "interactions",
                                                 "particle_types", "surfaces",  "factories",
                                                 "monitors",       "output",
-                                                "export",         "structures"};
+                                                "export",         "structures",     "fluid"};
 
 // Reports a second entry of the same name in one section; empty names were reported already.
 void check_unique_names(DeckContext& context, const std::string& noun,
@@ -238,6 +238,7 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
     deck_detail::read_output_section(top, spec.output);
     deck_detail::read_export_section(top, spec.fem_export);
     deck_detail::read_structures_section(top, options, spec, spec.structures);
+    deck_detail::read_fluid_section(top, options, spec.fluid);
     check_cross_references(context, spec);
   }
   if (context.diagnostics.has_errors()) throw UserError(in_file_order(context.diagnostics));

@@ -3,6 +3,7 @@
 // every section has been read.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,11 @@ void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors);
 // needs the materials, surfaces and end time read before it (names and PERIOD are checked).
 void read_structures_section(MapReader& root, const DeckParseOptions& options, const SimulationSpec& spec,
                              std::vector<StructureSpec>& structures);
+
+// deck_fluid.cpp: the optional `fluid:` section (CFD-DEM, issue #18); a UDF library's path is
+// resolved against options.base_directory.
+void read_fluid_section(MapReader& root, const DeckParseOptions& options,
+                        std::optional<FluidSpec>& fluid);
 
 // The map behind each element of a list-valued key: `what` names an element in messages.
 // Null elements (a bare "-") are reported; their location falls back to the list's key.

@@ -1,0 +1,79 @@
+// SimulationSpec::fluid → FluidCouplingOptions (grid, properties, faces, drag, coupling steps),
+// with the deck's locations on every error.
+#include "cfdem/fluid_setup.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/diagnostics.h"
+
+namespace quarry::cfdem {
+
+namespace {
+
+cfd::BoundaryKind boundary_kind(FluidBoundaryType type) {
+  switch (type) {
+    case FluidBoundaryType::wall: return cfd::BoundaryKind::wall;
+    case FluidBoundaryType::velocity_inlet: return cfd::BoundaryKind::velocity_inlet;
+    case FluidBoundaryType::pressure_outlet: return cfd::BoundaryKind::pressure_outlet;
+    case FluidBoundaryType::periodic: return cfd::BoundaryKind::periodic;
+  }
+  return cfd::BoundaryKind::wall;
+}
+
+}  // namespace
+
+FluidCouplingOptions coupling_options_from_spec(const World& world) {
+  const FluidSpec& spec = *world.spec.fluid;
+  FluidCouplingOptions options;
+  options.grid.origin = spec.origin.value;
+  options.grid.cell_size = {spec.cell_size.value, spec.cell_size.value, spec.cell_size.value};
+  for (int axis = 0; axis < 3; ++axis)
+    options.grid.cells[static_cast<std::size_t>(axis)] = static_cast<int>(spec.cells.value[axis]);
+  options.grid_where = spec.cell_size.where;
+  options.properties = {spec.density.value, spec.viscosity.value};
+  for (std::size_t face = 0; face < 6; ++face) {
+    const FluidFaceSpec& f = spec.faces[face];
+    cfd::FaceBoundary& b = options.boundaries.faces[face];
+    b.kind = boundary_kind(f.type.value);
+    b.velocity = f.velocity.value;
+    b.reference_pressure = f.reference_pressure.value;
+    b.reference_point = f.reference_point.value;
+  }
+  if (spec.model.value != FluidModel::a)
+    throw UserError(spec.model.where, "the CFD-DEM coupling supports model A only so far",
+                    "write model: A (the drag laws are written for it; issue #18)");
+  // Δt_f = n Δt_DEM with n a whole number (the seed's rule: physical times must match).
+  const double ratio = spec.time_step.value / world.dt;
+  const double steps = std::round(ratio);
+  if (steps < 1.0 || std::abs(ratio - steps) > 1e-9 * steps)
+    throw UserError(spec.time_step.where,
+                    fmt::format("the fluid time step {:.6g} s is not a whole multiple of the DEM time "
+                                "step {:.6g} s (ratio {:.9g})",
+                                spec.time_step.value, world.dt, ratio),
+                    fmt::format("use {:.6g} s ({} DEM steps)", std::max(1.0, steps) * world.dt,
+                                std::max(1.0, steps)));
+  options.coupling_steps = static_cast<int>(steps);
+  if (spec.drag_udf) {
+    options.drag_udf = cfd::load_drag_udf(spec.drag_udf->library.value, spec.drag_udf->function.value,
+                                          spec.drag_udf->library.where, spec.drag_udf->function.where);
+  } else {
+    const std::optional<cfd::DragLaw> law = cfd::drag_law_from_name(spec.drag_law.value);
+    if (!law) throw UserError(spec.drag_law.where, "unknown drag law \"" + spec.drag_law.value + "\"");
+    options.drag_law = *law;
+  }
+  return options;
+}
+
+std::shared_ptr<FluidCoupling> attach_fluid_from_spec(World& world) {
+  if (!world.spec.fluid) return nullptr;
+  FluidCouplingOptions options = coupling_options_from_spec(world);
+  try {
+    return FluidCoupling::attach(world, std::move(options));
+  } catch (const std::invalid_argument& e) {
+    throw UserError(world.spec.fluid->where, e.what());
+  }
+}
+
+}  // namespace quarry::cfdem

@@ -1,0 +1,44 @@
+// The deck's `fluid:` section as plain located data (issue #18 §5): grid, fluid properties,
+// boundaries, formulation, drag law or user-defined drag, fluid time step. Read by
+// io/deck_fluid.cpp; made into a coupled fluid by cfdem/fluid_setup.h. docs/deck.md "fluid".
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "core/diagnostics.h"
+#include "core/vec3.h"
+
+namespace quarry {
+
+enum class FluidBoundaryType { wall, velocity_inlet, pressure_outlet, periodic };
+enum class FluidModel { a, b };
+
+struct FluidFaceSpec {
+  Located<FluidBoundaryType> type{FluidBoundaryType::wall};
+  Located<Vec3> velocity;               // m/s: a wall's (tangential part), an inlet's
+  Located<double> reference_pressure{0.0};  // Pa: a pressure outlet's p_ref
+  Located<Vec3> reference_point;        // m: where p = p_ref (hydrostatic outlet)
+};
+
+struct FluidDragUdfSpec {
+  Located<std::string> library;   // path resolved against the deck's folder
+  Located<std::string> function;  // symbol name
+};
+
+struct FluidSpec {
+  SourceLocation where;                         // the fluid: section
+  Located<double> density{1000.0};              // ρ_f (kg/m³)
+  Located<double> viscosity{1e-3};              // μ (Pa·s)
+  Located<double> time_step{0.0};               // Δt_f (s): an integer multiple of the DEM step
+  Located<Vec3> origin;                         // m, the grid's low corner
+  Located<double> cell_size{0.0};               // m, cubic cells
+  Located<Vec3> cells{Vec3{1.0, 1.0, 1.0}};     // integers ≥ 1 per axis
+  std::array<FluidFaceSpec, 6> faces;           // x_min, x_max, y_min, y_max, z_min, z_max
+  Located<FluidModel> model{FluidModel::a};
+  Located<std::string> drag_law{std::string("stokes")};  // a name of cfd::kDragLawNames
+  std::optional<FluidDragUdfSpec> drag_udf;     // replaces drag_law when present
+};
+
+}  // namespace quarry

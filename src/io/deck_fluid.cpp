@@ -1,0 +1,135 @@
+// The deck's `fluid:` section (CFD-DEM, issue #18 §5): grid, fluid properties, the boundary of
+// each box face, formulation, drag law or user-defined drag, fluid time step. Reads into
+// FluidSpec; the UDF library is loaded (and its errors placed here) when the run is built.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+#include "cfd/drag_laws.h"  // kDragLawNames only (header data: no link dependency on cfd)
+#include "io/deck_sections.h"
+
+namespace quarry::deck_detail {
+
+namespace {
+
+const EnumChoices<FluidBoundaryType> kFluidBoundaryTypes{
+    "fluid boundary type",
+    {{"wall", FluidBoundaryType::wall},
+     {"velocity_inlet", FluidBoundaryType::velocity_inlet},
+     {"pressure_outlet", FluidBoundaryType::pressure_outlet},
+     {"periodic", FluidBoundaryType::periodic}}};
+
+const EnumChoices<FluidModel> kFluidModels{"fluid model", {{"A", FluidModel::a}, {"B", FluidModel::b}}};
+
+const std::array<const char*, 6> kFaceKeys{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+
+void read_face(MapReader& boundaries, int face, FluidFaceSpec& spec) {
+  const std::string key = kFaceKeys[static_cast<std::size_t>(face)];
+  MapReader map(boundaries.context(), *boundaries.find(key), *boundaries.find_key(key), key);
+  map.reject_unknown_keys({"type", "velocity", "reference_pressure", "reference_point"});
+  map.read("type", spec.type, kFluidBoundaryTypes, Presence::required);
+  map.read("velocity", spec.velocity);
+  map.read("reference_pressure", spec.reference_pressure, any_number(), "Pa");
+  map.read("reference_point", spec.reference_point);
+  const FluidBoundaryType type = spec.type.value;
+  if (map.has("velocity") && type != FluidBoundaryType::wall && type != FluidBoundaryType::velocity_inlet)
+    map.context().error(map.where_value("velocity"),
+                        fmt::format("\"velocity\" applies to a wall or a velocity_inlet, not to {}", key),
+                        "leave it out");
+  if ((map.has("reference_pressure") || map.has("reference_point")) &&
+      type != FluidBoundaryType::pressure_outlet)
+    map.context().error(map.location(),
+                        fmt::format("{}: \"reference_pressure\" and \"reference_point\" apply to a "
+                                    "pressure_outlet only",
+                                    key),
+                        "leave them out, or make the face type: pressure_outlet");
+}
+
+void read_drag_udf(MapReader& fluid, const DeckParseOptions& options, FluidSpec& spec) {
+  MapReader map(fluid.context(), *fluid.find("drag_udf"), *fluid.find_key("drag_udf"), "drag_udf");
+  if (!map.is_map()) return;
+  map.reject_unknown_keys({"library", "function"});
+  FluidDragUdfSpec udf;
+  if (map.read("library", udf.library, Presence::required)) {
+    std::filesystem::path path(udf.library.value);
+    if (path.is_relative() && !options.base_directory.empty())
+      udf.library.value = (std::filesystem::path(options.base_directory) / path).string();
+  }
+  map.read("function", udf.function, Presence::required);
+  spec.drag_udf = udf;
+}
+
+}  // namespace
+
+void read_fluid_section(MapReader& root, const DeckParseOptions& options,
+                        std::optional<FluidSpec>& fluid) {
+  const YAML::Node* value = root.find("fluid");
+  if (!value) return;
+  MapReader map(root.context(), *value, *root.find_key("fluid"), "fluid");
+  if (!map.is_map()) return;
+  DeckContext& context = map.context();
+  FluidSpec spec;
+  spec.where = map.location();
+  map.reject_unknown_keys({"density", "viscosity", "time_step", "grid", "boundaries", "model",
+                           "drag_law", "drag_udf"});
+  map.read("density", spec.density, positive(), "kg/m³");
+  map.read("viscosity", spec.viscosity, positive(), "Pa·s");
+  map.read("time_step", spec.time_step, positive(), "s", Presence::required);
+  map.read("model", spec.model, kFluidModels);
+
+  if (map.require("grid")) {
+    MapReader grid(context, *map.find("grid"), *map.find_key("grid"), "grid");
+    grid.reject_unknown_keys({"origin", "cell_size", "cells"});
+    grid.read("origin", spec.origin, Presence::required);
+    grid.read("cell_size", spec.cell_size, positive(), "m", Presence::required);
+    if (grid.read("cells", spec.cells, Presence::required)) {
+      for (int axis = 0; axis < 3; ++axis) {
+        const double n = spec.cells.value[axis];
+        if (!(n >= 1.0 && n == std::floor(n) && n <= 1e6)) {
+          context.error(spec.cells.where,
+                        fmt::format("\"cells\" must be whole numbers ≥ 1 per axis, got {} along {}", n,
+                                    "xyz"[axis]),
+                        "write the cell count along x, y and z, e.g. cells: [4, 4, 12]");
+          break;
+        }
+      }
+    }
+  }
+
+  if (const YAML::Node* boundaries_node = map.find("boundaries")) {
+    MapReader boundaries(context, *boundaries_node, *map.find_key("boundaries"), "boundaries");
+    boundaries.reject_unknown_keys({kFaceKeys.begin(), kFaceKeys.end()});
+    for (int face = 0; face < 6; ++face)
+      if (boundaries.has(kFaceKeys[static_cast<std::size_t>(face)]))
+        read_face(boundaries, face, spec.faces[static_cast<std::size_t>(face)]);
+    for (int axis = 0; axis < 3; ++axis) {
+      const bool low = spec.faces[static_cast<std::size_t>(2 * axis)].type.value == FluidBoundaryType::periodic;
+      const bool high = spec.faces[static_cast<std::size_t>(2 * axis + 1)].type.value == FluidBoundaryType::periodic;
+      if (low != high)
+        context.error(boundaries.location(),
+                      fmt::format("{} and {} must both be periodic or neither",
+                                  kFaceKeys[static_cast<std::size_t>(2 * axis)],
+                                  kFaceKeys[static_cast<std::size_t>(2 * axis + 1)]),
+                      "a periodic face is paired with the opposite one");
+    }
+  }
+
+  std::vector<std::string> law_names;
+  for (const cfd::DragLawName& law : cfd::kDragLawNames) law_names.emplace_back(law.name);
+  if (map.read("drag_law", spec.drag_law)) {
+    if (std::find(law_names.begin(), law_names.end(), spec.drag_law.value) == law_names.end())
+      context.error(spec.drag_law.where, fmt::format("unknown drag law \"{}\"", spec.drag_law.value),
+                    suggestion_hint(spec.drag_law.value, law_names));
+  }
+  if (map.has("drag_udf")) {
+    if (map.has("drag_law"))
+      context.error(map.where_value("drag_udf"), "give either drag_law or drag_udf, not both",
+                    "drag_udf replaces the built-in law");
+    read_drag_udf(map, options, spec);
+  }
+  fluid = spec;
+}
+
+}  // namespace quarry::deck_detail

@@ -1,0 +1,20 @@
+#!/bin/bash
+# The stokes_settling example as its README runs it, in a copy of the example's folder under the
+# build tree (the source tree stays clean): `quarry udf build usrStokesDrag.c`, then `quarry run`
+# to the seed's end time; the particle's settling velocity in monitors.csv must be within 1 % of
+# the analytic 0.002725 m/s (seed 001), and the velocity plot must exist.
+# Usage: stokes_settling_example_test.sh QUARRY EXAMPLE_DIR WORK_DIR
+set -euo pipefail
+quarry=$1 example=$2 work=$3
+rm -rf "$work"
+mkdir -p "$work"
+cp "$example/stokes_settling.yaml" "$example/usrStokesDrag.c" "$work/"
+cd "$work"
+"$quarry" udf build usrStokesDrag.c
+"$quarry" run stokes_settling.yaml --quiet --overwrite
+test -s out/mean_speed.png
+# The last row's mean_vz_m_s (the column is found by its name).
+velocity=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "mean_vz_m_s") column = i; next }
+                    { last = $column } END { print last }' out/monitors.csv)
+echo "terminal velocity ${velocity} m/s (analytic -0.002725)"
+awk -v v="$velocity" 'BEGIN { r = -v / 0.002725; exit !(r > 0.99 && r < 1.01) }'
