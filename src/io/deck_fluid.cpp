@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <filesystem>
 #include <vector>
 
@@ -130,6 +131,55 @@ void read_fluid_section(MapReader& root, const DeckParseOptions& options,
     read_drag_udf(map, options, spec);
   }
   fluid = spec;
+}
+
+namespace {
+
+std::string vector_yaml(const Vec3& v) { return fmt::format("[{}, {}, {}]", v.x, v.y, v.z); }
+
+// A YAML double-quoted string (paths may hold any character).
+std::string quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+template <class Enum>
+const std::string& spelling_of(const EnumChoices<Enum>& choices, Enum value) {
+  for (const auto& [spelling, enum_value] : choices.names)
+    if (enum_value == value) return spelling;
+  throw std::logic_error("a fluid enum value without a spelling");
+}
+
+}  // namespace
+
+std::string fluid_section_text(const FluidSpec& spec) {
+  std::string out = "fluid:\n";
+  out += fmt::format("  density: {}\n  viscosity: {}\n  time_step: {}\n", spec.density.value,
+                     spec.viscosity.value, spec.time_step.value);
+  out += fmt::format("  grid: {{origin: {}, cell_size: {}, cells: {}}}\n", vector_yaml(spec.origin.value),
+                     spec.cell_size.value, vector_yaml(spec.cells.value));
+  out += "  boundaries:\n";
+  for (std::size_t face = 0; face < 6; ++face) {
+    const FluidFaceSpec& f = spec.faces[face];
+    out += fmt::format("    {}: {{type: {}", kFaceKeys[face], spelling_of(kFluidBoundaryTypes, f.type.value));
+    if (f.type.value == FluidBoundaryType::wall || f.type.value == FluidBoundaryType::velocity_inlet)
+      out += ", velocity: " + vector_yaml(f.velocity.value);
+    if (f.type.value == FluidBoundaryType::pressure_outlet)
+      out += fmt::format(", reference_pressure: {}, reference_point: {}", f.reference_pressure.value,
+                         vector_yaml(f.reference_point.value));
+    out += "}\n";
+  }
+  out += "  model: " + spelling_of(kFluidModels, spec.model.value) + "\n";
+  if (spec.drag_udf)
+    out += fmt::format("  drag_udf: {{library: {}, function: {}}}\n", quoted(spec.drag_udf->library.value),
+                       quoted(spec.drag_udf->function.value));
+  else
+    out += "  drag_law: " + spec.drag_law.value + "\n";
+  return out;
 }
 
 }  // namespace quarry::deck_detail

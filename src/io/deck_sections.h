@@ -38,6 +38,8 @@ void read_structures_section(MapReader& root, const DeckParseOptions& options, c
 // resolved against options.base_directory.
 void read_fluid_section(MapReader& root, const DeckParseOptions& options,
                         std::optional<FluidSpec>& fluid);
+// The section as the deck writer writes it (every key, defaults included), ending in a newline.
+std::string fluid_section_text(const FluidSpec& fluid);
 
 // The map behind each element of a list-valued key: `what` names an element in messages.
 // Null elements (a bare "-") are reported; their location falls back to the list's key.

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "io/deck_enums.h"
+#include "io/deck_sections.h"
 
 namespace quarry {
 
@@ -435,7 +436,9 @@ std::string write_deck(const SimulationSpec& spec) {
   write_output(deck, spec.output);
   write_export(deck, spec.fem_export);
   write_structures(deck, spec.structures);
-  return deck.take();
+  std::string text = deck.take();
+  if (spec.fluid) text += deck_detail::fluid_section_text(*spec.fluid);
+  return text;
 }
 
 }  // namespace quarry

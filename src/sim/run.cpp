@@ -134,6 +134,10 @@ RunSummary run(World& world, const RunOptions& options) {
 RunSummary restart(const std::string& checkpoint_path, const RunOptions& options) {
   RestoredWorld restored = read_checkpoint(checkpoint_path);
   World& world = restored.world;
+  if (world.spec.fluid)  // CFD-DEM (issue #18): the fluid's fields are not in a checkpoint yet
+    throw UserError({checkpoint_path, 0, 0}, "a run with a fluid: section cannot be restarted yet",
+                    "the checkpoint holds the particles but not the fluid's velocity and pressure; "
+                    "run the deck again from the start");
   const double end_time = options.end_time ? *options.end_time : world.spec.simulation.end_time.value;
   if (options.threads > 0) world.threading.threads = options.threads;
   RunOptions o = options;
