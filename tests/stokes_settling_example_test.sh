@@ -14,6 +14,9 @@ cd "$work"
 "$quarry" udf build usrStokesDrag.c
 "$quarry" run stokes_settling.yaml --quiet --overwrite
 test -s out/mean_speed.png
+# The fluid's fields: a frame at t = 0 and every 0.0015 s to 0.015 s, listed in fluid.pvd.
+test "$(ls out/fluid_*.vti | wc -l)" -eq 11
+test "$(grep -c 'fluid_0000[0-9][0-9].vti' out/fluid.pvd)" -eq 11
 # The last row's mean_vz_m_s (the column is found by its name).
 velocity=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "mean_vz_m_s") column = i; next }
                     { last = $column } END { print last }' out/monitors.csv)

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "cfdem/fluid_output.h"
 #include "core/diagnostics.h"
 
 namespace quarry::cfdem {
@@ -70,7 +71,9 @@ std::shared_ptr<FluidCoupling> attach_fluid_from_spec(World& world) {
   if (!world.spec.fluid) return nullptr;
   FluidCouplingOptions options = coupling_options_from_spec(world);
   try {
-    return FluidCoupling::attach(world, std::move(options));
+    std::shared_ptr<FluidCoupling> coupling = FluidCoupling::attach(world, std::move(options));
+    attach_fluid_output(world, coupling);
+    return coupling;
   } catch (const std::invalid_argument& e) {
     throw UserError(world.spec.fluid->where, e.what());
   }

@@ -15,7 +15,8 @@ namespace quarry::cfdem {
 // (cfd::load_drag_udf's errors), cells too small for the particles (FluidCoupling).
 FluidCouplingOptions coupling_options_from_spec(const World& world);
 
-// coupling_options_from_spec, then FluidCoupling::attach; null when the deck has no fluid.
+// coupling_options_from_spec, then FluidCoupling::attach and attach_fluid_output (fluid.pvd
+// with fluid_NNNNNN.vti at the particle frames' interval); null when the deck has no fluid.
 std::shared_ptr<FluidCoupling> attach_fluid_from_spec(World& world);
 
 }  // namespace quarry::cfdem
