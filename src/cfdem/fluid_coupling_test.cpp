@@ -195,6 +195,47 @@ TEST(FluidCoupling, SchillerNaumannSettlingReachesTheForceBalance) {
   EXPECT_LT(terminal, 0.95 * stokes_terminal_velocity(c, 1.0));
 }
 
+// Di Felice (1994, Int. J. Multiphase Flow 20:153-159) in the same column: the terminal velocity
+// solves (ρ_p − ρ_f) V_p g = ½ C_d ρ_f (π d²/4) ε² v² ε^(−χ), C_d = (0.63 + 4.8/√Re_p)²
+// (Dallavalle 1948), χ = 3.7 − 0.65 exp(−(1.5 − log10 Re_p)²/2), Re_p = ρ_f ε v d / μ, with ε
+// the void fraction at the particle (the law's input; 0.9991 here); by bisection.
+TEST(FluidCoupling, DiFeliceSettlingReachesTheForceBalance) {
+  SettlingCase c;
+  c.viscosity = 0.01;
+  c.particle_density = 2000.0;
+  c.diameter = 5e-4;
+  c.cell = 2.5e-3;  // 5 d
+  c.cells = {4, 4, 6};
+  c.start_height = 1.2e-2;
+  c.dem_step = 1e-5;
+  c.coupling_steps = 5;
+  c.end_time = 0.05;
+  FluidCouplingOptions options = settling_options(c);
+  options.drag_law = cfd::DragLaw::di_felice;
+  const SettlingResult r = settle(c, options);
+  const double e = r.porosity;
+  const double weight = (c.particle_density - c.fluid_density) * std::numbers::pi *
+                        std::pow(c.diameter, 3) / 6.0 * 9.81;  // N
+  const auto drag = [&](double v) {
+    const double re = c.fluid_density * e * v * c.diameter / c.viscosity;
+    const double cd = std::pow(0.63 + 4.8 / std::sqrt(re), 2);
+    const double chi = 3.7 - 0.65 * std::exp(-std::pow(1.5 - std::log10(re), 2) / 2.0);
+    return 0.5 * cd * c.fluid_density * std::numbers::pi * c.diameter * c.diameter / 4.0 * e * e * v *
+           v * std::pow(e, -chi);
+  };
+  double low = 1e-9, high = 1.0;  // m/s
+  for (int n = 0; n < 200; ++n) {
+    const double mid = 0.5 * (low + high);
+    (drag(mid) < weight ? low : high) = mid;
+  }
+  const double terminal = 0.5 * (low + high);
+  std::printf("[ measured ] Di Felice terminal velocity %.7g m/s, force balance %.7g m/s (ε %.6f), "
+              "2 ms earlier %.7g m/s\n",
+              -r.velocity, terminal, e, -r.velocity_before);
+  EXPECT_NEAR(-r.velocity / terminal, 1.0, 0.01);
+  EXPECT_NEAR(r.velocity / r.velocity_before, 1.0, 1e-3);
+}
+
 // The coupled step on 1 and 2 threads (every loop on the team, threshold 0): the same bits.
 TEST(FluidCoupling, OneAndTwoThreadsAreBitIdentical) {
   SettlingCase c;
