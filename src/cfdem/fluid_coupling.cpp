@@ -114,9 +114,12 @@ void FluidCoupling::update_cell_fields() {
 
 void FluidCoupling::compute_weights(const World& world) {
   const ParticleStore& p = world.particles;
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
   weights_.resize(p.size());
-  for (std::size_t i = 0; i < p.size(); ++i)
-    weights_[i] = cell_weights(options_.grid, periodic_, p.position[i]);
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
+  for (std::ptrdiff_t i = 0; i < n; ++i)
+    weights_[static_cast<std::size_t>(i)] =
+        cell_weights(options_.grid, periodic_, p.position[static_cast<std::size_t>(i)]);
 }
 
 cfd::DragResult FluidCoupling::evaluate_drag(const World& world, std::size_t i,
@@ -144,7 +147,10 @@ cfd::DragResult FluidCoupling::evaluate_drag(const World& world, std::size_t i,
 
 void FluidCoupling::freeze_fluid_values(const World& world) {
   const ParticleStore& p = world.particles;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
     FrozenParticle& f = frozen_[i];
     f.id = p.id[i];
     f.fluid_velocity = interpolate(weights_[i], cell_velocity_);
@@ -159,7 +165,7 @@ void FluidCoupling::freeze_fluid_values(const World& world) {
   frozen_count_ = p.size();
 }
 
-void FluidCoupling::check_relaxation(World& world) const {
+void FluidCoupling::check_relaxation(World& world) {
   // The particle side updates v each DEM step with β_p frozen (explicit in v): stable and
   // accurate only while dt ≪ m/β_p, the particle's relaxation time.
   const ParticleStore& p = world.particles;
@@ -173,12 +179,14 @@ void FluidCoupling::check_relaxation(World& world) const {
           "overshoot. hint: a smaller time_step, or larger particles",
           world.step_count, world.time, p.id[i], 1.0 / rate, world.dt, frozen_[i].coefficient,
           1.0 / p.inv_mass[i]));
-    if (coupling_step * rate > 1.0)
+    if (coupling_step * rate > 1.0 && !relaxation_warned_) {
+      relaxation_warned_ = true;  // once per run: the first particle and time it happened
       add_warning_once(world, fmt::format(
           "the fluid coupling step {:.4g} s is longer than the drag relaxation time m/β_p = {:.4g} s "
           "of particle {} at t = {:.6g} s: the frozen drag coefficient lags the slip; use fewer "
           "DEM steps per fluid step",
           coupling_step, 1.0 / rate, p.id[i], world.time));
+    }
   }
 }
 
@@ -217,14 +225,28 @@ void FluidCoupling::exchange(World& world) {
   std::fill(force.begin(), force.end(), Vec3{});
   std::vector<double> coefficient(p.size());
   std::vector<Vec3> momentum(p.size());  // β_p v_p (N)
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const Vec3 u = interpolate(weights_[i], cell_velocity_);
-    const double porosity = interpolate(weights_[i], void_fraction_);
-    const Vec3 gradient = interpolate(weights_[i], cell_pressure_gradient_);
-    coefficient[i] = evaluate_drag(world, i, u, porosity, gradient).coefficient;
+  // Each particle on its own (threads); a law or UDF that throws is evaluated again after the
+  // loop for the lowest such index, so the error is the same for any thread count.
+  std::vector<char> failed(p.size(), 0);
+  const auto drag_of = [&](std::size_t i) {
+    return evaluate_drag(world, i, interpolate(weights_[i], cell_velocity_),
+                         interpolate(weights_[i], void_fraction_),
+                         interpolate(weights_[i], cell_pressure_gradient_));
+  };
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    try {
+      coefficient[i] = drag_of(i).coefficient;
+    } catch (...) {
+      failed[i] = 1;
+    }
     frozen_[i].coefficient = coefficient[i];
     momentum[i] = p.velocity[i] * coefficient[i];
   }
+  if (const auto first = std::find(failed.begin(), failed.end(), char{1}); first != failed.end())
+    drag_of(static_cast<std::size_t>(first - failed.begin()));  // throws as it did in the loop
   // The fluid's share of the drag, −Σ_p β_p (u − v_p) spread by the weights: β u implicit in the
   // fluid step, β_p v_p explicit.
   deposit(g, weights_, coefficient, beta);
@@ -279,7 +301,10 @@ Vec3 FluidCoupling::drag_force(const World& world, std::size_t i) const {
 void FluidCoupling::add_forces(World& world) {
   follow_layout(world);
   ParticleStore& p = world.particles;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
     FrozenParticle& f = frozen_[i];
     p.force[i] += drag_force(world, i) - f.pressure_gradient * f.volume;
     f.velocity_sum += p.velocity[i];

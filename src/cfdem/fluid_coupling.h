@@ -106,7 +106,7 @@ class FluidCoupling {
   void compute_weights(const World& world);
   void freeze_fluid_values(const World& world);  // u_p, ∇p_p from the fluid now
   void follow_layout(const World& world);        // after a layout change: frozen values by id
-  void check_relaxation(World& world) const;
+  void check_relaxation(World& world);
   void update_cell_fields();                     // cell velocities and ∇p from the fluid
 
   FluidCouplingOptions options_;
@@ -121,6 +121,7 @@ class FluidCoupling {
   long long exchanges_ = 0;
   std::uint64_t last_exchange_step_ = ~std::uint64_t{0};
   double coupling_step_ = 0.0;  // Δt_f of the last exchange (s)
+  bool relaxation_warned_ = false;
 };
 
 }  // namespace quarry::cfdem

@@ -359,6 +359,33 @@ output:
   EXPECT_LT(largest_change, 1e-10 * particle_start);
 }
 
+// The particle relaxation time m/β_p = ρ_p d²/(18 μ) (Stokes) against the steps: shorter than
+// the DEM step stops the run (the explicit particle update would overshoot), shorter than the
+// coupling step warns once.
+TEST(FluidCoupling, ChecksTheParticleRelaxationTime) {
+  SettlingCase c;
+  c.viscosity = 1.0;  // τ_p = 1500 · 1e-8 / (18 ε) = 0.83 µs < Δt_DEM = 1 µs
+  {
+    World world = settling_world(c);
+    FluidCoupling::attach(world, settling_options(c));
+    try {
+      sim::initialize(world);
+      FAIL() << "a relaxation time shorter than the DEM step was accepted";
+    } catch (const PhysicsError& e) {
+      EXPECT_NE(std::string(e.what()).find("relaxation time m/β_p = 8.3"), std::string::npos) << e.what();
+    }
+  }
+  c.viscosity = 0.05;  // τ_p = 16.7 µs: > Δt_DEM, < Δt_f = 50 µs
+  World world = settling_world(c);
+  FluidCoupling::attach(world, settling_options(c));
+  sim::initialize(world);
+  sim::advance(world, 200);
+  int warnings = 0;
+  for (const std::string& w : world.warnings)
+    warnings += w.find("longer than the drag relaxation time") != std::string::npos;
+  EXPECT_EQ(warnings, 1);
+}
+
 // Cells smaller than 3 particle volumes are refused with a hint.
 TEST(FluidCoupling, RefusesCellsTooSmallForTheParticles) {
   SettlingCase c;
