@@ -100,6 +100,8 @@ class FluidSolver {
 
   // Helpers (fluid_solver_boundaries.cpp).
   void fill_cell_ghosts(std::vector<double>& field) const;
+  template <class GhostValue>
+  void fill_outlet_ghosts(std::vector<double>& field, GhostValue ghost_value);
   void fill_pressure_ghosts();
   void fill_correction_ghosts();
   void fill_velocity_ghosts(int axis);

@@ -53,10 +53,11 @@ double FluidSolver::boundary_pressure(int axis, int side, int i, int j, int k) c
          properties_.density * dot(options_.gravity, x - face.reference_point);
 }
 
-// Pressure: periodic wrap; outlets hold p on the face (ghost = 2 p_face − p_inside);
-// walls and inlets ∂p/∂n = 0.
-void FluidSolver::fill_pressure_ghosts() {
-  fill_cell_ghosts(pressure_);
+// Ghosts of a cell field at outlet faces (after the periodic wrap and the zero-gradient copy of
+// fill_cell_ghosts): ghost = ghost_value(inside value, axis, side, i, j, k) for every ghost layer.
+template <class GhostValue>
+void FluidSolver::fill_outlet_ghosts(std::vector<double>& field, GhostValue ghost_value) {
+  fill_cell_ghosts(field);
   for (int a = 0; a < 3; ++a) {
     const int n = grid_.cells[a];
     const std::ptrdiff_t s = stride_[a];
@@ -65,32 +66,24 @@ void FluidSolver::fill_pressure_ghosts() {
       const int inside = side == 0 ? kGhost : n + kGhost - 1;
       for_layer(padded_size_, a, inside, [&](int i, int j, int k) {
         const std::size_t p = padded(i, j, k);
-        const double face = boundary_pressure(a, side, i, j, k);
-        for (int g = 1; g <= kGhost; ++g) {
-          const std::size_t ghost = side == 0 ? p - g * s : p + g * s;
-          pressure_[ghost] = 2.0 * face - pressure_[p];
-        }
+        const double ghost = ghost_value(field[p], a, side, i, j, k);
+        for (int g = 1; g <= kGhost; ++g) field[side == 0 ? p - g * s : p + g * s] = ghost;
       });
     }
   }
 }
 
+// Pressure: periodic wrap; outlets hold p on the face (ghost = 2 p_face − p_inside);
+// walls and inlets ∂p/∂n = 0.
+void FluidSolver::fill_pressure_ghosts() {
+  fill_outlet_ghosts(pressure_, [this](double inside, int a, int side, int i, int j, int k) {
+    return 2.0 * boundary_pressure(a, side, i, j, k) - inside;
+  });
+}
+
 // φ: as the pressure, with φ = 0 on outlet faces.
 void FluidSolver::fill_correction_ghosts() {
-  fill_cell_ghosts(correction_);
-  for (int a = 0; a < 3; ++a) {
-    const int n = grid_.cells[a];
-    const std::ptrdiff_t s = stride_[a];
-    for (int side = 0; side < 2; ++side) {
-      if (boundaries_.face(a, side).kind != BoundaryKind::pressure_outlet) continue;
-      const int inside = side == 0 ? kGhost : n + kGhost - 1;
-      for_layer(padded_size_, a, inside, [&](int i, int j, int k) {
-        const std::size_t p = padded(i, j, k);
-        for (int g = 1; g <= kGhost; ++g)
-          correction_[side == 0 ? p - g * s : p + g * s] = -correction_[p];
-      });
-    }
-  }
+  fill_outlet_ghosts(correction_, [](double inside, int, int, int, int, int) { return -inside; });
 }
 
 // Velocity component `axis`. Along its own axis: the boundary faces of walls and inlets hold
