@@ -14,34 +14,17 @@
 
 #include "io/bulk_fields.h"
 #include "io/gmsh_reader.h"
+#include "io/io_test_support.h"
 
 namespace quarry {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path source_dir() {
-  const char* from_environment = std::getenv("QUARRY_SOURCE_DIR");
-  return fs::path(from_environment ? from_environment : QUARRY_SOURCE_DIR);
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::string first_line(const std::string& text) {
-  return text.substr(0, text.find('\n'));
-}
-
-std::string replace_all(std::string text, const std::string& from, const std::string& to) {
-  for (std::size_t at = text.find(from); at != std::string::npos;
-       at = text.find(from, at + to.size()))
-    text.replace(at, from.size(), to);
-  return text;
-}
+using io_testing::first_line;
+using io_testing::read_text;
+using io_testing::replace_all;
+using io_testing::source_dir;
 
 // The formatted errors of a model text that must fail; empty (and a test failure) if it reads.
 std::string errors_of(const std::string& text, const BulkDataOptions& options = {}) {
@@ -587,28 +570,14 @@ std::string formatted_errors(const fs::path& path) {
 // the .expected files from the current output instead (review the diff).
 TEST(BadModels, FirstErrorLineMatchesGolden) {
   const fs::path folder = source_dir() / "tests" / "bad_models";
-  std::vector<fs::path> models;
-  for (const auto& entry : fs::directory_iterator(folder))
-    if (entry.path().extension() == ".bdf" || entry.path().extension() == ".msh")
-      models.push_back(entry.path());
-  std::sort(models.begin(), models.end());
+  const std::vector<fs::path> models = io_testing::files_with_extensions(folder, {".bdf", ".msh"});
   ASSERT_GE(models.size(), 20u) << "expected at least 20 broken models in " << folder;
   const bool update = std::getenv("QUARRY_UPDATE_BAD_MODELS") != nullptr;
   for (const fs::path& model : models) {
     SCOPED_TRACE(model.filename().string());
     const std::string output = formatted_errors(model);
     const std::string actual = first_line(output);
-    fs::path expected_path = model;
-    expected_path.replace_extension(".expected");
-    if (update) {
-      std::ofstream(expected_path, std::ios::binary)
-          << replace_all(actual, model.string(), "{model}") << "\n";
-      continue;
-    }
-    ASSERT_TRUE(fs::exists(expected_path)) << "missing " << expected_path;
-    const std::string expected =
-        replace_all(first_line(read_text(expected_path)), "{model}", model.string());
-    EXPECT_EQ(actual, expected) << output;
+    io_testing::expect_first_line_matches_golden(model, actual, "{model}", update, output);
     // Every error echoes its line and puts a caret under the column.
     if (actual.find(":0:") == std::string::npos) {
       EXPECT_NE(output.find("^"), std::string::npos) << output;

@@ -2,6 +2,7 @@
 // formatted errors), and positive tests that decks parse into the expected values and locations.
 #include "io/atomic_file.h"
 #include "io/deck.h"
+#include "io/io_test_support.h"
 
 #include <gtest/gtest.h>
 
@@ -19,25 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path source_dir() {
-  const char* from_environment = std::getenv("QUARRY_SOURCE_DIR");
-  return fs::path(from_environment ? from_environment : QUARRY_SOURCE_DIR);
-}
-
-std::string read_text(const fs::path& path) {
-  return read_file(path).value_or("");
-}
-
-std::string first_line(const std::string& text) {
-  return text.substr(0, text.find('\n'));
-}
-
-std::string replace_all(std::string text, const std::string& from, const std::string& to) {
-  for (std::size_t at = text.find(from); at != std::string::npos;
-       at = text.find(from, at + to.size()))
-    text.replace(at, from.size(), to);
-  return text;
-}
+using io_testing::first_line;
+using io_testing::read_text;
+using io_testing::replace_all;
+using io_testing::source_dir;
 
 // The formatted errors of a deck that must fail; empty (and a test failure) if it parses.
 std::string formatted_errors(const std::string& deck_path) {
@@ -55,26 +41,13 @@ std::string formatted_errors(const std::string& deck_path) {
 // rewrites the .expected files from the current output instead (review the diff).
 TEST(BadDecks, FirstErrorLineMatchesGolden) {
   const fs::path folder = source_dir() / "tests" / "bad_decks";
-  std::vector<fs::path> decks;
-  for (const auto& entry : fs::directory_iterator(folder))
-    if (entry.path().extension() == ".yaml") decks.push_back(entry.path());
-  std::sort(decks.begin(), decks.end());
+  const std::vector<fs::path> decks = io_testing::files_with_extensions(folder, {".yaml"});
   ASSERT_GE(decks.size(), 15u) << "expected at least 15 bad-deck cases in " << folder;
   const bool update = std::getenv("QUARRY_UPDATE_BAD_DECKS") != nullptr;
   for (const fs::path& deck : decks) {
     SCOPED_TRACE(deck.filename().string());
-    const std::string actual = first_line(formatted_errors(deck.string()));
-    fs::path expected_path = deck;
-    expected_path.replace_extension(".expected");
-    if (update) {
-      std::ofstream(expected_path, std::ios::binary)
-          << replace_all(actual, deck.string(), "{deck}") << "\n";
-      continue;
-    }
-    ASSERT_TRUE(fs::exists(expected_path)) << "missing " << expected_path;
-    const std::string expected =
-        replace_all(first_line(read_text(expected_path)), "{deck}", deck.string());
-    EXPECT_EQ(actual, expected);
+    io_testing::expect_first_line_matches_golden(deck, first_line(formatted_errors(deck.string())),
+                                                 "{deck}", update);
   }
 }
 
