@@ -130,7 +130,9 @@ cfd::DragResult FluidCoupling::evaluate_drag(const World& world, std::size_t i,
   input.diameter = 2.0 * p.radius[i];
   input.particle_velocity = p.velocity[i];
   input.fluid_velocity = fluid_velocity;
-  input.porosity = porosity;
+  // The interpolated ε is Σ w_c ε_c with Σ w_c = 1 only to round-off: in particle-free cells it
+  // can come out 1 + 2e-16, which the laws rightly refuse as a fraction.
+  input.porosity = std::min(porosity, 1.0);
   input.fluid_density = options_.properties.density;
   input.fluid_viscosity = options_.properties.viscosity;
   if (options_.drag_udf) {

@@ -75,7 +75,11 @@ void attach_fluid_output(World& world, std::shared_ptr<FluidCoupling> coupling) 
     // Half a DEM step of slack: frame times land on steps as the particle frames' do.
     if (w.time + 0.5 * w.dt < frames->next_time) return;
     const std::filesystem::path& directory = w.output->directory();
-    if (!frames->series) frames->series = std::make_unique<PvdSeries>(directory / "fluid.pvd");
+    if (!frames->series) {
+      frames->series = std::make_unique<PvdSeries>(directory / "fluid.pvd");
+      w.output->wrote("fluid.pvd");  // in the manifest, so that --overwrite removes the series
+    }
+    w.output->wrote(fmt::format("fluid_{:06d}.vti", frames->frame));
     write_fluid_frame(*frames->coupling, directory, frames->frame++, w.time, *frames->series);
     frames->next_time += interval;
     while (frames->next_time <= w.time + 0.5 * w.dt) frames->next_time += interval;

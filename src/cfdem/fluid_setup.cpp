@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "cfdem/fluid_monitors.h"
 #include "cfdem/fluid_output.h"
 #include "core/diagnostics.h"
 
@@ -73,6 +74,7 @@ std::shared_ptr<FluidCoupling> attach_fluid_from_spec(World& world) {
   try {
     std::shared_ptr<FluidCoupling> coupling = FluidCoupling::attach(world, std::move(options));
     attach_fluid_output(world, coupling);
+    FluidMonitors::attach(world, coupling, world.spec.fluid->monitors);  // kept alive by its hooks
     return coupling;
   } catch (const std::invalid_argument& e) {
     throw UserError(world.spec.fluid->where, e.what());

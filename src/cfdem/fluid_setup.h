@@ -15,7 +15,7 @@ namespace quarry::cfdem {
 // (cfd::load_drag_udf's errors), cells too small for the particles (FluidCoupling).
 FluidCouplingOptions coupling_options_from_spec(const World& world);
 
-// coupling_options_from_spec, then FluidCoupling::attach and attach_fluid_output (fluid.pvd
+// coupling_options_from_spec, then FluidCoupling::attach, FluidMonitors::attach and attach_fluid_output (fluid.pvd
 // with fluid_NNNNNN.vti at the particle frames' interval); null when the deck has no fluid.
 std::shared_ptr<FluidCoupling> attach_fluid_from_spec(World& world);
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/diagnostics.h"
 #include "core/vec3.h"
@@ -27,6 +28,20 @@ struct FluidDragUdfSpec {
   Located<std::string> function;  // symbol name
 };
 
+// A fluid monitor (fluid_monitors.csv, docs/deck.md "fluid"): the pressure drop between two
+// planes normal to an axis, the flow rate through a plane, or the particles' mean slip velocity.
+enum class FluidMonitorType { pressure_drop, flow_rate, slip_velocity };
+
+struct FluidMonitorSpec {
+  SourceLocation where;
+  Located<std::string> name;
+  Located<FluidMonitorType> type{FluidMonitorType::pressure_drop};
+  Located<int> axis{2};       // 0, 1, 2 for x, y, z: the planes' normal
+  Located<double> from{0.0};  // m: pressure_drop's upstream plane
+  Located<double> to{0.0};    // m: pressure_drop's downstream plane
+  Located<double> at{0.0};    // m: flow_rate's plane
+};
+
 struct FluidSpec {
   SourceLocation where;                         // the fluid: section
   Located<double> density{1000.0};              // ρ_f (kg/m³)
@@ -39,6 +54,7 @@ struct FluidSpec {
   Located<FluidModel> model{FluidModel::a};
   Located<std::string> drag_law{std::string("stokes")};  // a name of cfd::kDragLawNames
   std::optional<FluidDragUdfSpec> drag_udf;     // replaces drag_law when present
+  std::vector<FluidMonitorSpec> monitors;
 };
 
 }  // namespace quarry

@@ -141,6 +141,7 @@ void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
   check_unique_names(context, "surface", names_of(spec.surfaces));
   check_unique_names(context, "factory", names_of(spec.factories));
   check_unique_names(context, "monitor", names_of(spec.monitors));
+  if (spec.fluid) check_unique_names(context, "fluid monitor", names_of(spec.fluid->monitors));
 
   const std::vector<std::string> material_names = spellings_of(spec.materials);
   for (const ParticleTypeSpec& particle_type : spec.particle_types)

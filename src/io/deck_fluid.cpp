@@ -24,6 +24,14 @@ const EnumChoices<FluidBoundaryType> kFluidBoundaryTypes{
 
 const EnumChoices<FluidModel> kFluidModels{"fluid model", {{"A", FluidModel::a}, {"B", FluidModel::b}}};
 
+const EnumChoices<FluidMonitorType> kFluidMonitorTypes{
+    "fluid monitor type",
+    {{"pressure_drop", FluidMonitorType::pressure_drop},
+     {"flow_rate", FluidMonitorType::flow_rate},
+     {"slip_velocity", FluidMonitorType::slip_velocity}}};
+
+const EnumChoices<int> kAxes{"axis", {{"x", 0}, {"y", 1}, {"z", 2}}};
+
 const std::array<const char*, 6> kFaceKeys{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
 void read_face(MapReader& boundaries, int face, FluidFaceSpec& spec) {
@@ -62,6 +70,43 @@ void read_drag_udf(MapReader& fluid, const DeckParseOptions& options, FluidSpec&
   spec.drag_udf = udf;
 }
 
+// One entry of fluid.monitors; the planes must cross the grid (checked here when the grid is
+// known, as the run could only report an empty plane).
+void read_fluid_monitor(MapReader& map, const FluidSpec& fluid, FluidMonitorSpec& monitor) {
+  monitor.where = map.location();
+  map.reject_unknown_keys({"name", "type", "axis", "from", "to", "at"});
+  map.read("name", monitor.name, Presence::required);
+  if (!map.read("type", monitor.type, kFluidMonitorTypes, Presence::required)) return;
+  const FluidMonitorType type = monitor.type.value;
+  const auto only_for = [&](const char* key, bool applies, const char* types) {
+    if (map.has(key) && !applies)
+      map.context().error(map.where_value(key),
+                          fmt::format("\"{}\" applies to a {} monitor only", key, types), "leave it out");
+  };
+  only_for("axis", type != FluidMonitorType::slip_velocity, "pressure_drop or flow_rate");
+  only_for("from", type == FluidMonitorType::pressure_drop, "pressure_drop");
+  only_for("to", type == FluidMonitorType::pressure_drop, "pressure_drop");
+  only_for("at", type == FluidMonitorType::flow_rate, "flow_rate");
+  if (type == FluidMonitorType::slip_velocity) return;
+  map.read("axis", monitor.axis, kAxes, Presence::required);
+  std::vector<Located<double>*> planes;
+  if (type == FluidMonitorType::pressure_drop) {
+    if (map.read("from", monitor.from, any_number(), "m", Presence::required)) planes.push_back(&monitor.from);
+    if (map.read("to", monitor.to, any_number(), "m", Presence::required)) planes.push_back(&monitor.to);
+  } else if (map.read("at", monitor.at, any_number(), "m", Presence::required)) {
+    planes.push_back(&monitor.at);
+  }
+  const int axis = monitor.axis.value;
+  const double low = fluid.origin.value[axis];
+  const double high = low + fluid.cells.value[axis] * fluid.cell_size.value;
+  for (const Located<double>* plane : planes)
+    if (fluid.cell_size.value > 0.0 && !(plane->value >= low && plane->value <= high))
+      map.context().error(plane->where,
+                          fmt::format("the plane {} = {:.6g} m lies outside the fluid grid ({:.6g} to {:.6g} m)",
+                                      "xyz"[axis], plane->value, low, high),
+                          "put it between the grid's faces along that axis");
+}
+
 }  // namespace
 
 void read_fluid_section(MapReader& root, const DeckParseOptions& options,
@@ -74,7 +119,7 @@ void read_fluid_section(MapReader& root, const DeckParseOptions& options,
   FluidSpec spec;
   spec.where = map.location();
   map.reject_unknown_keys({"density", "viscosity", "time_step", "grid", "boundaries", "model",
-                           "drag_law", "drag_udf"});
+                           "drag_law", "drag_udf", "monitors"});
   map.read("density", spec.density, positive(), "kg/m³");
   map.read("viscosity", spec.viscosity, positive(), "Pa·s");
   map.read("time_step", spec.time_step, positive(), "s", Presence::required);
@@ -130,6 +175,11 @@ void read_fluid_section(MapReader& root, const DeckParseOptions& options,
                     "drag_udf replaces the built-in law");
     read_drag_udf(map, options, spec);
   }
+  for (MapReader& monitor_map : list_of_maps(map, "monitors", "fluid monitor")) {
+    FluidMonitorSpec monitor;
+    read_fluid_monitor(monitor_map, spec, monitor);
+    spec.monitors.push_back(std::move(monitor));
+  }
   fluid = spec;
 }
 
@@ -179,6 +229,14 @@ std::string fluid_section_text(const FluidSpec& spec) {
                        quoted(spec.drag_udf->function.value));
   else
     out += "  drag_law: " + spec.drag_law.value + "\n";
+  if (!spec.monitors.empty()) out += "  monitors:\n";
+  for (const FluidMonitorSpec& m : spec.monitors) {
+    out += fmt::format("    - {{name: {}, type: {}", quoted(m.name.value), spelling_of(kFluidMonitorTypes, m.type.value));
+    if (m.type.value != FluidMonitorType::slip_velocity) out += fmt::format(", axis: {}", "xyz"[m.axis.value]);
+    if (m.type.value == FluidMonitorType::pressure_drop) out += fmt::format(", from: {}, to: {}", m.from.value, m.to.value);
+    if (m.type.value == FluidMonitorType::flow_rate) out += fmt::format(", at: {}", m.at.value);
+    out += "}\n";
+  }
   return out;
 }
 

@@ -73,12 +73,15 @@ class Output {
   const std::string& checkpoint_path() const { return checkpoint_path_; }
   std::uint64_t frame_index() const { return frame_index_; }
   bool checkpoint_written() const { return checkpoint_written_; }
+  // Steps between monitor rows (≥ 1): what other monitors of the run (fluid, structures) follow.
+  std::uint64_t monitor_every() const { return monitor_every_; }
+  // Adds a file (relative to the folder) to the manifest, which is rewritten atomically; what
+  // hooks write into the folder goes there too, so --overwrite removes it.
+  void wrote(const std::string& relative);
 
  private:
   void write_frame(World& world);
   void record_monitors(World& world);
-  // Adds a file (relative to the folder) to the manifest, which is rewritten atomically.
-  void wrote(const std::string& relative);
 
   std::ostream& log_;
   std::filesystem::path directory_;

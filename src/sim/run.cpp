@@ -86,6 +86,7 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time) {
                          world.particles.size(), summary.steps / std::max(wall, 1e-9), duration_text(eta));
     }
   }
+  run_hooks(world, HookStage::end_of_run);
   output.finish(world, summary.interrupted());
 
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -57,7 +57,7 @@ void set_body_forces(World& world);
 // Particle–particle and particle–surface contacts added onto the body forces; the surfaces'
 // per-step loads (per triangle and vertex) filled.
 void compute_contact_forces(World& world);
-void run_hooks(World& world, HookStage stage);  // post_force, end_of_step
+void run_hooks(World& world, HookStage stage);  // post_force, end_of_step, end_of_run
 void check_overlaps(const World& world);        // overlap guard (after the forces)
 // The loads of the step added to every sized load window; the one-step external loads expire
 // (taken out of the forces, which hold them until here).

@@ -179,6 +179,9 @@ enum class HookStage : std::uint8_t {
   // After the step is complete (time advanced, velocities final, loads accumulated): read the
   // state, set the next step's loads or vertices.
   end_of_step,
+  // Once, when sim::run or sim::restart ends (also when stopped by a signal), before the
+  // output's last frame and files: a hook's own last rows and plots, with the folder still open.
+  end_of_run,
 };
 
 struct StepHook {

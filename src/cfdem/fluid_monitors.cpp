@@ -1,0 +1,226 @@
+// Fluid monitors: planes through the fluid grid and the particles' slip, one row per monitor row
+// of the run in fluid_monitors.csv.
+#include "cfdem/fluid_monitors.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "io/png_plot.h"
+#include "sim/output.h"
+
+namespace quarry::cfdem {
+
+namespace {
+
+// Cell (i, j, k) with `along` at position `axis` and (u, v) on the two other axes in order.
+std::array<int, 3> cell_of(int axis, int along, int u, int v) {
+  std::array<int, 3> c{};
+  c[static_cast<std::size_t>(axis)] = along;
+  c[static_cast<std::size_t>((axis + 1) % 3)] = u;
+  c[static_cast<std::size_t>((axis + 2) % 3)] = v;
+  return c;
+}
+
+// Calls visit(u, v) for every column of cells along `axis`.
+template <class Visit>
+void for_each_column(const cfd::FluidGrid& grid, int axis, Visit&& visit) {
+  const int nu = grid.cells[static_cast<std::size_t>((axis + 1) % 3)];
+  const int nv = grid.cells[static_cast<std::size_t>((axis + 2) % 3)];
+  for (int v = 0; v < nv; ++v)
+    for (int u = 0; u < nu; ++u) visit(u, v);
+}
+
+double component(const Vec3& x, int axis) { return axis == 0 ? x.x : axis == 1 ? x.y : x.z; }
+
+}  // namespace
+
+double plane_area(const cfd::FluidGrid& grid, int axis) {
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  return grid.cells[static_cast<std::size_t>(a)] * component(grid.cell_size, a) *
+         grid.cells[static_cast<std::size_t>(b)] * component(grid.cell_size, b);
+}
+
+double plane_pressure(const cfd::FluidSolver& fluid, int axis, double coordinate) {
+  const cfd::FluidGrid& grid = fluid.grid();
+  const int n = grid.cells[static_cast<std::size_t>(axis)];
+  const double spacing = component(grid.cell_size, axis);
+  // Position in cell-centre units: centre k sits at k.
+  const double t = (coordinate - component(grid.origin, axis)) / spacing - 0.5;
+  const int low = n == 1 ? 0 : std::clamp(static_cast<int>(std::floor(t)), 0, n - 2);
+  const double w = n == 1 ? 0.0 : t - low;
+  double sum = 0.0;
+  std::size_t columns = 0;
+  for_each_column(grid, axis, [&](int u, int v) {
+    const auto a = cell_of(axis, low, u, v);
+    double p = fluid.pressure(a[0], a[1], a[2]);
+    if (n > 1) {
+      const auto b = cell_of(axis, low + 1, u, v);
+      p = (1.0 - w) * p + w * fluid.pressure(b[0], b[1], b[2]);
+    }
+    sum += p;
+    ++columns;
+  });
+  return sum / static_cast<double>(columns);
+}
+
+double flow_rate(const cfd::FluidSolver& fluid, const std::vector<double>& void_fraction, int axis,
+                 double coordinate) {
+  const cfd::FluidGrid& grid = fluid.grid();
+  const int n = grid.cells[static_cast<std::size_t>(axis)];
+  const int layer = std::clamp(
+      static_cast<int>(std::lround((coordinate - component(grid.origin, axis)) / component(grid.cell_size, axis))), 0, n);
+  const double face_area = plane_area(grid, axis) / static_cast<double>(grid.cell_count() / static_cast<std::size_t>(n));
+  const auto porosity = [&](int along, int u, int v) {
+    if (void_fraction.empty()) return 1.0;
+    const auto c = cell_of(axis, along, u, v);
+    return void_fraction[grid.cell_index(c[0], c[1], c[2])];
+  };
+  double sum = 0.0;
+  for_each_column(grid, axis, [&](int u, int v) {
+    const double below = layer > 0 ? porosity(layer - 1, u, v) : porosity(0, u, v);
+    const double above = layer < n ? porosity(layer, u, v) : porosity(n - 1, u, v);
+    const auto c = cell_of(axis, layer, u, v);
+    sum += 0.5 * (below + above) * fluid.face_velocity(axis, c[0], c[1], c[2]) * face_area;
+  });
+  return sum;
+}
+
+Vec3 mean_slip_velocity(const FluidCoupling& coupling, const World& world) {
+  const std::vector<FrozenParticle>& frozen = coupling.frozen();
+  const std::size_t n = std::min(frozen.size(), world.particles.size());
+  Vec3 sum;
+  std::size_t counted = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (frozen[i].id != world.particles.id[i]) continue;
+    sum += frozen[i].fluid_velocity - world.particles.velocity[i];
+    ++counted;
+  }
+  return counted == 0 ? Vec3{} : sum / static_cast<double>(counted);
+}
+
+std::vector<std::string> FluidMonitors::columns(const std::vector<FluidMonitorSpec>& monitors) {
+  std::vector<std::string> names{"time_s"};
+  for (const FluidMonitorSpec& m : monitors) {
+    const std::string& name = m.name.value;
+    switch (m.type.value) {
+      case FluidMonitorType::pressure_drop:
+        names.push_back(name + "_dp_Pa");
+        names.push_back(name + "_dp_dynamic_Pa");
+        break;
+      case FluidMonitorType::flow_rate:
+        names.push_back(name + "_Q_m3_s");
+        names.push_back(name + "_U_m_s");
+        break;
+      case FluidMonitorType::slip_velocity:
+        for (const char* axis : {"x", "y", "z"}) names.push_back(fmt::format("{}_slip_{}_m_s", name, axis));
+        break;
+    }
+  }
+  return names;
+}
+
+std::vector<double> FluidMonitors::row(const std::vector<FluidMonitorSpec>& monitors, const FluidCoupling& coupling,
+                                       const World& world) {
+  const cfd::FluidSolver& fluid = coupling.fluid();
+  const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
+  const double density = coupling.options().properties.density;  // kg/m³
+  std::vector<double> values{world.time};
+  for (const FluidMonitorSpec& m : monitors) {
+    const int axis = m.axis.value;
+    switch (m.type.value) {
+      case FluidMonitorType::pressure_drop: {
+        const double drop = plane_pressure(fluid, axis, m.from.value) - plane_pressure(fluid, axis, m.to.value);
+        // Hydrostatic p = p_ref + ρ_f g·(x − x_ref): its drop from `from` to `to` is ρ_f g_a (from − to).
+        const double head = density * component(gravity, axis) * (m.from.value - m.to.value);
+        values.push_back(drop);
+        values.push_back(drop - head);
+        break;
+      }
+      case FluidMonitorType::flow_rate: {
+        const double q = flow_rate(fluid, coupling.void_fraction(), axis, m.at.value);
+        values.push_back(q);
+        values.push_back(q / plane_area(fluid.grid(), axis));
+        break;
+      }
+      case FluidMonitorType::slip_velocity: {
+        const Vec3 slip = mean_slip_velocity(coupling, world);
+        values.insert(values.end(), {slip.x, slip.y, slip.z});
+        break;
+      }
+    }
+  }
+  return values;
+}
+
+std::shared_ptr<FluidMonitors> FluidMonitors::attach(World& world, std::shared_ptr<FluidCoupling> coupling,
+                                                     std::vector<FluidMonitorSpec> monitors) {
+  if (monitors.empty()) return nullptr;
+  auto self = std::make_shared<FluidMonitors>();
+  self->coupling_ = std::move(coupling);
+  self->monitors_ = std::move(monitors);
+  StepHook hook;
+  hook.stage = HookStage::end_of_step;
+  hook.name = "fluid monitors";
+  hook.run = [self](World& w) {
+    if (!w.output) return;
+    if (!self->table_ || w.step_count % w.output->monitor_every() == 0) self->record(w);
+  };
+  world.hooks.push_back(std::move(hook));
+  StepHook last;
+  last.stage = HookStage::end_of_run;
+  last.name = "fluid monitors";
+  last.run = [self](World& w) { self->finish(w); };
+  world.hooks.push_back(std::move(last));
+  return self;
+}
+
+void FluidMonitors::record(World& world) {
+  if (!table_) {
+    table_.emplace(world.output->directory() / "fluid_monitors.csv", columns(monitors_));
+    world.output->wrote("fluid_monitors.csv");
+  }
+  table_->add_row(row(monitors_, *coupling_, world));
+  // The table is small (a few columns, ~200 rows): rewriting it keeps the file current for a
+  // run that is watched or killed.
+  if (table_->rows().size() % 16 == 1) table_->flush();
+}
+
+void FluidMonitors::finish(World& world) {
+  if (!table_ || !world.output) return;
+  if (table_->rows().back()[0] != world.time) table_->add_row(row(monitors_, *coupling_, world));
+  table_->flush();
+  if (!world.spec.output.plots.value) return;
+  const std::vector<std::string>& names = table_->columns();
+  const auto series = [&](std::size_t column, std::string label) {
+    PlotSeries s;
+    s.label = std::move(label);
+    for (const auto& r : table_->rows()) {
+      s.x.push_back(r[0]);
+      s.y.push_back(r[column]);
+    }
+    return s;
+  };
+  const auto ends_with = [](const std::string& s, const std::string& tail) {
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  PlotSpec drop{"Fluid pressure drop (less the hydrostatic head)", "time (s)", "pressure drop (Pa)", {}};
+  PlotSpec flow{"Superficial fluid velocity", "time (s)", "U (m/s)", {}};
+  PlotSpec slip{"Mean slip velocity u - v", "time (s)", "slip (m/s)", {}};
+  for (std::size_t k = 1; k < names.size(); ++k) {
+    const std::string& c = names[k];
+    if (ends_with(c, "_dp_dynamic_Pa")) drop.series.push_back(series(k, c.substr(0, c.size() - 14)));
+    if (ends_with(c, "_U_m_s")) flow.series.push_back(series(k, c.substr(0, c.size() - 6)));
+    if (c.find("_slip_") != std::string::npos) slip.series.push_back(series(k, c.substr(0, c.size() - 4)));
+  }
+  const std::pair<const char*, const PlotSpec*> plots[] = {
+      {"fluid_pressure_drop.png", &drop}, {"fluid_flow_rate.png", &flow}, {"fluid_slip_velocity.png", &slip}};
+  for (const auto& [file, spec] : plots) {
+    if (spec->series.empty()) continue;
+    write_line_plot_png(world.output->directory() / file, *spec);
+    world.output->wrote(file);
+  }
+}
+
+}  // namespace quarry::cfdem
