@@ -17,6 +17,7 @@ namespace quarry {
 namespace {
 
 constexpr std::uint8_t vtk_vertex = 1;    // VTK cell type id of a single point
+constexpr std::uint8_t vtk_line = 3;      // VTK cell type id of a linear line segment
 constexpr std::uint8_t vtk_triangle = 5;  // VTK cell type id of a linear triangle
 
 // Appends `value` as little-endian bytes whatever the host byte order, so the file always
@@ -122,7 +123,8 @@ void require_size(const Array& array, std::size_t expected, std::string_view wha
 }  // namespace
 
 std::string particles_vtu(const ParticleStore& particles,
-                          const std::vector<std::string>& type_names) {
+                          const std::vector<std::string>& type_names,
+                          const ParticleContactFields* contacts) {
   const std::size_t count = particles.size();
   require_size(particles.velocity, count, "particle velocity");
   require_size(particles.angular_velocity, count, "particle angular_velocity");
@@ -131,9 +133,15 @@ std::string particles_vtu(const ParticleStore& particles,
   require_size(particles.inv_mass, count, "particle inv_mass");
   require_size(particles.id, count, "particle id");
   require_size(particles.type, count, "particle type");
+  require_size(particles.torque, count, "particle torque");
+  if (contacts) {
+    require_size(contacts->coordination_number, count, "particle coordination_number");
+    require_size(contacts->max_overlap_ratio, count, "particle max_overlap_ratio");
+  }
 
-  static constexpr std::array<std::string_view, 7> built_in_names = {
-      "id", "type", "radius", "mass", "velocity", "angular_velocity", "force"};
+  static constexpr std::array<std::string_view, 11> built_in_names = {
+      "id",    "type",   "type_name", "radius", "mass", "velocity", "angular_velocity",
+      "force", "torque", "coordination_number", "max_overlap_ratio"};
   for (const auto& property : particles.custom) {
     require_size(property.values, count * property.components, "custom property " + property.name);
     for (const std::string_view built_in : built_in_names) {
@@ -169,12 +177,33 @@ std::string particles_vtu(const ParticleStore& particles,
   std::string point_data;
   point_data += arrays.element("UInt64", "id", 1, scalar_payload<ParticleId>(particles.id));
   point_data += arrays.element("Int32", "type", 1, scalar_payload<std::int32_t>(type_index));
+  if (!type_names.empty()) {
+    // The type's name per particle as a VTK string array (NUL-terminated strings back to back):
+    // ParaView colours points by a string array directly, one colour per name.
+    std::string names_payload;
+    for (std::size_t i = 0; i < count; ++i) {
+      if (particles.type[i] >= type_names.size())
+        throw std::invalid_argument(fmt::format("VTU writer: particle {} has type {} but there are {} type names", i,
+                                                particles.type[i], type_names.size()));
+      names_payload += type_names[particles.type[i]];
+      names_payload.push_back('\0');
+    }
+    point_data += arrays.element("String", "type_name", 1, names_payload,
+                                 fmt::format(" NumberOfTuples=\"{}\"", count));
+  }
   point_data += arrays.element("Float64", "radius", 1, scalar_payload<double>(particles.radius));
   point_data += arrays.element("Float64", "mass", 1, scalar_payload<double>(mass));
   point_data += arrays.element("Float64", "velocity", 3, vec3_payload(particles.velocity));
   point_data +=
       arrays.element("Float64", "angular_velocity", 3, vec3_payload(particles.angular_velocity));
   point_data += arrays.element("Float64", "force", 3, vec3_payload(particles.force));
+  point_data += arrays.element("Float64", "torque", 3, vec3_payload(particles.torque));
+  if (contacts) {
+    point_data += arrays.element("Int32", "coordination_number", 1,
+                                 scalar_payload<std::int32_t>(contacts->coordination_number));
+    point_data += arrays.element("Float64", "max_overlap_ratio", 1,
+                                 scalar_payload<double>(contacts->max_overlap_ratio));
+  }
   for (const auto& property : particles.custom)
     point_data += arrays.element("Float64", property.name, static_cast<int>(property.components),
                                  scalar_payload<double>(property.values));
@@ -194,6 +223,42 @@ std::string particles_vtu(const ParticleStore& particles,
   cells += arrays.element("UInt8", "types", 1, cell_blocks.types);
 
   return assemble_vtu(field_data, count, count, point_data, {}, points, cells, arrays);
+}
+
+std::string contacts_vtu(std::span<const ContactLine> contacts) {
+  const std::size_t count = contacts.size();
+  AppendedArrays arrays;
+  std::vector<Vec3> ends, normal_force, tangential_force;
+  std::vector<double> magnitude, overlap;
+  std::vector<std::uint8_t> kind;
+  ends.reserve(2 * count);
+  CellBlocks cell_blocks;
+  for (std::size_t c = 0; c < count; ++c) {
+    const ContactLine& line = contacts[c];
+    ends.push_back(line.from);
+    ends.push_back(line.to);
+    normal_force.push_back(line.normal_force);
+    tangential_force.push_back(line.tangential_force);
+    magnitude.push_back(norm(line.normal_force));
+    overlap.push_back(line.overlap);
+    kind.push_back(static_cast<std::uint8_t>(line.kind));
+    append_little_endian(cell_blocks.connectivity, static_cast<std::int64_t>(2 * c));
+    append_little_endian(cell_blocks.connectivity, static_cast<std::int64_t>(2 * c + 1));
+    append_little_endian(cell_blocks.offsets, static_cast<std::int64_t>(2 * (c + 1)));
+    append_little_endian(cell_blocks.types, vtk_line);
+  }
+  std::string cell_data;
+  cell_data += arrays.element("Float64", "normal_force", 3, vec3_payload(normal_force));
+  cell_data += arrays.element("Float64", "tangential_force", 3, vec3_payload(tangential_force));
+  cell_data += arrays.element("Float64", "normal_force_magnitude", 1, scalar_payload<double>(magnitude));
+  cell_data += arrays.element("Float64", "overlap", 1, scalar_payload<double>(overlap));
+  cell_data += arrays.element("UInt8", "kind", 1, scalar_payload<std::uint8_t>(kind));
+  const std::string points = arrays.element("Float64", "Points", 3, vec3_payload(ends));
+  std::string cells;
+  cells += arrays.element("Int64", "connectivity", 1, cell_blocks.connectivity);
+  cells += arrays.element("Int64", "offsets", 1, cell_blocks.offsets);
+  cells += arrays.element("UInt8", "types", 1, cell_blocks.types);
+  return assemble_vtu({}, ends.size(), count, {}, cell_data, points, cells, arrays);
 }
 
 std::string surface_vtu(const Surface& surface, std::span<const double> pressure,

@@ -3,6 +3,7 @@
 // endian. Called by the output stage at the end of a step when an output is due.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -13,14 +14,39 @@
 
 namespace quarry {
 
+// Per-particle contact figures of one frame (sim/frame_contacts.h computes them).
+struct ParticleContactFields {
+  std::vector<std::int32_t> coordination_number;  // contacts of the particle, surfaces included
+  std::vector<double> max_overlap_ratio;          // largest overlap / own radius (1), 0 if none
+};
+
 // One VTK_VERTEX cell per particle at its position (m). Point data: id (UInt64), type (Int32,
-// index into `type_names`), radius (m), mass (kg), velocity (m/s), angular_velocity (rad/s),
-// force (N), then every custom property (Float64, under its own name). Field data:
+// index into `type_names`), type_name (String, when `type_names` is given), radius (m), mass (kg), velocity (m/s), angular_velocity (rad/s),
+// force (N), torque (N·m), coordination_number (Int32) and max_overlap_ratio (1) when
+// `contacts` is given, then every custom property (Float64, under its own name). Field data:
 // type_names (String), so ParaView users can map type indices to names.
-// Pre: all arrays of `particles` have size() entries; custom names differ from the built-in
-// names. Throws std::invalid_argument otherwise. Cost: O(n), about 130 bytes per particle.
+// Pre: all arrays of `particles` (and of `contacts`) have size() entries; custom names differ
+// from the built-in names; every type index has a name (when names are given). Throws std::invalid_argument otherwise. Cost: O(n), about 170 bytes
+// per particle.
 std::string particles_vtu(const ParticleStore& particles,
-                          const std::vector<std::string>& type_names);
+                          const std::vector<std::string>& type_names,
+                          const ParticleContactFields* contacts = nullptr);
+
+// One contact of a frame as a line: particle–particle from centre i to centre j, particle–surface
+// from the centre to the contact point on the surface.
+enum class ContactLineKind : std::uint8_t { particle_particle = 0, particle_surface = 1 };
+struct ContactLine {
+  Vec3 from, to;          // m
+  Vec3 normal_force;      // N on the particle at `from` (along the contact normal)
+  Vec3 tangential_force;  // N on the particle at `from` (in the tangent plane)
+  double overlap = 0.0;   // m
+  ContactLineKind kind = ContactLineKind::particle_particle;
+};
+
+// One VTK_LINE cell per contact (two points of its own each). Cell data: normal_force (N, 3),
+// tangential_force (N, 3), normal_force_magnitude (N), overlap (m), kind (UInt8: 0
+// particle–particle, 1 particle–surface). Cost: O(contacts), about 150 bytes per contact.
+std::string contacts_vtu(std::span<const ContactLine> contacts);
 
 // One VTK_TRIANGLE cell per triangle of `surface` at its current vertices (m). Cell data:
 // element_id (Int64, = triangle index = input mesh order), pressure (Pa), shear_stress (Pa, 3),

@@ -1,6 +1,7 @@
-// Tests of the VTU writers: a tiny reader in this file parses the XML header and the appended
-// raw blocks (UInt64 byte counts, little endian) and checks counts and values bit-exactly.
+// Tests of the VTU writers: a tiny reader (io/vtu_test_reader.h) parses the XML header and the
+// appended raw blocks (UInt64 byte counts, little endian) and checks counts and values bit-exactly.
 #include "io/vtu_writer.h"
+#include "io/vtu_test_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -15,97 +16,10 @@
 namespace quarry {
 namespace {
 
-struct ArrayInfo {
-  std::string type;
-  int components = 1;
-  std::string payload;  // raw little-endian bytes of the block
-};
-
-// Reads what a VTU consumer needs: Piece counts and every appended DataArray by Name
-// (a name used twice, e.g. "force" in point and cell data, is keyed "section/name").
-struct VtuContent {
-  std::size_t point_count = 0, cell_count = 0;
-  std::map<std::string, ArrayInfo> arrays;
-};
-
-std::uint64_t read_uint64_little_endian(const std::string& bytes, std::size_t at) {
-  std::uint64_t value = 0;
-  for (int byte = 7; byte >= 0; --byte) {
-    value =
-        (value << 8) | static_cast<unsigned char>(bytes.at(at + static_cast<std::size_t>(byte)));
-  }
-  return value;
-}
-
-std::string attribute(const std::string& tag, const std::string& name) {
-  const std::string key = " " + name + "=\"";
-  const std::size_t start = tag.find(key);
-  if (start == std::string::npos) return {};
-  const std::size_t value_start = start + key.size();
-  return tag.substr(value_start, tag.find('"', value_start) - value_start);
-}
-
-VtuContent read_vtu(const std::string& file) {
-  const std::string appended_marker = "<AppendedData encoding=\"raw\">\n_";
-  const std::size_t marker = file.find(appended_marker);
-  if (marker == std::string::npos) throw std::runtime_error("no raw AppendedData");
-  const std::string xml = file.substr(0, marker);
-  const std::size_t data_start = marker + appended_marker.size();
-  EXPECT_NE(xml.find("byte_order=\"LittleEndian\" header_type=\"UInt64\""), std::string::npos);
-
-  VtuContent content;
-  const std::size_t piece = xml.find("<Piece ");
-  if (piece == std::string::npos) throw std::runtime_error("no Piece");
-  const std::string piece_tag = xml.substr(piece, xml.find('>', piece) - piece);
-  content.point_count = std::stoull(attribute(piece_tag, "NumberOfPoints"));
-  content.cell_count = std::stoull(attribute(piece_tag, "NumberOfCells"));
-
-  // Walk the elements in order, remembering the enclosing section for repeated names.
-  std::size_t end_of_blocks = data_start;
-  std::string section;
-  for (std::size_t at = xml.find('<'); at != std::string::npos; at = xml.find('<', at + 1)) {
-    const std::size_t tag_end = xml.find('>', at);
-    const std::string tag = xml.substr(at, tag_end - at + 1);
-    for (const char* name : {"PointData", "CellData", "Points", "Cells", "FieldData"}) {
-      if (tag == std::string("<") + name + ">") section = name;
-    }
-    if (tag.rfind("<DataArray ", 0) != 0) continue;
-    EXPECT_EQ(attribute(tag, "format"), "appended") << tag;
-    ArrayInfo info;
-    info.type = attribute(tag, "type");
-    info.components = std::stoi(attribute(tag, "NumberOfComponents"));
-    const std::size_t block = data_start + std::stoull(attribute(tag, "offset"));
-    const std::uint64_t byte_count = read_uint64_little_endian(file, block);
-    info.payload = file.substr(block + 8, byte_count);
-    EXPECT_EQ(info.payload.size(), byte_count) << "block runs past the end of the file";
-    end_of_blocks = std::max<std::size_t>(end_of_blocks, block + 8 + byte_count);
-    std::string name = attribute(tag, "Name");
-    if (content.arrays.count(name) != 0) name = section + "/" + name;
-    content.arrays[name] = std::move(info);
-  }
-  // The last block ends exactly where the closing tags begin: no stray or missing bytes.
-  EXPECT_EQ(file.substr(end_of_blocks), "\n</AppendedData>\n</VTKFile>\n");
-  return content;
-}
-
-template <class T>
-std::vector<T> values_of(const ArrayInfo& info) {
-  EXPECT_EQ(info.payload.size() % sizeof(T), 0u);
-  std::vector<T> values(info.payload.size() / sizeof(T));
-  // The test machine is little endian (x86-64, arm64), so a byte copy decodes the file.
-  std::memcpy(values.data(), info.payload.data(), info.payload.size());
-  return values;
-}
-
-std::vector<Vec3> vectors_of(const ArrayInfo& info) {
-  EXPECT_EQ(info.type, "Float64");
-  EXPECT_EQ(info.components, 3);
-  const std::vector<double> flat = values_of<double>(info);
-  std::vector<Vec3> vectors;
-  for (std::size_t k = 0; k + 2 < flat.size(); k += 3)
-    vectors.push_back({flat[k], flat[k + 1], flat[k + 2]});
-  return vectors;
-}
+using vtu_test::read_vtu;
+using vtu_test::values_of;
+using vtu_test::vectors_of;
+using vtu_test::VtuContent;
 
 ParticleStore three_particles() {
   ParticleStore particles;
@@ -152,6 +66,50 @@ TEST(ParticlesVtu, RoundTripsEveryArrayExactly) {
   // Type names as a VTK string array: NUL-terminated strings back to back.
   EXPECT_EQ(vtu.arrays.at("type_names").type, "String");
   EXPECT_EQ(vtu.arrays.at("type_names").payload, std::string("gravel\0sand\0", 12));
+  // And per particle, for colouring by name.
+  EXPECT_EQ(vtu.arrays.at("type_name").type, "String");
+  EXPECT_EQ(vtu.arrays.at("type_name").payload, std::string("gravel\0sand\0sand\0", 17));
+}
+
+TEST(ParticlesVtu, WritesTorqueAndTheFramesContactFields) {
+  ParticleStore particles = three_particles();
+  particles.torque[1] = {0.5, -0.25, 1e-7};
+  ParticleContactFields fields;
+  fields.coordination_number = {0, 3, 1};
+  fields.max_overlap_ratio = {0.0, 0.0125, 1.0 / 3.0};
+  const VtuContent vtu = read_vtu(particles_vtu(particles, {"gravel", "sand"}, &fields));
+  EXPECT_EQ(vectors_of(vtu.arrays.at("torque")), particles.torque);
+  EXPECT_EQ(vtu.arrays.at("coordination_number").type, "Int32");
+  EXPECT_EQ(values_of<std::int32_t>(vtu.arrays.at("coordination_number")), fields.coordination_number);
+  EXPECT_EQ(values_of<double>(vtu.arrays.at("max_overlap_ratio")), fields.max_overlap_ratio);
+  // Without contact fields the two arrays are left out rather than written as zeros.
+  const VtuContent without = read_vtu(particles_vtu(particles, {}));
+  EXPECT_EQ(without.arrays.count("coordination_number"), 0u);
+  EXPECT_EQ(without.arrays.count("torque"), 1u);
+  fields.max_overlap_ratio.pop_back();
+  EXPECT_THROW((void)particles_vtu(particles, {}, &fields), std::invalid_argument);
+}
+
+TEST(ContactsVtu, OneLineOfTwoOwnPointsPerContact) {
+  std::vector<ContactLine> lines(2);
+  lines[0] = {{0, 0, 0.01}, {0, 0, 0.029}, {0, 0, 2.5}, {0.1, 0, 0}, 1e-3, ContactLineKind::particle_particle};
+  lines[1] = {{1, 2, 3}, {1, 2, 2.99}, {0, 0, 7}, {}, 1e-4, ContactLineKind::particle_surface};
+  const VtuContent vtu = read_vtu(contacts_vtu(lines));
+  EXPECT_EQ(vtu.point_count, 4u);
+  EXPECT_EQ(vtu.cell_count, 2u);
+  EXPECT_EQ(vectors_of(vtu.arrays.at("Points")),
+            (std::vector<Vec3>{lines[0].from, lines[0].to, lines[1].from, lines[1].to}));
+  EXPECT_EQ(vectors_of(vtu.arrays.at("normal_force")), (std::vector<Vec3>{{0, 0, 2.5}, {0, 0, 7}}));
+  EXPECT_EQ(vectors_of(vtu.arrays.at("tangential_force")), (std::vector<Vec3>{{0.1, 0, 0}, {}}));
+  EXPECT_EQ(values_of<double>(vtu.arrays.at("normal_force_magnitude")), (std::vector<double>{2.5, 7}));
+  EXPECT_EQ(values_of<double>(vtu.arrays.at("overlap")), (std::vector<double>{1e-3, 1e-4}));
+  EXPECT_EQ(values_of<std::uint8_t>(vtu.arrays.at("kind")), (std::vector<std::uint8_t>{0, 1}));
+  // VTK_LINE is cell type 3.
+  EXPECT_EQ(values_of<std::int64_t>(vtu.arrays.at("connectivity")), (std::vector<std::int64_t>{0, 1, 2, 3}));
+  EXPECT_EQ(values_of<std::int64_t>(vtu.arrays.at("offsets")), (std::vector<std::int64_t>{2, 4}));
+  EXPECT_EQ(values_of<std::uint8_t>(vtu.arrays.at("types")), (std::vector<std::uint8_t>{3, 3}));
+  const VtuContent none = read_vtu(contacts_vtu({}));
+  EXPECT_EQ(none.cell_count, 0u);
 }
 
 TEST(ParticlesVtu, EmptyStoreGivesAValidEmptyPiece) {
