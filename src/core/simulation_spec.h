@@ -144,10 +144,20 @@ struct FactorySpec {
   Located<int> max_attempts{50};                      // placement tries per particle
 };
 
+// What a monitor measures (docs/deck.md "## monitors", sim/monitor_sensors.h). A monitor without
+// `type:` is a region's mass (the form before there were types).
+enum class MonitorKind { mass, particle, mass_flow, stress, velocity_profile };
+enum class Axis { x, y, z };
+
 struct MonitorSpec {
   Located<std::string> name;
-  // Mass inside this region is reported if present.
+  Located<MonitorKind> kind{MonitorKind::mass};
+  // mass: the mass inside this region (none: no column); stress, velocity_profile: a box.
   std::optional<RegionSpec> region;
+  Located<std::int64_t> particle_id{0};  // particle: its id (≥ 1)
+  Located<Vec3> point, normal;           // mass_flow: a point of the plane (m), its normal
+  Located<Axis> axis{Axis::z};           // velocity_profile: the binned direction
+  Located<int> bins{10};                 // velocity_profile: equal bins along the axis
 };
 
 struct OutputSpec {
@@ -157,6 +167,7 @@ struct OutputSpec {
   Located<double> checkpoint_interval{0.0};  // s (0 = none, except on SIGINT/SIGTERM)
   Located<bool> plots{true};            // PNG plots of the monitors at the end
   Located<double> progress_interval{2.0};  // wall-clock s between progress lines
+  Located<bool> contacts{false};        // a contacts_NNNNNN.vtu (force network) with each frame
 };
 
 // ---- FEM load export (issue 4): the `export:` section applies to every surface flagged

@@ -52,4 +52,13 @@ const EnumChoices<MotionKind> kMotionKinds{"motion type",
 const EnumChoices<RegionKind> kRegionKinds{
     "region type", {{"box", RegionKind::box}, {"cylinder", RegionKind::cylinder}}};
 
+const EnumChoices<MonitorKind> kMonitorKinds{"monitor type",
+                                             {{"mass", MonitorKind::mass},
+                                              {"particle", MonitorKind::particle},
+                                              {"mass_flow", MonitorKind::mass_flow},
+                                              {"stress", MonitorKind::stress},
+                                              {"velocity_profile", MonitorKind::velocity_profile}}};
+
+const EnumChoices<Axis> kAxes{"axis", {{"x", Axis::x}, {"y", Axis::y}, {"z", Axis::z}}};
+
 }  // namespace quarry::deck_detail

@@ -21,6 +21,8 @@ extern const EnumChoices<SupportFixity> kSupportFixities;
 extern const EnumChoices<SurfaceKind> kSurfaceKinds;
 extern const EnumChoices<MotionKind> kMotionKinds;
 extern const EnumChoices<RegionKind> kRegionKinds;
+extern const EnumChoices<MonitorKind> kMonitorKinds;
+extern const EnumChoices<Axis> kAxes;
 
 // The first spelling of `value` in `choices`. Throws std::logic_error for a value the table has
 // no spelling for (a new enumerator added to the spec but not to its table).

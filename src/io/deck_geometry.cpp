@@ -377,12 +377,59 @@ void read_factories_section(MapReader& root, std::vector<FactorySpec>& factories
   }
 }
 
+// A box region where a monitor needs one (stress, velocity profile): required, and a box.
+void read_monitor_box(MapReader& map, MonitorSpec& monitor, const std::string& variant) {
+  if (!map.require("region", "give the region as {type: box, min: [x, y, z], max: [x, y, z]}")) return;
+  monitor.region = read_region(map, "region");
+  if (monitor.region->kind.value != RegionKind::box)
+    map.context().error(monitor.region->kind.where, fmt::format("a {} needs a box region", variant),
+                        "give region: {type: box, min: [x, y, z], max: [x, y, z]}");
+}
+
 void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors) {
+  const std::vector<std::string> common_keys = {"name", "type"};
+  const std::vector<std::string> mass_keys = {"region"};
+  const std::vector<std::string> particle_keys = {"id"};
+  const std::vector<std::string> flow_keys = {"point", "normal"};
+  const std::vector<std::string> stress_keys = {"region"};
+  const std::vector<std::string> profile_keys = {"region", "axis", "bins"};
+  const std::vector<std::string> all_keys =
+      union_of({common_keys, mass_keys, particle_keys, flow_keys, profile_keys});
   for (MapReader& map : list_of_maps(root, "monitors", "monitor")) {
     MonitorSpec monitor;
-    map.reject_unknown_keys({"name", "region"});
     map.read("name", monitor.name, Presence::required);
-    if (map.has("region")) monitor.region = read_region(map, "region");
+    if (map.has("type") && !map.read("type", monitor.kind, kMonitorKinds)) {
+      map.reject_unknown_keys(all_keys);
+      monitors.push_back(std::move(monitor));
+      continue;
+    }
+    const std::string variant = fmt::format("monitor type \"{}\"", spelling(kMonitorKinds, monitor.kind.value));
+    switch (monitor.kind.value) {
+      case MonitorKind::mass:
+        map.reject_unknown_keys(joined(common_keys, mass_keys), all_keys, variant);
+        if (map.has("region")) monitor.region = read_region(map, "region");
+        break;
+      case MonitorKind::particle:
+        map.reject_unknown_keys(joined(common_keys, particle_keys), all_keys, variant);
+        map.read("id", monitor.particle_id, at_least(1.0), Presence::required);
+        break;
+      case MonitorKind::mass_flow:
+        map.reject_unknown_keys(joined(common_keys, flow_keys), all_keys, variant);
+        map.read("point", monitor.point, Presence::required);
+        if (map.read("normal", monitor.normal, Presence::required))
+          check_nonzero_direction(map.context(), "normal", monitor.normal);
+        break;
+      case MonitorKind::stress:
+        map.reject_unknown_keys(joined(common_keys, stress_keys), all_keys, variant);
+        read_monitor_box(map, monitor, variant);
+        break;
+      case MonitorKind::velocity_profile:
+        map.reject_unknown_keys(joined(common_keys, profile_keys), all_keys, variant);
+        read_monitor_box(map, monitor, variant);
+        map.read("axis", monitor.axis, kAxes, Presence::required);
+        map.read("bins", monitor.bins, interval(1.0, true, 10000.0, true));
+        break;
+    }
     monitors.push_back(std::move(monitor));
   }
 }

@@ -336,13 +336,14 @@ void read_output_section(MapReader& root, OutputSpec& output) {
   if (!value) return;
   MapReader map(root.context(), *value, *root.find_key("output"), "output");
   map.reject_unknown_keys({"directory", "interval", "monitor_interval", "checkpoint_interval",
-                           "plots", "progress_interval"});
+                           "plots", "progress_interval", "contacts"});
   map.read("directory", output.directory);
   map.read("interval", output.interval, non_negative(), "s");
   map.read("monitor_interval", output.monitor_interval, non_negative(), "s");
   map.read("checkpoint_interval", output.checkpoint_interval, non_negative(), "s");
   map.read("plots", output.plots);
   map.read("progress_interval", output.progress_interval, non_negative(), "s");
+  map.read("contacts", output.contacts);
 }
 
 void read_materials_section(MapReader& root, std::vector<MaterialSpec>& materials) {

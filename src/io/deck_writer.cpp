@@ -90,6 +90,8 @@ const std::string& spelling(RegionKind v) { return deck_detail::spelling(deck_de
 const std::string& spelling(ExportFormat v) { return deck_detail::spelling(deck_detail::kExportFormats, v); }
 const std::string& spelling(CalculixAnalysis v) { return deck_detail::spelling(deck_detail::kCalculixAnalyses, v); }
 const std::string& spelling(SupportFixity v) { return deck_detail::spelling(deck_detail::kSupportFixities, v); }
+const std::string& spelling(MonitorKind v) { return deck_detail::spelling(deck_detail::kMonitorKinds, v); }
+const std::string& spelling(Axis v) { return deck_detail::spelling(deck_detail::kAxes, v); }
 
 // The median radius (m) to write for a log-normal size. The parser stores log_mean =
 // ln(median), so the median written must be a double whose logarithm is log_mean exactly; of
@@ -352,6 +354,23 @@ void write_monitors(DeckText& deck, const std::vector<MonitorSpec>& monitors) {
   list_key(deck, "monitors", monitors.empty());
   for (const MonitorSpec& monitor : monitors) {
     deck.line(2, "- name: {}", text(monitor.name));
+    deck.line(4, "type: {}", spelling(monitor.kind.value));
+    switch (monitor.kind.value) {
+      case MonitorKind::particle:
+        deck.line(4, "id: {}", monitor.particle_id.value);
+        break;
+      case MonitorKind::mass_flow:
+        deck.line(4, "point: {}", vector_text(monitor.point));
+        deck.line(4, "normal: {}", vector_text(monitor.normal));
+        break;
+      case MonitorKind::velocity_profile:
+        deck.line(4, "axis: {}", spelling(monitor.axis.value));
+        deck.line(4, "bins: {}", monitor.bins.value);
+        break;
+      case MonitorKind::mass:
+      case MonitorKind::stress:
+        break;
+    }
     if (monitor.region) deck.line(4, "region: {}", region_text(*monitor.region));
   }
 }
@@ -364,6 +383,7 @@ void write_output(DeckText& deck, const OutputSpec& output) {
   deck.line(2, "checkpoint_interval: {}", number(output.checkpoint_interval));
   deck.line(2, "plots: {}", boolean(output.plots));
   deck.line(2, "progress_interval: {}", number(output.progress_interval));
+  deck.line(2, "contacts: {}", boolean(output.contacts));
 }
 
 void write_calculix(DeckText& deck, const CalculixSpec& calculix) {

@@ -217,7 +217,13 @@ void expect_same(const FactorySpec& a, const FactorySpec& b, const std::string& 
 
 void expect_same(const MonitorSpec& a, const MonitorSpec& b, const std::string& what) {
   EXPECT_SAME_FIELD(name);
+  EXPECT_SAME_FIELD(kind);
   EXPECT_SAME_FIELD(region);
+  EXPECT_SAME_FIELD(particle_id);
+  EXPECT_SAME_FIELD(point);
+  EXPECT_SAME_FIELD(normal);
+  EXPECT_SAME_FIELD(axis);
+  EXPECT_SAME_FIELD(bins);
 }
 
 void expect_same(const OutputSpec& a, const OutputSpec& b, const std::string& what) {
@@ -227,6 +233,7 @@ void expect_same(const OutputSpec& a, const OutputSpec& b, const std::string& wh
   EXPECT_SAME_FIELD(checkpoint_interval);
   EXPECT_SAME_FIELD(plots);
   EXPECT_SAME_FIELD(progress_interval);
+  EXPECT_SAME_FIELD(contacts);
 }
 
 void expect_same(const SupportSpec& a, const SupportSpec& b, const std::string& what) {
@@ -393,6 +400,10 @@ monitors:
   - {name: in_bed, region: {type: box, min: [0, 0, 0], max: [1, 1, 1]}}
   - {name: in_pipe, region: {type: cylinder, base: [0, 0, 0], axis: [0, 0, 1], radius: 0.25, length: 2}}
   - {name: everything}
+  - {name: tracer, type: particle, id: 17}
+  - {name: discharge, type: mass_flow, point: [0, 0, 0.5], normal: [0, 0, -1]}
+  - {name: bed_stress, type: stress, region: {type: box, min: [0, 0, 0], max: [1, 1, 0.5]}}
+  - {name: shear, type: velocity_profile, region: {type: box, min: [0, 0, 0], max: [1, 1, 1]}, axis: y, bins: 7}
 output:
   directory: results
   interval: 0.05
@@ -400,6 +411,7 @@ output:
   checkpoint_interval: 0.5
   plots: false
   progress_interval: 5
+  contacts: true
 export:
   interval: 0.1
   directory: loads

@@ -1,12 +1,13 @@
 // Checkpoints: the complete state of a World in one binary file, written atomically, from which
-// it restarts bit-identically without the deck's files. Format 3: a header (magic, format,
+// it restarts bit-identically without the deck's files. Format 4: a header (magic, format,
 // payload length, CRC-32 of the payload) and the payload: the effective deck as YAML text and
 // every surface's mesh (so a world built through the C ABI restores too), then everything that
 // influences later steps — particles with their forces (the first half kick after a restart
 // needs them), the neighbour list exactly as built (so the restarted run sums contact forces in
 // the same order), contact history, wall contacts, surface poses, drivers and load windows,
-// factory random streams. Loading checks the checksum and then every length, index and value,
-// so a damaged file is an error that says what is wrong, never a crash or a different state.
+// factory random streams, the mass-flow monitors' plane sides. Loading checks the checksum and
+// then every length, index and value, so a damaged file is an error that says what is wrong,
+// never a crash or a different state.
 #include <fmt/format.h>
 #include <zlib.h>
 
@@ -29,8 +30,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::uint64_t kMagic = 0x33304B4359525551ull;  // "QURYCK03"
-constexpr std::uint32_t kFormat = 3;
+constexpr std::uint64_t kMagic = 0x34304B4359525551ull;  // "QURYCK04"
+constexpr std::uint32_t kFormat = 4;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 4 + 4;
 
 struct Header {
@@ -203,6 +204,26 @@ void transfer_state(auto& io, World& world, std::uint64_t& frame_index) {
     std::vector<double> state = sampler.state();
     io.vector(state);
     if constexpr (loading) sampler.set_state(state);
+  }
+  std::uint64_t crossings = world.plane_crossings.size();
+  io.value(crossings);
+  if constexpr (loading) {
+    std::size_t flow_monitors = 0;
+    for (const MonitorSpec& m : world.spec.monitors) flow_monitors += m.kind.value == MonitorKind::mass_flow;
+    if (crossings > flow_monitors) bad("more mass-flow monitor states than the deck has mass-flow monitors");
+    world.plane_crossings.assign(crossings, {});
+  }
+  for (PlaneCrossingState& c : world.plane_crossings) {
+    io.vector(c.side_by_id);
+    io.value(c.last_time);
+    io.value(c.crossed_mass);
+    transfer_flag(io, c.started);
+    if constexpr (loading) {
+      if (c.side_by_id.size() > world.next_id) bad("a mass-flow monitor's state names particle ids never given");
+      for (std::int8_t side : c.side_by_id)
+        if (side < -1 || side > 1) bad("a mass-flow monitor's state holds a side other than -1, 0, 1");
+      if (!std::isfinite(c.last_time) || !std::isfinite(c.crossed_mass)) bad("a mass-flow monitor's state is not finite");
+    }
   }
 }
 

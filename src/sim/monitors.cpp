@@ -1,4 +1,4 @@
-// Monitor quantities and plots.
+// Monitor quantities and plots; the typed monitors' measurements are in monitor_sensors.cpp.
 #include "sim/monitors.h"
 
 #include <cmath>
@@ -6,6 +6,7 @@
 
 #include "insert/region.h"
 #include "io/png_plot.h"
+#include "sim/monitor_sensors.h"
 
 namespace quarry::sim {
 
@@ -17,11 +18,11 @@ std::vector<std::string> monitor_columns(const World& world, std::size_t surface
     for (const char* q : {"Fx_N", "Fy_N", "Fz_N", "F_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"})
       c.push_back(world.surfaces[s].mesh.name + "_" + q);
   for (const auto& m : world.spec.monitors)
-    if (m.region) c.push_back(m.name.value + "_mass_kg");
+    for (std::string& column : sensor_columns(m)) c.push_back(std::move(column));
   return c;
 }
 
-std::vector<double> monitor_row(const World& world, std::size_t surface_count) {
+std::vector<double> monitor_row(World& world, std::size_t surface_count) {
   const ParticleStore& p = world.particles;
   double kinetic = 0.0, speed = 0.0;  // J, m/s
   Vec3 velocity;
@@ -40,13 +41,37 @@ std::vector<double> monitor_row(const World& world, std::size_t surface_count) {
     const Vec3 f = world.surfaces[s].mesh.total_force, t = world.surfaces[s].mesh.total_torque;
     for (double v : {f.x, f.y, f.z, norm(f), t.x, t.y, t.z}) row.push_back(v);
   }
+  std::vector<FrameContact> contacts;  // gathered once for the stress monitors, if any
+  bool contacts_gathered = false;
+  std::size_t flow = 0;  // index of the next mass-flow monitor's state
   for (const auto& m : world.spec.monitors) {
-    if (!m.region) continue;
-    const Region region(*m.region);
-    double mass = 0.0;  // kg
-    for (std::size_t i = 0; i < p.size(); ++i)
-      if (region.contains(p.position[i])) mass += 1.0 / p.inv_mass[i];
-    row.push_back(mass);
+    switch (m.kind.value) {
+      case MonitorKind::mass: {
+        if (!m.region) break;
+        const Region region(*m.region);
+        double mass = 0.0;  // kg
+        for (std::size_t i = 0; i < p.size(); ++i)
+          if (region.contains(p.position[i])) mass += 1.0 / p.inv_mass[i];
+        row.push_back(mass);
+        break;
+      }
+      case MonitorKind::particle:
+        append_particle_values(world, m, row);
+        break;
+      case MonitorKind::mass_flow:
+        if (world.plane_crossings.size() <= flow) world.plane_crossings.resize(flow + 1);
+        append_mass_flow_values(world, m, world.plane_crossings[flow++], row);
+        break;
+      case MonitorKind::stress: {
+        if (!contacts_gathered) contacts = frame_contacts(world), contacts_gathered = true;
+        const RegionStress stress = region_stress(world, *m.region, contacts);
+        row.insert(row.end(), stress.contact.begin(), stress.contact.end());
+        row.insert(row.end(), stress.kinetic.begin(), stress.kinetic.end());
+        break;
+      }
+      case MonitorKind::velocity_profile:
+        break;  // a file of its own (Output)
+    }
   }
   return row;
 }

@@ -13,6 +13,8 @@
 #include "export/load_exporter.h"
 #include "io/atomic_file.h"
 #include "io/vtu_writer.h"
+#include "sim/frame_contacts.h"
+#include "sim/monitor_sensors.h"
 #include "sim/monitors.h"
 #include "sim/run.h"
 
@@ -33,6 +35,24 @@ std::vector<const Surface*> meshes_of(const World& world) {
   std::vector<const Surface*> meshes;
   for (const WorldSurface& s : world.surfaces) meshes.push_back(&s.mesh);
   return meshes;
+}
+
+// A particle monitor whose id no row ever saw (every value NaN) is most likely a wrong id.
+void warn_of_unseen_particles(const World& world, const CsvTable& monitors, std::ostream& log) {
+  for (const MonitorSpec& m : world.spec.monitors) {
+    if (m.kind.value != MonitorKind::particle) continue;
+    const std::string column = m.name.value + "_x_m";
+    std::size_t k = 0;
+    while (k < monitors.columns().size() && monitors.columns()[k] != column) ++k;
+    if (k == monitors.columns().size()) continue;
+    bool seen = false;
+    for (const auto& row : monitors.rows()) seen = seen || std::isfinite(row[k]);
+    if (!seen)
+      log << fmt::format("quarry: warning: {}:{}:{}: monitor '{}': no particle had id {} at any monitor row (its "
+                         "columns are empty); ids are given from 1 in creation order\n",
+                         m.particle_id.where.file, m.particle_id.where.line, m.particle_id.where.column,
+                         m.name.value, m.particle_id.value);
+  }
 }
 
 }  // namespace
@@ -126,6 +146,25 @@ Output::Output(World& world, const OutputOptions& options)
     particle_series_.load_existing(*options.resume_time);
     for (auto& series : surface_series_) series.load_existing(*options.resume_time);
   }
+  for (std::size_t k = 0; k < world.spec.monitors.size(); ++k) {
+    const MonitorSpec& m = world.spec.monitors[k];
+    if (m.kind.value != MonitorKind::velocity_profile) continue;
+    const std::string file = "profile_" + m.name.value + ".csv";
+    profile_monitors_.push_back(k);
+    profiles_.emplace_back(directory_ / file, velocity_profile_columns());
+    if (options.resume_time) {
+      profiles_.back() = CsvTable::load(directory_ / file);
+      profiles_.back().truncate_after(*options.resume_time);
+    }
+    wrote(file);
+  }
+  if (out.contacts.value) {
+    contact_series_.emplace(directory_ / "contacts.pvd");
+    if (options.resume_time) contact_series_->load_existing(*options.resume_time);
+    wrote("contacts.pvd");
+  }
+  // A fresh run's mass-flow monitors start with no sides seen; a restart has the checkpoint's.
+  if (!options.resume_time) world.plane_crossings.clear();
   exporter_ = std::make_unique<fem_export::LoadExporter>(world.spec.fem_export, meshes_of(world), directory_,
                                                          world.dt, options.resume_time);
   if (exporter_->active()) wrote(std::filesystem::relative(exporter_->directory(), directory_).string());
@@ -157,20 +196,21 @@ void Output::finish(World& world, bool interrupted) {
   const std::size_t notes_before = exporter_->notes().size();
   exporter_->finish(meshes_of(world), world.time, interrupted);
   for (std::size_t k = notes_before; k < exporter_->notes().size(); ++k) log_ << "quarry: " << exporter_->notes()[k] << "\n";
-  monitors_.flush();
+  flush_tables();
+  warn_of_unseen_particles(world, monitors_, log_);
   if (world.spec.output.plots.value && !monitors_.rows().empty())
     for (const std::string& plot : write_monitor_plots(directory_.string(), monitors_.columns(), monitors_.rows()))
       wrote(plot);
 }
 
 void Output::stopped_by_error(World& world) {
-  monitors_.flush();
+  flush_tables();
   write_frame(world);
   exporter_->finish(meshes_of(world), world.time, true);
 }
 
 std::string Output::write_checkpoint_now(World& world) {
-  monitors_.flush();
+  flush_tables();
   wrote("checkpoint.qck");
   write_checkpoint(world, checkpoint_path_, frame_index_);
   checkpoint_written_ = true;
@@ -180,9 +220,20 @@ std::string Output::write_checkpoint_now(World& world) {
 void Output::write_frame(World& world) {
   const std::string tag = fmt::format("{:06}", frame_index_);
   const std::string particle_file = "particles_" + tag + ".vtu";
+  const std::vector<FrameContact> contacts = frame_contacts(world);
+  const ParticleContactFields fields = particle_contact_fields(world, contacts);
   wrote(particle_file);
-  write_file_atomically(directory_ / particle_file, particles_vtu(world.particles, world.type_names));
+  write_file_atomically(directory_ / particle_file, particles_vtu(world.particles, world.type_names, &fields));
   particle_series_.add(world.time, particle_file);
+  if (contact_series_) {
+    std::vector<ContactLine> lines;
+    lines.reserve(contacts.size());
+    for (const FrameContact& c : contacts) lines.push_back(c.line);
+    const std::string contact_file = "contacts_" + tag + ".vtu";
+    wrote(contact_file);
+    write_file_atomically(directory_ / contact_file, contacts_vtu(lines));
+    contact_series_->add(world.time, contact_file);
+  }
   LoadFrame means;
   for (std::size_t s = 0; s < surface_count_; ++s) {
     WorldSurface& surface = world.surfaces[s];
@@ -193,11 +244,29 @@ void Output::write_frame(World& world) {
                                                          means.force, means.nodal_force));
     surface_series_[s].add(world.time, file);
   }
-  monitors_.flush();
+  flush_tables();
   frame_pending_ = false;
   ++frame_index_;
 }
 
-void Output::record_monitors(World& world) { monitors_.add_row(monitor_row(world, surface_count_)); }
+void Output::record_monitors(World& world) {
+  monitors_.add_row(monitor_row(world, surface_count_));
+  for (std::size_t k = 0; k < profile_monitors_.size(); ++k) {
+    const std::vector<VelocityBin> bins = velocity_profile(world, world.spec.monitors[profile_monitors_[k]]);
+    for (std::size_t b = 0; b < bins.size(); ++b) {
+      const VelocityBin& bin = bins[b];
+      const std::vector<double> row = {world.time, static_cast<double>(b), bin.centre,
+                                       static_cast<double>(bin.particles), bin.mass, bin.mean_velocity.x,
+                                       bin.mean_velocity.y, bin.mean_velocity.z};
+      profiles_[k].add_row(row);
+    }
+  }
+}
+
+void Output::flush_tables() {
+  monitors_.flush();
+  for (CsvTable& profile : profiles_) profile.flush();
+}
+
 
 }  // namespace quarry::sim

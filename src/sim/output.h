@@ -82,6 +82,8 @@ class Output {
  private:
   void write_frame(World& world);
   void record_monitors(World& world);
+  // The monitor file and the velocity-profile files to disk.
+  void flush_tables();
 
   std::ostream& log_;
   std::filesystem::path directory_;
@@ -90,7 +92,11 @@ class Output {
   std::uint64_t frame_index_ = 0;
   std::size_t surface_count_ = 0;  // surfaces when the output began: its columns and series
   CsvTable monitors_;
+  // velocity_profile monitors: their index in spec.monitors and file (profile_NAME.csv).
+  std::vector<std::size_t> profile_monitors_;
+  std::vector<CsvTable> profiles_;
   PvdSeries particle_series_;
+  std::optional<PvdSeries> contact_series_;  // output.contacts: contacts.pvd
   std::vector<PvdSeries> surface_series_;
   std::string checkpoint_path_;
   bool checkpoint_written_ = false;

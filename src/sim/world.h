@@ -167,6 +167,16 @@ struct ForceWorkspace {
   std::vector<int> rows_done;  // per thread: 1 once its pair rows are summed
 };
 
+// A mass-flow monitor's memory from one monitor row to the next (sim/monitor_sensors.cpp): the
+// side of its plane each particle was on at the last row, and the mass counted so far. Part of
+// the checkpoint, so that a restarted run counts the crossings of the interrupted interval.
+struct PlaneCrossingState {
+  std::vector<std::int8_t> side_by_id;  // index: particle id; +1 / −1 at the last row, 0 unseen
+  double last_time = 0.0;               // s: time of the last row
+  double crossed_mass = 0.0;            // kg: net mass crossed along the normal since the start
+  bool started = false;                 // a first row was taken
+};
+
 struct World;
 
 // Where in the step a hook runs (sim/step.cpp; like LAMMPS's fix stages).
@@ -260,6 +270,8 @@ struct World {
   bool excessive_overlap = false;     // set by the force stage for the overlap guard
   bool lists_stale = true;            // particles were added/removed: rebuild before forces
   std::vector<std::string> warnings;  // reported once (e.g. factory shortfall)
+  // One per mass_flow monitor of the spec, in deck order (sized by the output stage).
+  std::vector<PlaneCrossingState> plane_crossings;
 
   Threading threading;
   // Non-zero (a signal number) asks long phases — a factory placing many particles — to end

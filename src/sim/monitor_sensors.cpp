@@ -1,0 +1,139 @@
+// Typed monitors: particle, mass flow through a plane, region stress, velocity profile.
+#include "sim/monitor_sensors.h"
+
+#include <cmath>
+#include <limits>
+
+#include "insert/region.h"
+
+namespace quarry::sim {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* kStressComponents[6] = {"xx", "yy", "zz", "xy", "xz", "yz"};
+constexpr int kRow[6] = {0, 1, 2, 0, 0, 1}, kColumn[6] = {0, 1, 2, 1, 2, 2};
+
+double box_volume(const RegionSpec& box) {
+  const Vec3 size = box.max.value - box.min.value;  // m
+  return size.x * size.y * size.z;                  // m³
+}
+
+}  // namespace
+
+std::vector<std::string> sensor_columns(const MonitorSpec& monitor) {
+  const std::string& name = monitor.name.value;
+  std::vector<std::string> columns;
+  switch (monitor.kind.value) {
+    case MonitorKind::mass:
+      if (monitor.region) columns.push_back(name + "_mass_kg");
+      break;
+    case MonitorKind::particle:
+      for (const char* q : {"x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s", "wx_rad_s", "wy_rad_s", "wz_rad_s",
+                            "Fx_N", "Fy_N", "Fz_N"})
+        columns.push_back(name + "_" + q);
+      break;
+    case MonitorKind::mass_flow:
+      columns.push_back(name + "_mass_flow_kg_s");
+      columns.push_back(name + "_crossed_mass_kg");
+      break;
+    case MonitorKind::stress:
+      for (const char* part : {"contact", "kinetic"})
+        for (const char* component : kStressComponents)
+          columns.push_back(name + "_" + part + "_s" + component + "_Pa");
+      break;
+    case MonitorKind::velocity_profile:
+      break;
+  }
+  return columns;
+}
+
+void append_particle_values(const World& world, const MonitorSpec& monitor, std::vector<double>& row) {
+  const ParticleStore& p = world.particles;
+  const auto id = static_cast<ParticleId>(monitor.particle_id.value);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.id[i] != id) continue;
+    for (const Vec3& v : {p.position[i], p.velocity[i], p.angular_velocity[i], p.force[i]})
+      row.insert(row.end(), {v.x, v.y, v.z});
+    return;
+  }
+  row.insert(row.end(), 12, kNaN);
+}
+
+void append_mass_flow_values(const World& world, const MonitorSpec& monitor, PlaneCrossingState& state,
+                             std::vector<double>& row) {
+  const ParticleStore& p = world.particles;
+  const Vec3 point = monitor.point.value, normal = monitor.normal.value;
+  if (state.side_by_id.size() < world.next_id) state.side_by_id.resize(world.next_id, 0);
+  double crossed = 0.0;  // kg, net along the normal since the last row
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::int8_t side = dot(p.position[i] - point, normal) >= 0.0 ? 1 : -1;
+    std::int8_t& last = state.side_by_id[p.id[i]];
+    if (last != 0 && last != side) crossed += side / p.inv_mass[i];
+    last = side;
+  }
+  const double interval = world.time - state.last_time;  // s
+  row.push_back(state.started && interval > 0.0 ? crossed / interval : 0.0);
+  state.crossed_mass += crossed;
+  row.push_back(state.crossed_mass);
+  state.last_time = world.time;
+  state.started = true;
+}
+
+RegionStress region_stress(const World& world, const RegionSpec& box, const std::vector<FrameContact>& contacts) {
+  const Region region(box);
+  const double volume = box_volume(box);  // m³
+  RegionStress stress;
+  for (const FrameContact& c : contacts) {
+    if (!region.contains(0.5 * (c.line.from + c.line.to))) continue;
+    const Vec3 force = c.line.normal_force + c.line.tangential_force;  // N on i
+    const Vec3 branch = c.line.from - c.line.to;                        // m, towards i
+    for (int k = 0; k < 6; ++k)
+      stress.contact[k] += 0.5 * (force[kRow[k]] * branch[kColumn[k]] + force[kColumn[k]] * branch[kRow[k]]);
+  }
+  const ParticleStore& p = world.particles;
+  double mass = 0.0;  // kg
+  Vec3 momentum;      // kg·m/s
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!region.contains(p.position[i])) continue;
+    mass += 1.0 / p.inv_mass[i];
+    momentum += p.velocity[i] / p.inv_mass[i];
+  }
+  const Vec3 mean = mass > 0.0 ? momentum / mass : Vec3{};  // m/s
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!region.contains(p.position[i])) continue;
+    const Vec3 fluctuation = p.velocity[i] - mean;  // m/s
+    for (int k = 0; k < 6; ++k) stress.kinetic[k] += fluctuation[kRow[k]] * fluctuation[kColumn[k]] / p.inv_mass[i];
+  }
+  for (int k = 0; k < 6; ++k) stress.contact[k] /= volume, stress.kinetic[k] /= volume;
+  return stress;
+}
+
+std::vector<VelocityBin> velocity_profile(const World& world, const MonitorSpec& monitor) {
+  const RegionSpec& box = *monitor.region;
+  const Region region(box);
+  const int axis = static_cast<int>(monitor.axis.value);
+  const auto bins = static_cast<std::size_t>(monitor.bins.value);
+  const double lower = box.min.value[axis], width = (box.max.value[axis] - lower) / static_cast<double>(bins);  // m
+  std::vector<VelocityBin> profile(bins);
+  std::vector<Vec3> momentum(bins);  // kg·m/s
+  for (std::size_t b = 0; b < bins; ++b) profile[b].centre = lower + (static_cast<double>(b) + 0.5) * width;
+  const ParticleStore& p = world.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!region.contains(p.position[i])) continue;
+    const double s = std::floor((p.position[i][axis] - lower) / width);
+    const std::size_t b = s < 0.0 ? 0 : std::min(bins - 1, static_cast<std::size_t>(s));
+    profile[b].particles += 1;
+    profile[b].mass += 1.0 / p.inv_mass[i];
+    momentum[b] += p.velocity[i] / p.inv_mass[i];
+  }
+  for (std::size_t b = 0; b < bins; ++b)
+    profile[b].mean_velocity = profile[b].mass > 0.0 ? momentum[b] / profile[b].mass : Vec3{kNaN, kNaN, kNaN};
+  return profile;
+}
+
+std::vector<std::string> velocity_profile_columns() {
+  return {"time_s", "bin", "position_m", "particles", "mass_kg", "mean_vx_m_s", "mean_vy_m_s", "mean_vz_m_s"};
+}
+
+}  // namespace quarry::sim
