@@ -204,6 +204,52 @@ TEST(OutputVerification, MassFlowCountsTheBallsCrossingAPlane) {
   }
 }
 
+// The typed monitors' files through a real run and restart: a run stopped after its checkpoint
+// (taken between two monitor rows) and restarted writes the same monitors.csv, velocity profile
+// and contacts series, to the bit, as the run that went through (the mass-flow sensor's sides
+// come from the checkpoint). A particle monitor whose id never exists is a warning at the end.
+TEST(OutputVerification, MonitorFilesOfARestartedRunAreThoseOfTheRunThatWentThrough) {
+  namespace fs = std::filesystem;
+  const std::string monitors = R"(monitors:
+  - {name: outlet, type: mass_flow, point: [0, 0, 0.1], normal: [0, 0, -1]}
+  - {name: column, type: stress, region: {type: box, min: [-0.1, -0.1, 0], max: [0.1, 0.1, 0.3]}}
+  - {name: fall, type: velocity_profile, region: {type: box, min: [-0.1, -0.1, 0], max: [0.1, 0.1, 0.3]}, axis: z, bins: 6}
+  - {name: ghost, type: particle, id: 99}
+factories:
+  - {name: drop, particle_type: sphere, region: {type: box, min: [-0.08, -0.08, 0.102], max: [0.08, 0.08, 0.16]}, count: 40}
+)";
+  std::string deck = ball_deck("[0, 0, -9.81]", monitors);
+  deck.replace(deck.find("output: {interval: 0,"), 21,
+               "output: {interval: 0, monitor_interval: 0.01, checkpoint_interval: 0.035,");
+  const SimulationSpec spec = parse_deck_string(deck, "test.yaml");
+  const fs::path straight = fs::path(::testing::TempDir()) / "quarry_monitors_straight";
+  const fs::path split = fs::path(::testing::TempDir()) / "quarry_monitors_split";
+  fs::remove_all(straight);
+  fs::remove_all(split);
+  sim::RunOptions options;
+  options.quiet = true;
+  options.threads = 1;  // 40 balls: a team of threads would only cost
+  std::ostringstream log;
+  options.log = &log;
+  options.end_time = 0.08;  // long before the first ball reaches the floor
+  World through = build_world(spec);
+  options.output_directory = straight.string();
+  sim::run(through, options);
+  EXPECT_NE(log.str().find("test.yaml:22:39: monitor 'ghost': no particle had id 99"), std::string::npos) << log.str();
+
+  World first = build_world(spec);
+  options.output_directory = split.string();
+  options.end_time = 0.05;  // the checkpoint at 0.035 s (between the rows of 0.03 and 0.04 s) is the last
+  sim::run(first, options);
+  options.end_time = 0.08;
+  sim::restart((split / "checkpoint.qck").string(), options);
+  for (const char* file : {"monitors.csv", "profile_fall.csv", "contacts.pvd", "contacts_000001.vtu"})
+    EXPECT_EQ(read_text(split / file), read_text(straight / file)) << file;
+  const std::string rows = read_text(straight / "monitors.csv");
+  EXPECT_NE(rows.find("outlet_crossed_mass_kg"), std::string::npos);
+  EXPECT_GT(through.plane_crossings.at(0).crossed_mass, 5 * kMass) << "the test must see crossings";
+}
+
 // Balls at rest on a grid with no contacts, given velocities (±a, ±b, 0) with zero mean: the
 // kinetic stress of the box is σk_ab = (1/V) Σ m v_a v_b (e.g. Weinhart et al., Granular Matter
 // 14 (2012) 289, eq. 21), i.e. ρ_bulk a², ρ_bulk b², 0 and ρ_bulk a b <s_x s_y> off the diagonal,
