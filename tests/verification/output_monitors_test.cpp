@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "io/deck.h"
@@ -202,6 +203,35 @@ TEST(OutputVerification, MassFlowCountsTheBallsCrossingAPlane) {
     EXPECT_EQ(again, rows[static_cast<std::size_t>(row - 1)]) << "row " << row << " after the restart";
     sim::advance(restored.world, 4000);
   }
+}
+
+// A checkpoint whose mass-flow sensor state is inconsistent (right checksum, written from a world
+// changed by hand) is refused with what is wrong, never restored.
+TEST(OutputVerification, CheckpointWithADamagedMassFlowStateIsRefused) {
+  const std::string monitors =
+      "monitors:\n  - {name: outlet, type: mass_flow, point: [0, 0, 0.1], normal: [0, 0, -1]}\n";
+  std::vector<sim::NewParticle> ball(1);
+  ball[0].position = {0, 0, 0.2};
+  World original = world_with(ball_deck("[0, 0, -9.81]", monitors), ball);
+  sim::monitor_row(original, 1);
+  ASSERT_EQ(original.plane_crossings.size(), 1u);
+  const std::vector<std::pair<std::string, std::function<void(World&)>>> cases = {
+      {"a side other than -1, 0, 1", [](World& w) { w.plane_crossings[0].side_by_id[1] = 5; }},
+      {"names particle ids never given", [](World& w) { w.plane_crossings[0].side_by_id.resize(w.next_id + 1); }},
+      {"more mass-flow monitor states", [](World& w) { w.plane_crossings.resize(2); }},
+      {"not finite", [](World& w) { w.plane_crossings[0].crossed_mass = std::nan(""); }},
+  };
+  for (const auto& [expected, damage] : cases) {
+    World world = original;
+    damage(world);
+    try {
+      sim::read_checkpoint_bytes(sim::checkpoint_bytes(world, 0), "damaged.qck");
+      ADD_FAILURE() << expected << ": restored";
+    } catch (const UserError& e) {
+      EXPECT_NE(e.diagnostics().format().find(expected), std::string::npos) << e.diagnostics().format();
+    }
+  }
+  EXPECT_EQ(sim::read_checkpoint_bytes(sim::checkpoint_bytes(original, 0), "intact.qck").world.plane_crossings.size(), 1u);
 }
 
 // The typed monitors' files through a real run and restart: a run stopped after its checkpoint
