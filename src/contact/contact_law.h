@@ -79,7 +79,8 @@ struct ContactResult {
 // with the Coulomb limit μs |Fn| using the elastic + dashpot normal force, before cohesion.
 // Rolling: constant directional torque uses each body's own ω and radius and the same |Fn|;
 // EPSD limits |Mr| to μr R* |Fn|. Cohesion (SJKR) pulls i towards j: −k A n.
-// Precondition: dt > 0. If overlap <= 0 the pair is not touching: the result is zero and the
+// Precondition: dt ≥ 0 (0: the force of the stored history, no increment: how sim/frame_contacts
+// reads a frame's contact forces). If overlap <= 0 the pair is not touching: the result is zero and the
 // history is cleared (the spring is released when contact is lost).
 [[gnu::always_inline]] inline ContactResult evaluate_contact(const InteractionParameters& parameters,
                                       const ContactKinematics& kinematics, ContactHistory& history,

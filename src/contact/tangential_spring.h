@@ -28,7 +28,7 @@ inline Vec3 rotate_into_tangent_plane(const Vec3& stored, const Vec3& unit_norma
 //   LIGGGHTS' tangential_model_history instead caps the spring part alone and drops the dashpot
 //   while sliding — we cap the total, as the design asks, so the force never exceeds μ|Fn|).
 // Preconditions: unit_normal has length 1; tangential_velocity ⟂ unit_normal (m/s);
-// stiffness (N/m), damping_coefficient (N·s/m), friction_limit (N) >= 0; dt (s) > 0.
+// stiffness (N/m), damping_coefficient (N·s/m), friction_limit (N) >= 0; dt (s) >= 0 (0: no increment).
 inline Vec3 tangential_spring_force(Vec3& tangential_displacement, const Vec3& unit_normal,
                                     const Vec3& tangential_velocity, double stiffness,
                                     double damping_coefficient, double friction_limit, double dt) {

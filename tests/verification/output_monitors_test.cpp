@@ -74,6 +74,21 @@ World world_with(const std::string& deck, const std::vector<sim::NewParticle>& p
   return world;
 }
 
+// Writes frame 0 (and a monitor row) of the world as it stands into a fresh `name` folder.
+std::filesystem::path write_frame_now(World& world, const std::string& name) {
+  const std::filesystem::path directory = std::filesystem::path(::testing::TempDir()) / name;
+  std::filesystem::remove_all(directory);
+  static std::ostringstream log;
+  sim::OutputOptions options;
+  options.directory = directory;
+  options.end_time = 1.0;
+  options.log = &log;
+  world.output = std::make_unique<sim::Output>(world, options);
+  world.output->start(world);
+  world.output.reset();
+  return directory;
+}
+
 // Two balls pressed together at overlap δ and one resting on the floor at δ: the contacts file
 // holds Hertz's normal force F = 4/3 E* sqrt(R*) δ^{3/2} (Hertz 1882; Johnson, Contact Mechanics
 // eq. 4.22) with R* = R/2 for the pair and R* = R for the flat floor, along the line between the
@@ -86,16 +101,8 @@ TEST(OutputVerification, ContactsFileHoldsHertzForcesAndTheParticlesTheirContact
   balls[1].position = {0, 0, 0.1 + 2 * kRadius - pair_overlap};
   balls[2].position = {0.05, 0, kRadius - floor_overlap};
   World world = world_with(ball_deck("[0, 0, 0]", ""), balls);
-  const std::filesystem::path directory = std::filesystem::path(::testing::TempDir()) / "quarry_contacts_vtu";
-  std::filesystem::remove_all(directory);
   sim::step(world);  // lists and forces for the added balls
-  std::ostringstream log;
-  sim::OutputOptions options;
-  options.directory = directory;
-  options.end_time = 1.0;
-  options.log = &log;
-  world.output = std::make_unique<sim::Output>(world, options);
-  world.output->start(world);  // monitor row and frame 0 of this state
+  const std::filesystem::path directory = write_frame_now(world, "quarry_contacts_vtu");
 
   const vtu_test::VtuContent contacts = vtu_test::read_vtu(read_text(directory / "contacts_000000.vtu"));
   ASSERT_EQ(contacts.cell_count, 2u);
@@ -131,7 +138,33 @@ TEST(OutputVerification, ContactsFileHoldsHertzForcesAndTheParticlesTheirContact
   EXPECT_NE(manifest.find("contacts_000000.vtu"), std::string::npos);
   EXPECT_NE(manifest.find("contacts.pvd"), std::string::npos);
   EXPECT_NE(read_text(directory / "contacts.pvd").find("contacts_000000.vtu"), std::string::npos);
-  world.output.reset();
+}
+
+// A ball sliding on the floor: once the tangential spring has stretched to the Coulomb limit the
+// friction force in the contacts file is |Ft| = μs |Fn| (Coulomb's law of sliding friction; μs =
+// 0.3 here, no dashpot), against the sliding direction; the same for two balls sliding past
+// each other (pair forces evaluated at the frame's state).
+TEST(OutputVerification, ContactsFileHoldsCoulombFrictionWhileSliding) {
+  std::vector<sim::NewParticle> balls(3);
+  balls[0].position = {0, 0, kRadius - 5e-5};
+  balls[0].velocity = {0.5, 0, 0};
+  balls[1].position = {0.05, 0, 0.1};
+  balls[1].velocity = {0, 0.25, 0};
+  balls[2].position = {0.05, 0, 0.1 + 2 * kRadius - 1e-4};
+  balls[2].velocity = {0, -0.25, 0};
+  World world = world_with(ball_deck("[0, 0, 0]", ""), balls);
+  sim::advance(world, 30);  // the springs reach the limit within about 10 steps
+  const vtu_test::VtuContent contacts =
+      vtu_test::read_vtu(read_text(write_frame_now(world, "quarry_contacts_friction") / "contacts_000000.vtu"));
+  ASSERT_EQ(contacts.cell_count, 2u);
+  const std::vector<Vec3> normal = vtu_test::vectors_of(contacts.arrays.at("normal_force"));
+  const std::vector<Vec3> tangential = vtu_test::vectors_of(contacts.arrays.at("tangential_force"));
+  for (std::size_t c = 0; c < 2; ++c) EXPECT_NEAR(norm(tangential[c]) / norm(normal[c]), 0.3, 1e-9) << "contact " << c;
+  // The pair: friction on the line's first ball opposes its sliding relative to the other, +y
+  // for the lower ball.
+  const std::vector<Vec3> ends = vtu_test::vectors_of(contacts.arrays.at("Points"));
+  EXPECT_LT(ends[0].z < ends[1].z ? tangential[0].y : -tangential[0].y, 0.0);
+  EXPECT_LT(tangential[1].x, 0.0);  // the floor: on the ball, which slides along +x
 }
 
 // A particle monitor follows a ball in free fall: z(t) = z0 − g t²/2. Velocity Verlet integrates a
