@@ -38,6 +38,7 @@ std::vector<std::string> sensor_columns(const MonitorSpec& monitor) {
       columns.push_back(name + "_crossed_mass_kg");
       break;
     case MonitorKind::stress:
+      if (!monitor.region) break;  // as monitor_row: no box, no columns
       for (const char* part : {"contact", "kinetic"})
         for (const char* component : kStressComponents)
           columns.push_back(name + "_" + part + "_s" + component + "_Pa");

@@ -63,6 +63,7 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
         append_mass_flow_values(world, m, world.plane_crossings[flow++], row);
         break;
       case MonitorKind::stress: {
+        if (!m.region) break;  // the deck requires the box; a spec made in code may lack it
         if (!contacts_gathered) contacts = frame_contacts(world), contacts_gathered = true;
         const RegionStress stress = region_stress(world, *m.region, contacts);
         row.insert(row.end(), stress.contact.begin(), stress.contact.end());

@@ -148,7 +148,7 @@ Output::Output(World& world, const OutputOptions& options)
   }
   for (std::size_t k = 0; k < world.spec.monitors.size(); ++k) {
     const MonitorSpec& m = world.spec.monitors[k];
-    if (m.kind.value != MonitorKind::velocity_profile) continue;
+    if (m.kind.value != MonitorKind::velocity_profile || !m.region) continue;  // the deck requires the box
     const std::string file = "profile_" + m.name.value + ".csv";
     profile_monitors_.push_back(k);
     profiles_.emplace_back(directory_ / file, velocity_profile_columns());
@@ -267,6 +267,5 @@ void Output::flush_tables() {
   monitors_.flush();
   for (CsvTable& profile : profiles_) profile.flush();
 }
-
 
 }  // namespace quarry::sim
