@@ -66,9 +66,9 @@ void truncate_csv(const fs::path& path, double resume_time) {
 }  // namespace
 
 LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* const> surfaces,
-                           const fs::path& output_directory, double dt,
+                           const fs::path& output_directory, double dt, double end_time,
                            std::optional<double> resume_time)
-    : spec_(spec), directory_(output_directory / spec.directory.value) {
+    : spec_(spec), directory_(output_directory / spec.directory.value), end_time_(end_time) {
   if (!spec.enabled) {
     for (const Surface* surface : surfaces)
       if (surface->export_loads)
@@ -79,6 +79,7 @@ LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* cons
   }
   every_steps_ = std::max<std::uint64_t>(
       1, static_cast<std::uint64_t>(std::llround(spec.interval.value / dt)));
+  interval_ = static_cast<double>(every_steps_) * dt;
   fs::create_directories(directory_);
   for (std::size_t s = 0; s < surfaces.size(); ++s) {
     const Surface& surface = *surfaces[s];
@@ -154,10 +155,15 @@ void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, d
 void LoadExporter::after_step(std::span<const Surface* const> surfaces, double time,
                               std::uint64_t step_count, double dt) {
   if (finished_) return;
+  // Steps left until the run loop stops (it steps while time < end − dt/2). A remainder of
+  // fewer than half an interval's steps joins this interval rather than making its own record.
+  const long long steps_left = end_time_ > 0.0 ? std::llround((end_time_ - time) / dt) : 0;
+  const bool absorb_remainder =
+      steps_left > 0 && 2 * static_cast<std::uint64_t>(steps_left) < every_steps_;
   for (auto& output : outputs_) {
     const Surface& surface = *surfaces[output->surface_index];
     output->window.accumulate(surface, dt);
-    if (step_count % every_steps_ == 0) write_record(surface, *output, time);
+    if (step_count % every_steps_ == 0 && !absorb_remainder) write_record(surface, *output, time);
   }
 }
 
@@ -166,7 +172,19 @@ void LoadExporter::finish(std::span<const Surface* const> surfaces, double time,
   finished_ = true;
   for (auto& output : outputs_) {
     const Surface& surface = *surfaces[output->surface_index];
-    if (!interrupted && output->window.duration > 0.0) write_record(surface, *output, time);
+    if (!interrupted && output->window.duration > 0.0) {
+      const double length = output->window.duration;  // s
+      const double interval = interval_;                // s
+      // Flag a record shorter than an interval (a remainder of ≥ half an interval, or an end
+      // that was not foreseen); a merged one (up to 1.5 intervals) is noted too.
+      if (std::abs(length - interval) > 1e-9 * interval)
+        notes_.push_back(fmt::format("surface '{}': the last export record (t = {:.6g} s) is the mean "
+                                     "over {:.6g} s, not one interval of {:.6g} s ({})",
+                                     output->name, time, length, interval,
+                                     length < interval ? "the run ended inside it"
+                                                       : "the remainder up to the end joined it"));
+      write_record(surface, *output, time);
+    }
     output->history->flush();
     if (output->csv.is_open()) output->csv.close();
     if (!wants(spec_, ExportFormat::calculix) || !spec_.calculix) continue;

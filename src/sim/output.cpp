@@ -166,7 +166,7 @@ Output::Output(World& world, const OutputOptions& options)
   // A fresh run's mass-flow monitors start with no sides seen; a restart has the checkpoint's.
   if (!options.resume_time) world.plane_crossings.clear();
   exporter_ = std::make_unique<fem_export::LoadExporter>(world.spec.fem_export, meshes_of(world), directory_,
-                                                         world.dt, options.resume_time);
+                                                         world.dt, end_time_, options.resume_time);
   if (exporter_->active()) wrote(std::filesystem::relative(exporter_->directory(), directory_).string());
   wrote("monitors.csv");
   wrote("particles.pvd");

@@ -305,7 +305,7 @@ TEST(LoadExporter, MemoryIsIndependentOfTheNumberOfIntervals) {
   spec.calculix = clamped_steel_plate(0.4, 0.008);
   spec.calculix->analysis = CalculixAnalysis::dynamic;
   const std::vector<const Surface*> meshes = {&surfaces[0]};
-  LoadExporter exporter(spec, meshes, folder, 1e-4, std::nullopt);
+  LoadExporter exporter(spec, meshes, folder, 1e-4, 1e-4 * 2000, std::nullopt);
   ASSERT_TRUE(exporter.active());
   long resident_early = 0;
   const int steps = 2000;

@@ -1,0 +1,107 @@
+// The records of the FEM load export (issue #20): no sliver record when the run's end is not a
+// multiple of the export interval, MED components named as code_aster reads them, and the
+// code_aster .comm template beside the MED file naming what really is in it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "export/load_exporter.h"
+#include "export/med_file.h"
+#include "export/nodal_history.h"
+#include "fem_export/fem_export_support.h"
+
+namespace quarry::fem_export {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace quarry::fem_export_testing;
+
+constexpr double kDt = 1e-3;       // s, time step
+constexpr double kInterval = 0.1;  // s, export interval = 100 steps
+
+// Load on vertex 0 (N, along z) in step n: -1 N in the first two intervals, -2 N in the third,
+// -50 N after it (a transient, as when a run ends while something lands on the surface).
+double load_in_step(int n) {
+  return n <= 200 ? -1.0 : n <= 300 ? -2.0 : -50.0;
+}
+
+struct Export {
+  fs::path folder;
+  std::vector<std::string> notes;
+};
+
+// Drives a LoadExporter as the run loop does for `steps` steps of kDt, ending at steps·kDt.
+Export run_export(const std::string& name, int steps) {
+  Export result;
+  result.folder = fs::path(::testing::TempDir()) / ("quarry_export_records_" + name);
+  fs::remove_all(result.folder);
+  std::vector<Surface> surfaces = {square_plate(0.4, 2)};
+  surfaces[0].export_loads = true;
+  ExportSpec spec;
+  spec.enabled = true;
+  spec.interval = kInterval;
+  spec.formats = {Located<ExportFormat>(ExportFormat::med)};
+  const std::vector<const Surface*> meshes = {&surfaces[0]};
+  LoadExporter exporter(spec, meshes, result.folder, kDt, kDt * steps, std::nullopt);
+  for (int n = 1; n <= steps; ++n) {
+    surfaces[0].vertex_force[0] = {0.0, 0.0, load_in_step(n)};
+    surfaces[0].triangle_force[0] = {0.0, 0.0, load_in_step(n)};
+    exporter.after_step(meshes, kDt * n, static_cast<std::uint64_t>(n), kDt);
+  }
+  exporter.finish(meshes, kDt * steps, false);
+  result.notes = exporter.notes();
+  return result;
+}
+
+bool any_note_contains(const Export& e, const std::string& text) {
+  for (const std::string& note : e.notes)
+    if (note.find(text) != std::string::npos) return true;
+  return false;
+}
+
+// End 0.303 s: before issue #20 the records were 0.1, 0.2, 0.3 and a 3-step sliver at 0.303 s
+// whose mean was the transient's -50 N. Now the remainder (3 steps < half an interval) joins
+// the third interval: its record covers 0.2–0.303 s, mean (100·(−2) + 3·(−50)) / 103 N.
+TEST(ExportRecords, RemainderShorterThanHalfAnIntervalJoinsTheLastRecord) {
+  const Export e = run_export("merged", 303);
+  const MedLoadFile med = read_med_loads((e.folder / "fem_export" / "plate.med").string());
+  ASSERT_EQ(med.frames.size(), 3u);
+  EXPECT_NEAR(med.frames[0].time, 0.1, 1e-12);
+  EXPECT_NEAR(med.frames[1].time, 0.2, 1e-12);
+  EXPECT_NEAR(med.frames[2].time, 0.303, 1e-12);
+  EXPECT_NEAR(med.frames[1].nodal_force[0].z, -1.0, 1e-12);
+  EXPECT_NEAR(med.frames[2].nodal_force[0].z, (100.0 * -2.0 + 3.0 * -50.0) / 103.0, 1e-12);
+  NodalHistoryReader history(e.folder / "fem_export" / "plate_nodal_forces.bin");
+  EXPECT_EQ(history.frame_count(), 3u);
+  EXPECT_TRUE(any_note_contains(e, "the remainder up to the end joined it"));
+}
+
+// End 0.36 s: a remainder of 60 steps (≥ half an interval) is a record of its own, 0.3–0.36 s,
+// and the run's notes flag its length.
+TEST(ExportRecords, RemainderOfAtLeastHalfAnIntervalIsItsOwnFlaggedRecord) {
+  const Export e = run_export("own", 360);
+  const MedLoadFile med = read_med_loads((e.folder / "fem_export" / "plate.med").string());
+  ASSERT_EQ(med.frames.size(), 4u);
+  EXPECT_NEAR(med.frames[2].time, 0.3, 1e-12);
+  EXPECT_NEAR(med.frames[2].nodal_force[0].z, -2.0, 1e-12);
+  EXPECT_NEAR(med.frames[3].time, 0.36, 1e-12);
+  EXPECT_NEAR(med.frames[3].nodal_force[0].z, -50.0, 1e-12);
+  EXPECT_TRUE(
+      any_note_contains(e, "over 0.06 s, not one interval of 0.1 s (the run ended inside it)"));
+}
+
+// An end on an interval boundary gives whole intervals and no note.
+TEST(ExportRecords, WholeIntervalsAreUnchanged) {
+  const Export e = run_export("whole", 300);
+  const MedLoadFile med = read_med_loads((e.folder / "fem_export" / "plate.med").string());
+  ASSERT_EQ(med.frames.size(), 3u);
+  EXPECT_NEAR(med.frames[2].time, 0.3, 1e-12);
+  EXPECT_FALSE(any_note_contains(e, "last export record"));
+}
+
+}  // namespace
+}  // namespace quarry::fem_export
