@@ -11,6 +11,7 @@ packages=(
   libbenchmark-dev                       # micro-benchmarks
   libmedc-dev libhdf5-openmpi-dev        # MED load export (med.h needs the OpenMPI HDF5)
   libmed-tools                           # mdump: the tests check exported MED files with it
+  python3-meshio python3-h5py            # a second MED reader (meshio reads MED with h5py) for the export test
   calculix-ccx                           # ccx: the tests run the exported CalculiX decks
   libzmq3-dev                            # coupling server/client transport (quarry serve)
   python3 python3-numpy                  # the Python module (ctypes over libquarry.so) and its tests

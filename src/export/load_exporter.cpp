@@ -9,6 +9,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "export/aster_comm.h"
 #include "export/calculix_deck.h"
 #include "geometry/load_window.h"
 #include "export/med_file.h"
@@ -29,6 +30,7 @@ struct LoadExporter::SurfaceOutput {
   std::vector<Vec3> mesh_vertices;       // m, as at the start of the export
   std::unique_ptr<NodalHistoryWriter> history;
   std::unique_ptr<MedLoadWriter> med;
+  std::vector<std::string> med_groups;   // node group names in the MED file
   std::unique_ptr<PvdSeries> vtu_series;
   std::ofstream csv;
 
@@ -101,6 +103,7 @@ LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* cons
       output->med = std::make_unique<MedLoadWriter>(base.string() + ".med", surface.name,
                                                     output->mesh_vertices, surface.triangles,
                                                     resume_time.has_value(), groups);
+      for (const MedNodeGroup& group : groups) output->med_groups.push_back(group.name);
     }
     if (wants(spec, ExportFormat::vtu)) {
       const fs::path pvd = base.string() + "_loads.pvd";
@@ -187,6 +190,13 @@ void LoadExporter::finish(std::span<const Surface* const> surfaces, double time,
     }
     output->history->flush();
     if (output->csv.is_open()) output->csv.close();
+    if (output->med) {
+      // The code_aster template beside the MED file, naming its mesh, fields and instants.
+      NodalHistoryReader history(output->history->path());
+      const AsterCommInput comm{output->name, output->name + ".med", output->med->mesh_name(),
+                                history.times(), output->med_groups};
+      write_file_atomically(directory_ / (output->name + ".comm"), aster_comm_text(comm));
+    }
     if (!wants(spec_, ExportFormat::calculix) || !spec_.calculix) continue;
     if (output->history->frame_count() == 0) {
       notes_.push_back(fmt::format("warning: no export interval of surface '{}' has ended; no "

@@ -49,12 +49,21 @@ struct FieldLayout {
   const char* unit;
 };
 
+// Component names are code_aster's (NOM_CMP_IDEM='OUI' in LIRE_CHAMP maps them one to one):
+// PRES of the PRES_R quantity for the pressure, FX FY FZ of FORC_R for forces and tractions.
 constexpr FieldLayout kFields[] = {
     {kMedPressureField, MED_CELL, MED_TRIA3, 1, "Pa"},
     {kMedShearField, MED_CELL, MED_TRIA3, 3, "Pa"},
     {kMedForceField, MED_CELL, MED_TRIA3, 3, "N"},
     {kMedNodalForceField, MED_NODE, MED_NONE, 3, "N"},
 };
+
+// Blank-separated MED component names of a field with `components` components.
+std::string component_names(int components) {
+  return components == 1 ? short_names({kMedPressureComponent})
+                         : short_names({kMedForceComponents[0], kMedForceComponents[1],
+                                        kMedForceComponents[2]});
+}
 
 std::vector<double> flatten(std::span<const Vec3> values) {
   std::vector<double> flat(3 * values.size());
@@ -150,8 +159,7 @@ MedLoadWriter::MedLoadWriter(const std::string& path, const std::string& mesh_na
         path, "MEDmeshElementConnectivityWr");
   write_node_groups(file, path, mesh_name_, nodes.size(), groups);
   for (const FieldLayout& field : kFields) {
-    const std::string names = field.components == 1 ? short_names({"P"})
-                                                    : short_names({"X", "Y", "Z"});
+    const std::string names = component_names(field.components);
     const std::string units = field.components == 1
                                   ? short_names({field.unit})
                                   : short_names({field.unit, field.unit, field.unit});
@@ -297,6 +305,9 @@ MedLoadFile read_med_loads(const std::string& path) {
           path, "MEDfieldInfo");
     result.field_names.push_back(trimmed(field_name, MED_NAME_SIZE));
     result.field_units.push_back(trimmed(units.data(), MED_SNAME_SIZE));
+    std::vector<std::string>& component_list = result.field_components.emplace_back();
+    for (med_int c = 0; c < components; ++c)
+      component_list.push_back(trimmed(names.data() + c * MED_SNAME_SIZE, MED_SNAME_SIZE));
     result.time_units.push_back(trimmed(field_dt_unit, MED_SNAME_SIZE));
   }
   for (const FieldLayout& field : kFields)

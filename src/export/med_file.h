@@ -20,6 +20,11 @@ inline constexpr const char* kMedPressureField = "pressure";          // Pa, 1 c
 inline constexpr const char* kMedShearField = "shear_stress";         // Pa, 3 components, cells
 inline constexpr const char* kMedForceField = "force";                // N, 3 components, cells
 inline constexpr const char* kMedNodalForceField = "nodal_force";     // N, 3 components, nodes
+// Component names, as code_aster names them (quantities PRES_R and FORC_R), so that LIRE_CHAMP
+// with NOM_CMP_IDEM='OUI' reads them as they are: PRES for the pressure; FX FY FZ for the
+// forces and the shear traction (global axes).
+inline constexpr const char* kMedPressureComponent = "PRES";
+inline constexpr const char* kMedForceComponents[3] = {"FX", "FY", "FZ"};
 
 // A named set of mesh nodes (0-based), written to MED as a node group (code_aster: GROUP_NO),
 // e.g. the supports of the CalculiX section, so the structural model can fix them by name.
@@ -47,6 +52,8 @@ class MedLoadWriter {
   void write(int step_number, const LoadFrame& frame);
   // Closes the file (HDF5 completes it on disk); the next write reopens it.
   void close();
+  // The mesh's name in the file (the given name cut to 64 characters).
+  const std::string& mesh_name() const { return mesh_name_; }
 
   ~MedLoadWriter();
   MedLoadWriter(const MedLoadWriter&) = delete;
@@ -69,6 +76,7 @@ struct MedLoadFile {
   std::vector<LoadFrame> frames;                            // duration is not stored (0)
   std::vector<std::string> field_names;                     // in file order
   std::vector<std::string> field_units;                     // first component's unit, per field
+  std::vector<std::vector<std::string>> field_components;   // component names, per field
   std::vector<std::string> time_units;                      // per field
   std::vector<MedNodeGroup> node_groups;                    // sorted by name, nodes ascending
 };

@@ -103,5 +103,58 @@ TEST(ExportRecords, WholeIntervalsAreUnchanged) {
   EXPECT_FALSE(any_note_contains(e, "last export record"));
 }
 
+// The texts between quotes after each occurrence of `key` (e.g. NOM_MED=') in `text`.
+std::vector<std::string> quoted_after(const std::string& text, const std::string& key) {
+  std::vector<std::string> values;
+  for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+    const std::size_t begin = at + key.size();
+    values.push_back(text.substr(begin, text.find('\'', begin) - begin));
+  }
+  return values;
+}
+
+// MED components carry code_aster's names (PRES; FX FY FZ) and the .comm template reads the MED
+// file's real mesh and fields at the real record instants.
+TEST(ExportRecords, MedComponentsAndAsterCommandFileMatchTheMedFile) {
+  const Export e = run_export("comm", 303);
+  const MedLoadFile med = read_med_loads((e.folder / "fem_export" / "plate.med").string());
+  ASSERT_EQ(med.field_names.size(), med.field_components.size());
+  for (std::size_t f = 0; f < med.field_names.size(); ++f) {
+    const std::vector<std::string> expected = med.field_names[f] == kMedPressureField
+                                                  ? std::vector<std::string>{"PRES"}
+                                                  : std::vector<std::string>{"FX", "FY", "FZ"};
+    EXPECT_EQ(med.field_components[f], expected) << med.field_names[f];
+  }
+  const std::string comm = read_text(e.folder / "fem_export" / "plate.comm");
+  ASSERT_FALSE(comm.empty());
+  EXPECT_NE(comm.find("F mmed plate.med D 20"), std::string::npos);
+  EXPECT_NE(comm.find("DEBUT("), std::string::npos);
+  EXPECT_NE(comm.find("FIN()"), std::string::npos);
+  // NOM_MED of LIRE_MAILLAGE is the mesh; those of LIRE_CHAMP are fields of the file.
+  const std::vector<std::string> names = quoted_after(comm, "NOM_MED='");
+  ASSERT_EQ(names.size(), 3u);
+  EXPECT_EQ(names[0], med.mesh_name);
+  for (std::size_t k = 1; k < names.size(); ++k)
+    EXPECT_NE(std::find(med.field_names.begin(), med.field_names.end(), names[k]),
+              med.field_names.end())
+        << names[k];
+  EXPECT_EQ(quoted_after(comm, "TYPE_CHAM='"),
+            (std::vector<std::string>{"NOEU_FORC_R", "ELEM_PRES_R"}));
+  // The instant list is the MED steps' times, in order, to the last digit.
+  const std::size_t open = comm.find("instants = [");
+  ASSERT_NE(open, std::string::npos);
+  const char* cursor = comm.c_str() + open + 12;
+  std::vector<double> instants;
+  while (*cursor != ']') {
+    char* end = nullptr;
+    instants.push_back(std::strtod(cursor, &end));
+    ASSERT_NE(end, cursor);
+    cursor = end;
+    while (*cursor == ',' || *cursor == ' ') ++cursor;
+  }
+  ASSERT_EQ(instants.size(), med.frames.size());
+  for (std::size_t k = 0; k < instants.size(); ++k) EXPECT_EQ(instants[k], med.frames[k].time) << k;
+}
+
 }  // namespace
 }  // namespace quarry::fem_export

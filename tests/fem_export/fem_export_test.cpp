@@ -160,7 +160,8 @@ TEST(MedFile, ReadsBackIdenticallyAndMdumpAcceptsIt) {
             0)
       << read_text(dump);
   const std::string text = read_text(dump);
-  for (const char* expected : {"pressure", "shear_stress", "nodal_force", "TRIA3", "Pa", "LEFT_EDGE", "BOTTOM_EDGE"})
+  for (const char* expected : {"pressure", "shear_stress", "nodal_force", "TRIA3", "Pa", "LEFT_EDGE",
+                               "BOTTOM_EDGE", "PRES", "FX", "FZ"})
     EXPECT_NE(text.find(expected), std::string::npos) << expected << " missing in mdump output";
 }
 
