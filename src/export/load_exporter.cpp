@@ -12,6 +12,7 @@
 #include "export/aster_comm.h"
 #include "export/calculix_deck.h"
 #include "geometry/load_window.h"
+#include "geometry/surface_pressure.h"
 #include "export/med_file.h"
 #include "export/nodal_history.h"
 #include "io/atomic_file.h"
@@ -149,8 +150,13 @@ void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, d
   }
   if (output.vtu_series) {
     const std::string file = fmt::format("{}_loads_{:06}.vtu", output.name, record - 1);
+    const std::vector<double> nodal = nodal_pressure(surface, frame.nodal_force);
+    const std::vector<double> smoothed = smoothing_width_ > 0.0
+                                             ? coarse_grained_pressure(surface, nodal, smoothing_width_)
+                                             : std::vector<double>{};
     write_file_atomically(directory_ / file,
-                          surface_vtu(surface, frame.pressure, frame.shear_stress, frame.force, frame.nodal_force));
+                          surface_vtu(surface, frame.pressure, frame.shear_stress, frame.force, frame.nodal_force,
+                                      nodal, smoothed));
     output.vtu_series->add(time, file);
   }
 }

@@ -56,6 +56,10 @@ class LoadExporter {
   // from its whole history. Safe to call once; later calls do nothing.
   void finish(std::span<const Surface* const> surfaces, double time, bool interrupted);
 
+  // Width (m, the Gaussian's standard deviation) of the coarse-grained pressure in the VTU
+  // records (geometry/surface_pressure.h); ≤ 0 (the default): the VTU has no smoothed pressure.
+  void set_pressure_smoothing_width(double width) { smoothing_width_ = width; }
+
   // Lines for the run's log (files written, warnings such as supports that hold no node).
   const std::vector<std::string>& notes() const { return notes_; }
   std::filesystem::path directory() const { return directory_; }
@@ -69,6 +73,7 @@ class LoadExporter {
   std::uint64_t every_steps_ = 1;
   double interval_ = 0.0;  // s, every_steps_ × dt
   double end_time_ = 0.0;  // s, ≤ 0: unknown
+  double smoothing_width_ = 0.0;  // m
   std::vector<std::unique_ptr<SurfaceOutput>> outputs_;
   std::vector<std::string> notes_;
   bool finished_ = false;

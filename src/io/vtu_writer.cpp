@@ -263,7 +263,9 @@ std::string contacts_vtu(std::span<const ContactLine> contacts) {
 
 std::string surface_vtu(const Surface& surface, std::span<const double> pressure,
                         std::span<const Vec3> shear, std::span<const Vec3> force,
-                        std::span<const Vec3> nodal_force) {
+                        std::span<const Vec3> nodal_force,
+                        std::span<const double> pressure_nodal,
+                        std::span<const double> pressure_smoothed) {
   const std::size_t triangle_count = surface.triangle_count();
   const std::size_t vertex_count = surface.vertex_count();
   require_size(pressure, triangle_count, "surface pressure");
@@ -272,6 +274,8 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
   require_size(surface.triangle_normals, triangle_count,
                "surface triangle_normals (call update_normals_and_areas)");
   if (!nodal_force.empty()) require_size(nodal_force, vertex_count, "surface nodal_force");
+  if (!pressure_nodal.empty()) require_size(pressure_nodal, vertex_count, "surface pressure_nodal");
+  if (!pressure_smoothed.empty()) require_size(pressure_smoothed, vertex_count, "surface pressure_smoothed");
   if (!surface.vertex_velocities.empty()) {
     require_size(surface.vertex_velocities, vertex_count, "surface vertex_velocities");
   }
@@ -309,6 +313,10 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
                                vec3_payload_or_zeros(nodal_force, vertex_count));
   point_data += arrays.element("Float64", "velocity", 3,
                                vec3_payload_or_zeros(surface.vertex_velocities, vertex_count));
+  if (!pressure_nodal.empty())
+    point_data += arrays.element("Float64", "pressure_nodal", 1, scalar_payload<double>(pressure_nodal));
+  if (!pressure_smoothed.empty())
+    point_data += arrays.element("Float64", "pressure_smoothed", 1, scalar_payload<double>(pressure_smoothed));
 
   const std::string points = arrays.element("Float64", "Points", 3, vec3_payload(surface.vertices));
 

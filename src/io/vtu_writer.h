@@ -52,13 +52,17 @@ std::string contacts_vtu(std::span<const ContactLine> contacts);
 // element_id (Int64, = triangle index = input mesh order), pressure (Pa), shear_stress (Pa, 3),
 // shear_magnitude (Pa), force (N, 3), normal (unit, 3). Point data: vertex_force (N, 3, from
 // `nodal_force`), velocity (m/s, 3, from surface.vertex_velocities).
-// `pressure`, `shear`, `force`, `nodal_force` are the window means of a LoadWindow.
+// `pressure`, `shear`, `force`, `nodal_force` are the window means of a LoadWindow. When
+// given (vertex_count() entries), `pressure_nodal` and `pressure_smoothed` (Pa, from
+// geometry/surface_pressure.h) become point data of those names.
 // Pre: the three per-triangle spans have triangle_count() entries; triangle_normals has
 // triangle_count() entries; nodal_force and vertex_velocities have vertex_count() entries or are
 // empty (then zeros are written); every vertex index is in range. Throws std::invalid_argument
 // otherwise. Cost: O(triangles + vertices).
 std::string surface_vtu(const Surface& surface, std::span<const double> pressure,
                         std::span<const Vec3> shear, std::span<const Vec3> force,
-                        std::span<const Vec3> nodal_force);
+                        std::span<const Vec3> nodal_force,
+                        std::span<const double> pressure_nodal = {},
+                        std::span<const double> pressure_smoothed = {});
 
 }  // namespace quarry

@@ -148,7 +148,12 @@ TEST(SurfaceVtu, RoundTripsCellAndPointData) {
   const std::vector<double> pressure = {1200.0, 0.25};                   // Pa
   const std::vector<Vec3> shear = {{3.0, 4.0, 0.0}, {0.0, -1e-3, 0}};    // Pa
   const std::vector<Vec3> force = {{1.5, 2.0, -600.0}, {0, 0, -0.125}};  // N
-  const VtuContent vtu = read_vtu(surface_vtu(surface, pressure, shear, force, surface.vertex_force));
+  const std::vector<double> nodal = {10.0, 20.0, 30.0, 40.0};        // Pa
+  const std::vector<double> smoothed = {11.0, 21.0, 31.0, 41.5};     // Pa
+  const VtuContent vtu =
+      read_vtu(surface_vtu(surface, pressure, shear, force, surface.vertex_force, nodal, smoothed));
+  EXPECT_EQ(values_of<double>(vtu.arrays.at("pressure_nodal")), nodal);
+  EXPECT_EQ(values_of<double>(vtu.arrays.at("pressure_smoothed")), smoothed);
   EXPECT_EQ(vtu.point_count, 4u);
   EXPECT_EQ(vtu.cell_count, 2u);
   EXPECT_EQ(vtu.arrays.at("element_id").type, "Int64");
@@ -178,6 +183,7 @@ TEST(SurfaceVtu, UnsetPerVertexLoadsAreWrittenAsZeros) {
   const VtuContent vtu = read_vtu(surface_vtu(surface, pressure, zeros, zeros, {}));
   EXPECT_EQ(vectors_of(vtu.arrays.at("vertex_force")), std::vector<Vec3>(4));
   EXPECT_EQ(vectors_of(vtu.arrays.at("velocity")), std::vector<Vec3>(4));
+  EXPECT_EQ(vtu.arrays.count("pressure_smoothed"), 0u);  // written only when given
 }
 
 TEST(SurfaceVtu, RejectsMismatchedSizesAndBadVertexIndices) {
@@ -187,6 +193,8 @@ TEST(SurfaceVtu, RejectsMismatchedSizesAndBadVertexIndices) {
   EXPECT_THROW((void)surface_vtu(surface, std::vector<double>(1, 0.0), zeros, zeros, {}),
                std::invalid_argument);
   EXPECT_THROW((void)surface_vtu(surface, pressure, zeros, zeros, std::vector<Vec3>(3)), std::invalid_argument);
+  EXPECT_THROW((void)surface_vtu(surface, pressure, zeros, zeros, {}, {}, std::vector<double>(3)),
+               std::invalid_argument);
   surface.triangles[1][2] = 9;
   EXPECT_THROW((void)surface_vtu(surface, pressure, zeros, zeros, {}), std::invalid_argument);
 }

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "export/load_exporter.h"
+#include "geometry/surface_pressure.h"
 #include "io/atomic_file.h"
 #include "io/vtu_writer.h"
 #include "sim/frame_contacts.h"
@@ -167,6 +168,7 @@ Output::Output(World& world, const OutputOptions& options)
   if (!options.resume_time) world.plane_crossings.clear();
   exporter_ = std::make_unique<fem_export::LoadExporter>(world.spec.fem_export, meshes_of(world), directory_,
                                                          world.dt, end_time_, options.resume_time);
+  exporter_->set_pressure_smoothing_width(world.max_radius);
   if (exporter_->active()) wrote(std::filesystem::relative(exporter_->directory(), directory_).string());
   wrote("monitors.csv");
   wrote("particles.pvd");
@@ -240,8 +242,13 @@ void Output::write_frame(World& world) {
     surface.output_window.take_means(surface.mesh, world.time, means);
     const std::string file = surface.mesh.name + "_" + tag + ".vtu";
     wrote(file);
-    write_file_atomically(directory_ / file, surface_vtu(surface.mesh, means.pressure, means.shear_stress,
-                                                         means.force, means.nodal_force));
+    // Vertex pressures: nodal (load-conserving) and coarse-grained over a Gaussian of standard
+    // deviation = the largest particle radius (converges to the mean load; issue #20).
+    const std::vector<double> nodal = nodal_pressure(surface.mesh, means.nodal_force);
+    write_file_atomically(directory_ / file,
+                          surface_vtu(surface.mesh, means.pressure, means.shear_stress, means.force,
+                                      means.nodal_force, nodal,
+                                      coarse_grained_pressure(surface.mesh, nodal, world.max_radius)));
     surface_series_[s].add(world.time, file);
   }
   flush_tables();
