@@ -245,10 +245,11 @@ void Output::write_frame(World& world) {
     // Vertex pressures: nodal (load-conserving) and coarse-grained over a Gaussian of standard
     // deviation = the largest particle radius (converges to the mean load; issue #20).
     const std::vector<double> nodal = nodal_pressure(surface.mesh, means.nodal_force);
-    write_file_atomically(directory_ / file,
-                          surface_vtu(surface.mesh, means.pressure, means.shear_stress, means.force,
-                                      means.nodal_force, nodal,
-                                      coarse_grained_pressure(surface.mesh, nodal, world.max_radius)));
+    const std::vector<double> smoothed = world.max_radius > 0.0
+                                             ? coarse_grained_pressure(surface.mesh, nodal, world.max_radius)
+                                             : std::vector<double>{};
+    write_file_atomically(directory_ / file, surface_vtu(surface.mesh, means.pressure, means.shear_stress,
+                                                         means.force, means.nodal_force, nodal, smoothed));
     surface_series_[s].add(world.time, file);
   }
   flush_tables();
