@@ -71,6 +71,12 @@ void hertz_mindlin_batch_kernel(benchmark::State& state) {
     b.vx[m] = v.x, b.vy[m] = v.y, b.vz[m] = v.z;
     b.wix[m] = k.angular_velocity_i.x, b.wiy[m] = k.angular_velocity_i.y, b.wiz[m] = k.angular_velocity_i.z;
     b.wjx[m] = k.angular_velocity_j.x, b.wjy[m] = k.angular_velocity_j.y, b.wjz[m] = k.angular_velocity_j.z;
+    const Vec3 lead = k.velocity_lead_i - k.velocity_lead_j;
+    b.lvx[m] = lead.x, b.lvy[m] = lead.y, b.lvz[m] = lead.z;
+    b.lwix[m] = k.angular_velocity_lead_i.x, b.lwiy[m] = k.angular_velocity_lead_i.y;
+    b.lwiz[m] = k.angular_velocity_lead_i.z;
+    b.lwjx[m] = k.angular_velocity_lead_j.x, b.lwjy[m] = k.angular_velocity_lead_j.y;
+    b.lwjz[m] = k.angular_velocity_lead_j.z;
   }
   b.count = HertzMindlinBatch::kCapacity;
   for (auto _ : state) {

@@ -186,6 +186,10 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
       k.velocity_j = random_vec(0.1);
       k.angular_velocity_i = random_vec(50.0);
       k.angular_velocity_j = random_vec(50.0);
+      k.velocity_lead_i = random_vec(0.01);
+      k.velocity_lead_j = random_vec(0.01);
+      k.angular_velocity_lead_i = random_vec(5.0);
+      k.angular_velocity_lead_j = random_vec(5.0);
       const Vec3 start = m % 3 == 0 ? Vec3{} : random_vec(m % 2 ? 1e-7 : 1e-9);  // m
       const Vec3 d = k.normal * ((k.radius_i + k.radius_j) - k.overlap);  // x_i − x_j
       batch->dx[m] = d.x, batch->dy[m] = d.y, batch->dz[m] = d.z, batch->distance2[m] = norm2(d);
@@ -195,6 +199,11 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
       batch->vx[m] = v.x, batch->vy[m] = v.y, batch->vz[m] = v.z;
       batch->wix[m] = k.angular_velocity_i.x, batch->wiy[m] = k.angular_velocity_i.y, batch->wiz[m] = k.angular_velocity_i.z;
       batch->wjx[m] = k.angular_velocity_j.x, batch->wjy[m] = k.angular_velocity_j.y, batch->wjz[m] = k.angular_velocity_j.z;
+      const Vec3 lead = k.velocity_lead_i - k.velocity_lead_j;
+      batch->lvx[m] = lead.x, batch->lvy[m] = lead.y, batch->lvz[m] = lead.z;
+      const Vec3 li = k.angular_velocity_lead_i, lj = k.angular_velocity_lead_j;
+      batch->lwix[m] = li.x, batch->lwiy[m] = li.y, batch->lwiz[m] = li.z;
+      batch->lwjx[m] = lj.x, batch->lwjy[m] = lj.y, batch->lwjz[m] = lj.z;
       batch->hx[m] = start.x, batch->hy[m] = start.y, batch->hz[m] = start.z;
       ++batch->count;
       // The kernel derives n and δ from x_i − x_j: give the law the same (rounded) values.
@@ -242,6 +251,8 @@ TEST(EvaluateContact, BatchKernelOverlapGuardFlagsTheContactPastTheLimitAndNotTh
     batch->inv_mass_i[0] = batch->inv_mass_j[0] = 1e5;
     batch->vx[0] = batch->vy[0] = batch->vz[0] = 0.0;
     batch->wix[0] = batch->wiy[0] = batch->wiz[0] = batch->wjx[0] = batch->wjy[0] = batch->wjz[0] = 0.0;
+    batch->lvx[0] = batch->lvy[0] = batch->lvz[0] = 0.0;
+    batch->lwix[0] = batch->lwiy[0] = batch->lwiz[0] = batch->lwjx[0] = batch->lwjy[0] = batch->lwjz[0] = 0.0;
     batch->hx[0] = batch->hy[0] = batch->hz[0] = 0.0;
   };
   // 1e-6 m on a smaller radius of 1e-3 m: 0.1 %. The padding lanes (δ = 0.5 of R = 0.75)

@@ -60,6 +60,15 @@ inline ContactKinematics kinematics_on_floor(const Sphere& i) {
   return kinematics;
 }
 
+// The leads of the engine's step (sim::set_velocity_leads): the half kick still to come from
+// the previous forces, which carries the drift velocities to the force's time for the dashpots.
+inline Vec3 velocity_lead(const Sphere& sphere, const Vec3& gravity, double dt) {
+  return (0.5 * dt / sphere.mass) * sphere.force + (0.5 * dt) * gravity;
+}
+inline Vec3 angular_velocity_lead(const Sphere& sphere, double dt) {
+  return (0.5 * dt / sphere.inertia()) * sphere.torque;
+}
+
 inline void half_kick(Sphere& sphere, const Vec3& gravity, double dt) {
   sphere.velocity += (0.5 * dt / sphere.mass) * sphere.force + (0.5 * dt) * gravity;
   sphere.angular_velocity += (0.5 * dt / sphere.inertia()) * sphere.torque;
@@ -74,8 +83,10 @@ inline ContactResult step_on_floor(const InteractionParameters& parameters, Sphe
                                    ContactHistory& history, const Vec3& gravity, double dt) {
   half_kick(sphere, gravity, dt);
   drift(sphere, dt);
-  const ContactResult result =
-      evaluate_contact(parameters, kinematics_on_floor(sphere), history, dt);
+  ContactKinematics kinematics = kinematics_on_floor(sphere);
+  kinematics.velocity_lead_i = velocity_lead(sphere, gravity, dt);
+  kinematics.angular_velocity_lead_i = angular_velocity_lead(sphere, dt);
+  const ContactResult result = evaluate_contact(parameters, kinematics, history, dt);
   sphere.force = result.force_i;
   sphere.torque = result.torque_i;
   half_kick(sphere, gravity, dt);
@@ -105,7 +116,13 @@ inline CollisionRecord collide(const InteractionParameters& parameters, Sphere& 
     if (j) half_kick(*j, no_gravity, dt);
     drift(i, dt);
     if (j) drift(*j, dt);
-    const ContactKinematics kinematics = j ? kinematics_between(i, *j) : kinematics_on_floor(i);
+    ContactKinematics kinematics = j ? kinematics_between(i, *j) : kinematics_on_floor(i);
+    kinematics.velocity_lead_i = velocity_lead(i, no_gravity, dt);
+    kinematics.angular_velocity_lead_i = angular_velocity_lead(i, dt);
+    if (j) {
+      kinematics.velocity_lead_j = velocity_lead(*j, no_gravity, dt);
+      kinematics.angular_velocity_lead_j = angular_velocity_lead(*j, dt);
+    }
     const ContactResult result = evaluate_contact(parameters, kinematics, history, dt);
     i.force = result.force_i;
     i.torque = result.torque_i;

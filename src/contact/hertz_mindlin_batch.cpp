@@ -18,6 +18,8 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     b.inv_mass_i[m] = b.inv_mass_j[m] = 1.0;
     b.vx[m] = b.vy[m] = b.vz[m] = 0.0;
     b.wix[m] = b.wiy[m] = b.wiz[m] = b.wjx[m] = b.wjy[m] = b.wjz[m] = 0.0;
+    b.lvx[m] = b.lvy[m] = b.lvz[m] = 0.0;
+    b.lwix[m] = b.lwiy[m] = b.lwiz[m] = b.lwjx[m] = b.lwjy[m] = b.lwjz[m] = 0.0;
     b.hx[m] = b.hy[m] = b.hz[m] = 0.0;
   }
   const double youngs = parameters.effective_youngs_modulus;      // Pa, E*
@@ -46,9 +48,19 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double rx = b.vx[m] - (sy * nz - sz * ny);
     const double ry = b.vy[m] - (sz * nx - sx * nz);
     const double rz = b.vz[m] - (sx * ny - sy * nx);
-    const double normal_velocity = rx * nx + ry * ny + rz * nz;  // m/s
-    const double tx = rx - normal_velocity * nx, ty = ry - normal_velocity * ny,
-                 tz = rz - normal_velocity * nz;  // m/s, tangential velocity
+    const double drift_normal_velocity = rx * nx + ry * ny + rz * nz;  // m/s
+    const double tx = rx - drift_normal_velocity * nx, ty = ry - drift_normal_velocity * ny,
+                 tz = rz - drift_normal_velocity * nz;  // m/s, tangential velocity (springs)
+    // At the force's time (dashpots): plus the leads' share.
+    const double lx = lever_i * b.lwix[m] + lever_j * b.lwjx[m];
+    const double ly = lever_i * b.lwiy[m] + lever_j * b.lwjy[m];
+    const double lz = lever_i * b.lwiz[m] + lever_j * b.lwjz[m];
+    const double qx = rx + (b.lvx[m] - (ly * nz - lz * ny));
+    const double qy = ry + (b.lvy[m] - (lz * nx - lx * nz));
+    const double qz = rz + (b.lvz[m] - (lx * ny - ly * nx));
+    const double normal_velocity = qx * nx + qy * ny + qz * nz;  // m/s
+    const double dtx = qx - normal_velocity * nx, dty = qy - normal_velocity * ny,
+                 dtz = qz - normal_velocity * nz;  // m/s, tangential velocity (dashpot)
     // Hertz normal spring, Mindlin tangential stiffness, EDEM dashpots (contact_law.h).
     const double contact_radius = std::sqrt(effective_radius * overlap);  // m, a
     const double elastic_force = 4.0 / 3.0 * youngs * contact_radius * overlap;  // N
@@ -68,8 +80,8 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double rescale = std::sqrt((hx * hx + hy * hy + hz * hz) / safe_projected2);
     const double scale = projected2 > 0.0 ? rescale : 0.0;
     const double ux = px * scale + tx * dt, uy = py * scale + ty * dt, uz = pz * scale + tz * dt;
-    const double ddx = -tangential_damping * tx, ddy = -tangential_damping * ty,
-                 ddz = -tangential_damping * tz;  // N, dashpot
+    const double ddx = -tangential_damping * dtx, ddy = -tangential_damping * dty,
+                 ddz = -tangential_damping * dtz;  // N, dashpot
     const double gx = -tangential_stiffness * ux + ddx, gy = -tangential_stiffness * uy + ddy,
                  gz = -tangential_stiffness * uz + ddz;  // N, spring + dashpot
     const double force2 = gx * gx + gy * gy + gz * gz;

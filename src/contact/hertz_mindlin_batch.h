@@ -27,13 +27,17 @@ struct HertzMindlinBatch {
   // Where each contact's result goes (the caller's bookkeeping, not read here).
   std::uint32_t pair[kStride], slot[kStride];
   // Inputs: centre difference x_i − x_j (m) and its square (m²), radii (m), inverse masses
-  // (1/kg), v_i − v_j (m/s), angular velocities (rad/s), tangential history δt (m).
+  // (1/kg), v_i − v_j (m/s), angular velocities (rad/s), their leads, tangential history δt (m).
   alignas(64) double dx[kStride], dy[kStride], dz[kStride], distance2[kStride];
   alignas(64) double radius_i[kStride], radius_j[kStride];
   alignas(64) double inv_mass_i[kStride], inv_mass_j[kStride];
   alignas(64) double vx[kStride], vy[kStride], vz[kStride];
   alignas(64) double wix[kStride], wiy[kStride], wiz[kStride];
   alignas(64) double wjx[kStride], wjy[kStride], wjz[kStride];
+  // Leads to the force's time (ContactKinematics): of v_i − v_j (m/s), of ω_i and ω_j (rad/s).
+  alignas(64) double lvx[kStride], lvy[kStride], lvz[kStride];
+  alignas(64) double lwix[kStride], lwiy[kStride], lwiz[kStride];
+  alignas(64) double lwjx[kStride], lwjy[kStride], lwjz[kStride];
   alignas(64) double hx[kStride], hy[kStride], hz[kStride];  // in: old δt, out: new δt
   // Outputs: force on i (N; j gets −force), torques about i's and j's centres (N·m).
   alignas(64) double fx[kStride], fy[kStride], fz[kStride];

@@ -55,6 +55,8 @@ struct PairView {
   const Vec3* position;
   const Vec3* velocity;
   const Vec3* angular_velocity;
+  const Vec3* velocity_lead;          // to the force's time (set_velocity_leads)
+  const Vec3* angular_velocity_lead;
   const double* radius;
   const double* inv_mass;
   const std::uint16_t* material;
@@ -92,6 +94,10 @@ struct PairView {
   kin.velocity_j = v.velocity[j];
   kin.angular_velocity_i = v.angular_velocity[i];
   kin.angular_velocity_j = v.angular_velocity[j];
+  kin.velocity_lead_i = v.velocity_lead[i];
+  kin.velocity_lead_j = v.velocity_lead[j];
+  kin.angular_velocity_lead_i = v.angular_velocity_lead[i];
+  kin.angular_velocity_lead_j = v.angular_velocity_lead[j];
   ContactHistory history{v.tangential[k], v.rolling ? v.rolling[k] : Vec3{}};
   const ContactResult r =
       evaluate_contact(v.materials->between(v.material[i], v.material[j]), kin, history, v.dt);
@@ -196,17 +202,23 @@ void make_plan(const PairList& list, std::size_t n, int threads, std::vector<dou
   __builtin_prefetch(v.radius + i);
   __builtin_prefetch(v.velocity + i);
   __builtin_prefetch(v.angular_velocity + i);
+  __builtin_prefetch(v.velocity_lead + i);
+  __builtin_prefetch(v.angular_velocity_lead + i);
 }
 
 // Particle i's data, read once per row: the compiler cannot keep it in registers across the
 // batch stores itself (they might alias the particle arrays).
 struct RowParticle {
   Vec3 position, velocity, angular_velocity;  // m, m/s, rad/s
+  Vec3 velocity_lead, angular_velocity_lead;  // m/s, rad/s
   double radius, inv_mass;                    // m, 1/kg
 };
 
 [[gnu::always_inline]] inline RowParticle row_particle(const PairView& v, std::uint32_t i) {
-  return {v.position[i], v.velocity[i], v.angular_velocity[i], v.radius[i], v.inv_mass[i]};
+  return {v.position[i],      v.velocity[i],
+          v.angular_velocity[i], v.velocity_lead[i],
+          v.angular_velocity_lead[i], v.radius[i],
+          v.inv_mass[i]};
 }
 
 // Batched path: writes pair k = (i, j) into the batch's next lane, which is kept (count
@@ -231,6 +243,12 @@ struct RowParticle {
   const Vec3 wj = v.angular_velocity[j];
   b.wix[m] = pi.angular_velocity.x, b.wiy[m] = pi.angular_velocity.y, b.wiz[m] = pi.angular_velocity.z;
   b.wjx[m] = wj.x, b.wjy[m] = wj.y, b.wjz[m] = wj.z;
+  const Vec3 dl = pi.velocity_lead - v.velocity_lead[j];
+  b.lvx[m] = dl.x, b.lvy[m] = dl.y, b.lvz[m] = dl.z;
+  const Vec3 lj = v.angular_velocity_lead[j];
+  b.lwix[m] = pi.angular_velocity_lead.x, b.lwiy[m] = pi.angular_velocity_lead.y,
+  b.lwiz[m] = pi.angular_velocity_lead.z;
+  b.lwjx[m] = lj.x, b.lwjy[m] = lj.y, b.lwjz[m] = lj.z;
   const Vec3 h = v.tangential[k];
   b.hx[m] = h.x, b.hy[m] = h.y, b.hz[m] = h.z;
   v.tangential[k] = {};
@@ -265,7 +283,9 @@ void pair_forces(World& world, int& excessive) {
   ParticleStore& p = world.particles;
   PairList& list = world.pairs;
   const std::size_t n = p.size();
-  PairView v{p.position.data(), p.velocity.data(), p.angular_velocity.data(), p.radius.data(),
+  PairView v{p.position.data(), p.velocity.data(), p.angular_velocity.data(),
+             world.force_workspace.velocity_lead.data(),
+             world.force_workspace.angular_velocity_lead.data(), p.radius.data(),
              p.inv_mass.data(), p.material.data(), list.partner.data(),
              list.tangential_displacement.data(),
              list.rolling_torque.empty() ? nullptr : list.rolling_torque.data(), &world.materials,
@@ -513,6 +533,8 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
       kin.velocity_i = p.velocity[i];
       kin.velocity_j = surface_velocity(surface, c);
       kin.angular_velocity_i = p.angular_velocity[i];
+      kin.velocity_lead_i = world.force_workspace.velocity_lead[i];
+      kin.angular_velocity_lead_i = world.force_workspace.angular_velocity_lead[i];
       const ContactResult r = evaluate_contact(
           world.materials.between(p.material[i], surface.material), kin, contact.history, world.dt);
       contact.force_on_particle = r.force_i;
@@ -707,7 +729,24 @@ void contact_forces(World& world) {
 
 }  // namespace
 
+void set_velocity_leads(World& world, double h) {
+  const ParticleStore& p = world.particles;
+  ForceWorkspace& ws = world.force_workspace;
+  const std::size_t n = p.size();
+  ws.velocity_lead.resize(n);
+  ws.angular_velocity_lead.resize(n);
+  Vec3* const lead = ws.velocity_lead.data();
+  Vec3* const spin_lead = ws.angular_velocity_lead.data();
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
+  for (std::size_t i = 0; i < n; ++i) {
+    lead[i] = p.force[i] * (h * p.inv_mass[i]);
+    spin_lead[i] = p.torque[i] * (h * p.inv_inertia(i));
+  }
+}
+
 void compute_contact_forces(World& world) {
+  // Leads of zero unless the step set them (a caller outside the time step).
+  if (world.force_workspace.velocity_lead.size() != world.particles.size()) set_velocity_leads(world, 0.0);
   const auto& pairs = world.materials.pairs;
   // The batched path keeps no rolling history (there is none with plain Hertz–Mindlin).
   if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty())

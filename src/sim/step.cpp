@@ -17,8 +17,13 @@ bool velocity_verlet(const World& world) {
 }
 
 // The forces of the configuration as it stands: body forces, contacts, then the hooks that add
-// velocity-dependent forces.
-void compute_forces(World& world) {
+// velocity-dependent forces. h (s): the lead of the force's time over the velocities
+// (set_velocity_leads), read from the forces still held from the step before.
+void compute_forces(World& world, double h) {
+  {
+    ScopedStage timer(world.timers, world.timers.stage("integrate"));
+    set_velocity_leads(world, h);
+  }
   {
     ScopedStage timer(world.timers, world.timers.stage("body forces"));
     set_body_forces(world);
@@ -34,7 +39,7 @@ void initialize(World& world) {
   drive_surfaces(world, world.time);
   insert_and_remove(world);
   rebuild_lists(world);
-  compute_forces(world);
+  compute_forces(world, 0.0);  // the velocities are those of the configuration
   world.initialized = true;
   if (world.output) world.output->start(world);
 }
@@ -70,7 +75,9 @@ void step(World& world) {
     ScopedStage timer(world.timers, world.timers.stage("neighbor"));
     update_neighbors(world, scan);
   }
-  compute_forces(world);  // body forces, contacts, post_force hooks
+  // Body forces, contacts, post_force hooks. Velocity Verlet's velocities are half a step
+  // behind the positions here; the dashpots take them forward by the previous forces' half kick.
+  compute_forces(world, verlet ? 0.5 * dt : 0.0);
   if (verlet) {
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
     integrate::kick(world.particles, 0.5 * dt, team);

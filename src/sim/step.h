@@ -54,6 +54,11 @@ void update_neighbors(World& world, const DriftScan& scan);  // Verlet/candidate
 // particles.force = m g + external force (held and one-step), torque = external torque: the
 // sums the contact stage adds onto.
 void set_body_forces(World& world);
+// The per-particle leads h F/m and h τ/I (m/s, rad/s) from the forces of the step before, which
+// carry the drift velocities to the force's time for the contact dashpots (ContactKinematics):
+// h = dt/2 in velocity Verlet, 0 where the velocities are already those of the force's time.
+// Call before set_body_forces overwrites the forces.
+void set_velocity_leads(World& world, double h);
 // Particle–particle and particle–surface contacts added onto the body forces; the surfaces'
 // per-step loads (per triangle and vertex) filled.
 void compute_contact_forces(World& world);

@@ -145,6 +145,10 @@ struct ForceWorkspace {
   std::vector<double> range_share, range_time;
   std::vector<CrossingPair> crossing;      // results, aligned with plan.crossing_pair
   std::vector<HertzMindlinBatch> batches;  // per thread (batched contact kernel)
+  // Per particle: what the drift velocities lack to be those of the force's time, h F/m and
+  // h τ/I of the previous forces (m/s, rad/s; set_velocity_leads). Derived each step from the
+  // state, so not checkpointed.
+  std::vector<Vec3> velocity_lead, angular_velocity_lead;
   // Surface contacts are found in chunks of candidates that any thread may take (the filler
   // that evens out the threads' pair ranges): each chunk's contacts, then gathered in order.
   std::vector<std::vector<WallContact>> wall_chunks;

@@ -44,14 +44,10 @@ TEST(Verification, SettledBedWallsCarryTheWeight) {
   EXPECT_NEAR(-wall_force / weight, 1.0, 0.005) << "wall force " << wall_force << " N, weight " << weight;
 }
 
-// 02 — Restitution of a sphere dropped on a tessellated floor: v_out / v_in = e for the
-// Hertz-Mindlin law with EDEM's damping, β = ln e / sqrt(ln² e + π²) (Tsuji et al. 1992; EDEM
-// theory guide). Gravity acts during the ~0.1 ms contact; its effect g·T ≈ 1e-3 m/s is 0.1 % of
-// the 1 m/s impact speed, inside the 1 % tolerance.
-TEST(Verification, BouncingSphereReboundsWithRestitution) {
-  SimulationSpec spec = parse_deck(deck_path("tests/verification/02-bouncing-sphere/deck.yaml"));
+// Drops the single sphere of `spec` on its floor; returns rebound / impact speed (1).
+double measured_restitution(const SimulationSpec& spec) {
   World world = start_world(spec);
-  ASSERT_EQ(world.particles.size(), 1u);
+  EXPECT_EQ(world.particles.size(), 1u);
   double impact = 0.0, rebound = 0.0;  // m/s
   bool touched = false;
   while (world.time < spec.simulation.end_time.value) {
@@ -59,14 +55,54 @@ TEST(Verification, BouncingSphereReboundsWithRestitution) {
     if (world.wall_contact_count() == 0) {
       if (!touched) impact = std::max(impact, -vz);
       else rebound = std::max(rebound, vz);
-      if (touched && vz < 0) break;  // past the apex: done
+      // Past the apex, or without gravity off the floor for good: done.
+      if (touched && (vz <= 0 || spec.simulation.gravity.value == Vec3{})) break;
     } else {
       touched = true;
     }
     sim::step(world);
   }
-  ASSERT_TRUE(touched);
-  EXPECT_NEAR(rebound / impact, 0.5, 0.005) << "impact " << impact << " rebound " << rebound;
+  EXPECT_TRUE(touched);
+  return rebound / impact;
+}
+
+// 02 — Restitution of a sphere dropped on a tessellated floor: v_out / v_in = e for the
+// Hertz-Mindlin law with EDEM's damping, β = ln e / sqrt(ln² e + π²) (Tsuji et al. 1992; EDEM
+// theory guide). Gravity acts during the ~0.1 ms contact; its effect g·T ≈ 1e-3 m/s is 0.1 % of
+// the 1 m/s impact speed, inside the 1 % tolerance.
+TEST(Verification, BouncingSphereReboundsWithRestitution) {
+  SimulationSpec spec = parse_deck(deck_path("tests/verification/02-bouncing-sphere/deck.yaml"));
+  EXPECT_NEAR(measured_restitution(spec), 0.5, 0.005);
+}
+
+// 02 — Restitution at coarse steps, e from 0.1 to 0.9, launched at 1 m/s without gravity (at
+// e = 0.1 the 1.8 mm/s that gravity adds during the contact would be 1.8 % of the rebound).
+// Velocity Verlet's velocities lag the positions by half a step; the dashpots take them to the
+// force's time (sim::set_velocity_leads), which leaves a second-order error. Measured e_out for
+// e = 0.1 / 0.3 / 0.5 / 0.9 with the lag (before) and without (after):
+//   0.20 T_R (the default, 48 µs: 3.8 steps in the 185 µs contact)
+//            before 0.0837 0.2864 0.4965 0.9007   after 0.0975 0.2945 0.4935 0.8991
+//   0.10 T_R before 0.0912 0.2927 0.4957 0.8990   after 0.0992 0.2942 0.4950 0.8987
+//   0.05 T_R before 0.0957 0.2973 0.4986 0.9003   after 0.0995 0.2986 0.5009 0.9003
+// At the default step what is left (up to 2.5 %) is the quadrature of a contact that 4 steps
+// resolve, and it depends on where the steps fall in the contact, not on the dashpot's
+// velocity: the check there is 3 % (the lagging dashpot gave 16 % at e = 0.1). From 15 steps
+// per contact (0.05 T_R) the rebound is within 1 % of e.
+TEST(Verification, BouncingSphereReboundsWithRestitutionAtCoarseSteps) {
+  SimulationSpec spec = parse_deck(deck_path("tests/verification/02-bouncing-sphere/deck.yaml"));
+  spec.simulation.fixed_time_step.reset();
+  spec.simulation.gravity.value = Vec3{};
+  spec.factories[0].initial_velocity.value = Vec3{0.0, 0.0, -1.0};  // m/s
+  for (const double fraction : {0.2, 0.05}) {
+    spec.simulation.rayleigh_fraction.value = fraction;
+    const double tolerance = fraction == 0.2 ? 0.03 : 0.01;
+    for (const double e : {0.1, 0.3, 0.5, 0.9}) {
+      for (InteractionSpec& interaction : spec.interactions) interaction.restitution.value = e;
+      const double measured = measured_restitution(spec);
+      EXPECT_NEAR(measured / e, 1.0, tolerance)
+          << "e = " << e << " at " << fraction << " T_R: rebound " << measured;
+    }
+  }
 }
 
 // 05 — Determinism: the same deck gives a bit-identical state for 1, 2, 3 and 4 threads
