@@ -59,6 +59,26 @@ InteractionParameters make_interaction(const MaterialProperties& a, const Materi
     check_non_negative(spec.linear_tangential_ratio, "linear tangential stiffness ratio",
                        diagnostics);
   }
+  if (spec.cohesion_model.value == CohesionModel::jkr) {
+    // JKR replaces the Hertz spring by the adhesive one and holds at negative overlap: a linear
+    // spring has no contact radius, and clipping the attraction would undo the model.
+    if (!(spec.surface_energy.value > 0.0)) {
+      diagnostics.error(spec.cohesion_model.where,
+                        fmt::format("JKR surface energy is {} J/m²; cohesion_model: jkr needs a "
+                                    "positive surface_energy",
+                                    spec.surface_energy.value));
+    }
+    if (spec.normal_model.value == NormalModel::linear) {
+      diagnostics.error(spec.cohesion_model.where,
+                        "cohesion_model: jkr needs the Hertz-Mindlin contact model",
+                        "JKR's force follows from the Hertzian contact radius; remove model: linear");
+    }
+    if (spec.clip_attraction.value) {
+      diagnostics.error(spec.clip_attraction.where,
+                        "clip_attraction cannot be used with cohesion_model: jkr",
+                        "JKR's adhesion is an attractive normal force; remove clip_attraction");
+    }
+  }
   if (diagnostics.has_errors()) throw UserError(std::move(diagnostics));
 
   InteractionParameters parameters;
@@ -73,6 +93,10 @@ InteractionParameters make_interaction(const MaterialProperties& a, const Materi
   parameters.rolling_model =
       spec.rolling_friction.value > 0.0 ? spec.rolling_model.value : RollingModel::none;
   parameters.cohesion_energy_density = spec.cohesion_energy_density.value;
+  if (spec.cohesion_model.value == CohesionModel::jkr) {
+    parameters.cohesion_energy_density = 0.0;
+    parameters.surface_energy = spec.surface_energy.value;
+  }
   parameters.linear_normal_stiffness = spec.linear_stiffness.value;
   parameters.linear_tangential_ratio = spec.linear_tangential_ratio.value;
   parameters.clip_attraction = spec.clip_attraction.value;

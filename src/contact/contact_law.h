@@ -1,10 +1,11 @@
 // The contact law: one call per touching pair (particle–particle or particle–wall) in the force
-// stage, composing normal (Hertz or linear), tangential (Mindlin spring + Coulomb), rolling and
-// SJKR cohesion kernels. EDEM's Hertz-Mindlin no-slip (EDEM theory reference guide), DESIGN §4.
+// stage, composing normal (Hertz, JKR or linear), tangential (Mindlin spring + Coulomb), rolling
+// and SJKR cohesion kernels. EDEM's Hertz-Mindlin no-slip (EDEM theory reference guide), DESIGN §4.
 #pragma once
 
 #include <algorithm>
 
+#include "contact/cohesion_jkr.h"
 #include "contact/cohesion_sjkr.h"
 #include "contact/effective_properties.h"
 #include "contact/normal_hertz.h"
@@ -27,6 +28,7 @@ struct InteractionParameters {
   double rolling_friction = 0.0;          // μr (1)
   RollingModel rolling_model = RollingModel::none;
   double cohesion_energy_density = 0.0;  // k (J/m³), SJKR
+  double surface_energy = 0.0;           // γ (J/m²), JKR (cohesion_jkr.h); > 0 selects JKR
   double linear_normal_stiffness = 0.0;  // kn (N/m), linear law only
   double linear_tangential_ratio = 0.0;  // kt / kn (1), linear law only
   bool clip_attraction = false;          // clip elastic + damping normal force at 0
@@ -69,6 +71,9 @@ struct ContactKinematics {
 struct ContactHistory {
   Vec3 tangential_displacement;  // m, δt (in the current tangent plane)
   Vec3 rolling_torque;           // N·m, EPSD spring torque on i
+  // JKR only: the pair adheres (it touched, δ > 0, and has not been pulled past δ_c < 0
+  // since): the hysteresis of the JKR contact, which holds at negative overlap.
+  bool jkr_attached = false;
 };
 
 struct ContactResult {
@@ -88,13 +93,18 @@ struct ContactResult {
 // Springs grow with the drift velocities, dashpots use them plus the leads (force time).
 // Rolling: constant directional torque uses each body's own ω and radius and the same |Fn|;
 // EPSD limits |Mr| to μr R* |Fn|. Cohesion (SJKR) pulls i towards j: −k A n.
+// JKR (surface_energy > 0): the normal spring is jkr_normal_force at the contact radius a of
+// the overlap, the contact forms at δ > 0 and holds down to δ_c (history.jkr_attached); the
+// stiffnesses of the dashpots and the tangential spring are Hertz's at that a (2E*a, 8G*a), and
+// the Coulomb and rolling limits use the Hertz load of a, 4E*a³/(3R*), plus the dashpot (the
+// load the contact circle carries, as SJKR's limits use the force before cohesion).
 // Precondition: dt ≥ 0 (0: the force of the stored history, no increment: how sim/frame_contacts
-// reads a frame's contact forces). If overlap <= 0 the pair is not touching: the result is zero and the
-// history is cleared (the spring is released when contact is lost).
+// reads a frame's contact forces). If overlap <= 0 the pair is not touching (unless JKR holds
+// it): the result is zero and the history is cleared (the spring is released when contact is lost).
 [[gnu::always_inline]] inline ContactResult evaluate_contact(const InteractionParameters& parameters,
                                       const ContactKinematics& kinematics, ContactHistory& history,
                                       double dt) {
-  if (!(kinematics.overlap > 0.0)) {
+  if (!(kinematics.overlap > 0.0) && !history.jkr_attached) {
     history = ContactHistory{};
     return ContactResult{};
   }
@@ -131,7 +141,28 @@ struct ContactResult {
   double normal_damping = 0.0;        // N·s/m
   double tangential_stiffness = 0.0;  // N/m
   double tangential_damping = 0.0;    // N·s/m
-  if (parameters.normal_model == NormalModel::hertz_mindlin) {
+  double friction_load = 0.0;         // N, the normal load of the Coulomb and rolling limits
+  if (parameters.surface_energy > 0.0) {
+    const contact::JkrScales scales = contact::jkr_scales(
+        parameters.surface_energy, parameters.effective_youngs_modulus, effective_radius);
+    if (!(overlap >= scales.break_overlap)) {  // pulled apart: the contact breaks
+      history = ContactHistory{};
+      return ContactResult{};
+    }
+    history.jkr_attached = true;
+    const double contact_radius = contact::jkr_contact_radius(scales, overlap);  // m, a
+    normal_spring.elastic_force =
+        contact::jkr_normal_force(parameters.surface_energy, parameters.effective_youngs_modulus,
+                                  effective_radius, contact_radius);
+    normal_spring.stiffness = 2.0 * parameters.effective_youngs_modulus * contact_radius;
+    tangential_stiffness = 8.0 * parameters.effective_shear_modulus * contact_radius;
+    const double root = std::sqrt(contact_radius * effective_mass);  // sqrt(m·kg)
+    normal_damping = parameters.hertz_normal_damping * root;
+    tangential_damping = parameters.hertz_tangential_damping * root;
+    friction_load = 4.0 / 3.0 * parameters.effective_youngs_modulus * contact_radius *
+                        contact_radius * contact_radius / effective_radius -
+                    normal_damping * normal_velocity;
+  } else if (parameters.normal_model == NormalModel::hertz_mindlin) {
     normal_spring = contact::hertz_normal_spring(parameters.effective_youngs_modulus,
                                                  effective_radius, overlap);
     tangential_stiffness = contact::mindlin_tangential_stiffness(parameters.effective_shear_modulus,
@@ -153,7 +184,8 @@ struct ContactResult {
   double contact_normal_force =
       normal_spring.elastic_force - normal_damping * normal_velocity;  // N
   if (parameters.clip_attraction && contact_normal_force < 0.0) contact_normal_force = 0.0;
-  const double normal_force_magnitude = std::fabs(contact_normal_force);  // N, |Fn|
+  if (!(parameters.surface_energy > 0.0)) friction_load = contact_normal_force;
+  const double normal_force_magnitude = std::fabs(friction_load);  // N, |Fn|
 
   const Vec3 tangential_force = contact::tangential_spring_force(
       history.tangential_displacement, normal, tangential_velocity, damped_tangential_velocity,
@@ -207,11 +239,11 @@ struct ContactResult {
 }
 
 // True if evaluate_contact reduces to hertz_mindlin_contact for these parameters: Hertz–Mindlin
-// normal and tangential springs, no rolling resistance, no cohesion, no clipping.
+// normal and tangential springs, no rolling resistance, no cohesion (SJKR or JKR), no clipping.
 inline bool is_plain_hertz_mindlin(const InteractionParameters& parameters) {
   return parameters.normal_model == NormalModel::hertz_mindlin &&
          parameters.rolling_model == RollingModel::none && !(parameters.cohesion_energy_density > 0.0) &&
-         !parameters.clip_attraction;
+         !(parameters.surface_energy > 0.0) && !parameters.clip_attraction;
 }
 
 // The run's overlap guard for a particle pair (simulation.max_overlap_fraction): true if the

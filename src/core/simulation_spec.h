@@ -19,6 +19,7 @@ namespace quarry {
 enum class Integrator { velocity_verlet, symplectic_euler };
 enum class NormalModel { hertz_mindlin, linear };
 enum class RollingModel { none, constant_torque, epsd };
+enum class CohesionModel { sjkr, jkr };
 
 struct SimulationSettings {
   Located<double> end_time{0.0};              // s
@@ -53,6 +54,8 @@ struct InteractionSpec {
   Located<double> rolling_friction{0.0};        // 1
   Located<RollingModel> rolling_model{RollingModel::constant_torque};
   Located<double> cohesion_energy_density{0.0}; // J/m³ (SJKR)
+  Located<CohesionModel> cohesion_model{CohesionModel::sjkr};
+  Located<double> surface_energy{0.0};          // J/m², γ (JKR: energy per unit contact area)
   Located<NormalModel> normal_model{NormalModel::hertz_mindlin};
   // Linear spring-dashpot: normal stiffness (N/m); tangential = ratio × normal.
   Located<double> linear_stiffness{0.0};

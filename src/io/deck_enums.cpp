@@ -16,6 +16,9 @@ const EnumChoices<RollingModel> kRollingModels{"rolling model",
                                                 {"epsd", RollingModel::epsd},
                                                 {"none", RollingModel::none}}};
 
+const EnumChoices<CohesionModel> kCohesionModels{
+    "cohesion model", {{"sjkr", CohesionModel::sjkr}, {"jkr", CohesionModel::jkr}}};
+
 const EnumChoices<SizeDistributionKind> kSizeDistributions{
     "size distribution",
     {{"fixed", SizeDistributionKind::fixed},

@@ -14,6 +14,7 @@ namespace quarry::deck_detail {
 extern const EnumChoices<Integrator> kIntegrators;
 extern const EnumChoices<NormalModel> kContactModels;
 extern const EnumChoices<RollingModel> kRollingModels;
+extern const EnumChoices<CohesionModel> kCohesionModels;
 extern const EnumChoices<SizeDistributionKind> kSizeDistributions;
 extern const EnumChoices<ExportFormat> kExportFormats;
 extern const EnumChoices<CalculixAnalysis> kCalculixAnalyses;

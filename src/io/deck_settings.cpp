@@ -373,18 +373,29 @@ void read_interactions_section(MapReader& root, std::vector<InteractionSpec>& in
     DeckContext& context = map.context();
     InteractionSpec interaction;
     const std::vector<std::string> common_keys = {
-        "materials",     "restitution", "static_friction", "rolling_friction",
-        "rolling_model", "cohesion",    "model",           "clip_attraction"};
+        "materials",     "restitution",    "static_friction", "rolling_friction",
+        "rolling_model", "cohesion_model", "model",           "clip_attraction"};
     const std::vector<std::string> linear_keys = {"stiffness", "tangential_stiffness_ratio"};
+    const std::vector<std::string> sjkr_keys = {"cohesion"}, jkr_keys = {"surface_energy"};
     const bool known_model = map.read("model", interaction.normal_model, kContactModels);
     const bool is_linear = interaction.normal_model.value == NormalModel::linear;
-    if (is_linear || (map.has("model") && !known_model)) {
-      std::vector<std::string> all_keys = common_keys;
-      all_keys.insert(all_keys.end(), linear_keys.begin(), linear_keys.end());
-      map.reject_unknown_keys(all_keys);
-    } else {
-      map.reject_unknown_keys(common_keys, linear_keys, "contact model \"hertz_mindlin\"");
-    }
+    const bool known_cohesion =
+        map.read("cohesion_model", interaction.cohesion_model, kCohesionModels);
+    const bool is_jkr = interaction.cohesion_model.value == CohesionModel::jkr;
+    // Keys of the variants this interaction is (all of them while a variant is misspelt, which
+    // is reported already), and those of the others.
+    std::vector<std::string> allowed = common_keys, others;
+    const auto take = [&](const std::vector<std::string>& keys, bool applies) {
+      (applies ? allowed : others).insert((applies ? allowed : others).end(), keys.begin(), keys.end());
+    };
+    take(linear_keys, is_linear || (map.has("model") && !known_model));
+    const bool any_cohesion = map.has("cohesion_model") && !known_cohesion;
+    take(sjkr_keys, !is_jkr || any_cohesion);
+    take(jkr_keys, is_jkr || any_cohesion);
+    map.reject_unknown_keys(allowed, others,
+                            fmt::format("contact model \"{}\" with cohesion_model \"{}\"",
+                                        is_linear ? "linear" : "hertz_mindlin",
+                                        is_jkr ? "jkr" : "sjkr"));
 
     if (const YAML::Node* names = map.find("materials")) {
       if (!names->IsSequence() || names->size() != 2) {
@@ -406,6 +417,12 @@ void read_interactions_section(MapReader& root, std::vector<InteractionSpec>& in
     map.read("rolling_friction", interaction.rolling_friction, non_negative(), "1");
     map.read("rolling_model", interaction.rolling_model, kRollingModels);
     map.read("cohesion", interaction.cohesion_energy_density, non_negative(), "J/m³");
+    if (is_jkr && map.is_map() && !map.has("surface_energy"))
+      context.error(map.where_value("cohesion_model"),
+                    "missing required key \"surface_energy\" in interaction",
+                    "cohesion_model: jkr needs JKR's surface energy in J/m², e.g. "
+                    "surface_energy: 0.05");
+    map.read("surface_energy", interaction.surface_energy, positive(), "J/m²");
     map.read("clip_attraction", interaction.clip_attraction);
     if (is_linear) {
       if (!map.has("stiffness") && map.is_map())

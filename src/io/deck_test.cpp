@@ -145,7 +145,7 @@ interactions:
     stiffness: 1.0e4
     tangential_stiffness_ratio: 0.3
     clip_attraction: true
-  - {materials: [steel, ore], restitution: 0.5}
+  - {materials: [steel, ore], restitution: 0.5, cohesion_model: jkr, surface_energy: 0.05}
 particle_types:
   - {name: fixed, material: ore, size: {distribution: fixed, radius: 0.01}}
   - {name: flat, material: ore, size: {distribution: uniform, min_radius: 0.01, max_radius: 0.02}}
@@ -263,13 +263,17 @@ TEST_F(FullDeck, MaterialsAndInteractions) {
   EXPECT_DOUBLE_EQ(ore_ore.linear_tangential_ratio.value, 0.3);
   EXPECT_TRUE(ore_ore.clip_attraction.value);
   // Written as [steel, ore]: covers the ore–steel contacts (order-independent); the rest
-  // keeps the defaults of InteractionSpec.
+  // keeps the defaults of InteractionSpec, but for its JKR cohesion.
   const InteractionSpec& steel_ore = spec.interactions[1];
   EXPECT_EQ(steel_ore.material_a.value, "steel");
   EXPECT_DOUBLE_EQ(steel_ore.restitution.value, 0.5);
   EXPECT_DOUBLE_EQ(steel_ore.static_friction.value, 0.5);
   EXPECT_EQ(steel_ore.normal_model.value, NormalModel::hertz_mindlin);
   EXPECT_EQ(steel_ore.rolling_model.value, RollingModel::constant_torque);
+  EXPECT_EQ(ore_ore.cohesion_model.value, CohesionModel::sjkr);
+  EXPECT_EQ(steel_ore.cohesion_model.value, CohesionModel::jkr);
+  EXPECT_DOUBLE_EQ(steel_ore.surface_energy.value, 0.05);
+  EXPECT_DOUBLE_EQ(steel_ore.cohesion_energy_density.value, 0.0);
 }
 
 TEST_F(FullDeck, SizeDistributions) {

@@ -82,6 +82,7 @@ const char* boolean(bool value) {
 // Spellings of the enumerated keys: the parser's own tables (deck_enums.h).
 const std::string& spelling(Integrator v) { return deck_detail::spelling(deck_detail::kIntegrators, v); }
 const std::string& spelling(NormalModel v) { return deck_detail::spelling(deck_detail::kContactModels, v); }
+const std::string& spelling(CohesionModel v) { return deck_detail::spelling(deck_detail::kCohesionModels, v); }
 const std::string& spelling(RollingModel v) { return deck_detail::spelling(deck_detail::kRollingModels, v); }
 const std::string& spelling(SizeDistributionKind v) { return deck_detail::spelling(deck_detail::kSizeDistributions, v); }
 const std::string& spelling(SurfaceKind v) { return deck_detail::spelling(deck_detail::kSurfaceKinds, v); }
@@ -198,7 +199,12 @@ void write_interactions(DeckText& deck, const std::vector<InteractionSpec>& inte
     deck.line(4, "static_friction: {}", number(interaction.static_friction));
     deck.line(4, "rolling_friction: {}", number(interaction.rolling_friction));
     deck.line(4, "rolling_model: {}", spelling(interaction.rolling_model));
-    deck.line(4, "cohesion: {}", number(interaction.cohesion_energy_density));
+    deck.line(4, "cohesion_model: {}", spelling(interaction.cohesion_model));
+    // Each cohesion model's key belongs to it only; the parser rejects it otherwise.
+    if (interaction.cohesion_model.value == CohesionModel::jkr)
+      deck.line(4, "surface_energy: {}", number(interaction.surface_energy));
+    else
+      deck.line(4, "cohesion: {}", number(interaction.cohesion_energy_density));
     deck.line(4, "clip_attraction: {}", boolean(interaction.clip_attraction));
     // The spring keys belong to model: linear only; the parser rejects them otherwise.
     if (interaction.normal_model.value == NormalModel::linear) {

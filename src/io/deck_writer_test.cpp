@@ -127,6 +127,8 @@ void expect_same(const InteractionSpec& a, const InteractionSpec& b, const std::
   EXPECT_SAME_FIELD(rolling_friction);
   EXPECT_SAME_FIELD(rolling_model);
   EXPECT_SAME_FIELD(cohesion_energy_density);
+  EXPECT_SAME_FIELD(cohesion_model);
+  EXPECT_SAME_FIELD(surface_energy);
   EXPECT_SAME_FIELD(normal_model);
   EXPECT_SAME_FIELD(linear_stiffness);
   EXPECT_SAME_FIELD(linear_tangential_ratio);
@@ -347,7 +349,8 @@ interactions:
      rolling_model: epsd, clip_attraction: true}
   - {materials: [rubber, ore], model: linear, stiffness: 2.5e4, tangential_stiffness_ratio: 0.3,
      rolling_model: none}
-  - {materials: [steel, rubber], model: hertz_mindlin, restitution: 0.9}
+  - {materials: [steel, rubber], model: hertz_mindlin, restitution: 0.9, cohesion_model: jkr,
+     surface_energy: 0.08}
 particle_types:
   - {name: fine, material: ore, size: {distribution: fixed, radius: 0.012}}
   - {name: medium, material: ore, size: {distribution: uniform, min_radius: 0.013, max_radius: 0.016}}

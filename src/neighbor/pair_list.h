@@ -30,6 +30,7 @@ struct PairListWorkspace {
   ScratchArray<std::uint32_t> previous_partner;
   ScratchArray<Vec3> previous_tangential_displacement;  // m
   ScratchArray<Vec3> previous_rolling_torque;           // N·m (empty unless rolling history)
+  ScratchArray<std::uint8_t> previous_jkr_attached;     // 0/1 (empty unless JKR history)
   std::vector<ParticleId> previous_ids;
 };
 
@@ -39,6 +40,9 @@ struct PairList {
   // Contact history aligned with `partner` (carried across rebuilds by particle-id pair):
   std::vector<Vec3> tangential_displacement;   // m
   std::vector<Vec3> rolling_torque;            // N·m; empty unless keep_rolling_history
+  // 1 while a JKR contact adheres (ContactHistory::jkr_attached), which it does beyond touching
+  // down to δ_c < 0; empty unless keep_jkr_history. Symmetric in the pair.
+  std::vector<std::uint8_t> jkr_attached;
   std::vector<Vec3> reference_positions;       // m, positions at the last build
   std::vector<ParticleId> ids_at_build;        // particle ids at the last build (index order)
   double skin = 0;                             // m
@@ -46,6 +50,8 @@ struct PairList {
   // Only the EPSD rolling model has a rolling-torque history; without it the array would be
   // 24 bytes per pair of nothing (World sets this from the material table).
   bool keep_rolling_history = true;
+  // Only JKR interactions adhere (World sets this from the material table).
+  bool keep_jkr_history = false;
   PairListWorkspace workspace;
 
   std::size_t size() const { return partner.size(); }

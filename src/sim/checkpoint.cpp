@@ -31,7 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::uint64_t kMagic = 0x34304B4359525551ull;  // "QURYCK04"
-constexpr std::uint32_t kFormat = 4;
+constexpr std::uint32_t kFormat = 4;  // 4: JKR adhesion in the contact history, mass-flow sensor sides
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 4 + 4;
 
 struct Header {
@@ -155,6 +155,7 @@ void transfer_state(auto& io, World& world, std::uint64_t& frame_index) {
   io.value(p.layout_epoch);
   PairList& l = world.pairs;
   for (auto* v : {&l.tangential_displacement, &l.rolling_torque, &l.reference_positions}) io.vector(*v);
+  io.vector(l.jkr_attached);
   io.vector(l.offsets);
   io.vector(l.partner);
   io.vector(l.ids_at_build);
@@ -308,6 +309,9 @@ void validate(const World& world) {
   }
   expect_size(l.tangential_displacement, l.partner.size(), "the pairs' tangential history");
   if (!l.rolling_torque.empty()) expect_size(l.rolling_torque, l.partner.size(), "the pairs' rolling history");
+  if (!l.jkr_attached.empty()) expect_size(l.jkr_attached, l.partner.size(), "the pairs' JKR adhesion");
+  for (const std::uint8_t flag : l.jkr_attached)
+    if (flag > 1) bad("a pair's JKR adhesion flag holds a value other than 0 or 1");
   expect_finite(l.tangential_displacement, "the pairs' tangential history");
   const std::size_t surfaces = world.surfaces.size();
   const SurfaceCandidates& c = world.candidates;

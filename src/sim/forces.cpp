@@ -63,20 +63,23 @@ struct PairView {
   const std::uint32_t* partner;
   Vec3* tangential;
   Vec3* rolling;  // null without rolling history
+  std::uint8_t* jkr_attached;  // null without JKR history
   const MaterialTable* materials;
   double dt;            // s
   double overlap_limit;  // fraction of the smaller radius
 };
 
-// The contact of pair k = (i, j) by the scalar law. False if the spheres do not touch: the
-// pair's history is then released (the spring lets go when contact is lost). Otherwise sets
-// `excessive` if the overlap passes the guard's limit (check_overlaps reports it after the step).
+// The contact of pair k = (i, j) by the scalar law. False if the spheres do not touch (and no
+// JKR adhesion holds them): the pair's history is then released (the spring lets go when
+// contact is lost). Otherwise sets `excessive` if the overlap passes the guard's limit
+// (check_overlaps reports it after the step).
 [[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
                                                 std::uint32_t k, CrossingPair& out, int& excessive) {
   const Vec3 d = v.position[i] - v.position[j];
   const double touch = v.radius[i] + v.radius[j];  // m
   const double distance2 = norm2(d);               // m²
-  if (distance2 >= touch * touch) {
+  const bool attached = v.jkr_attached && v.jkr_attached[k];
+  if (distance2 >= touch * touch && !attached) {
     v.tangential[k] = {};
     if (v.rolling) v.rolling[k] = {};
     return false;
@@ -98,11 +101,12 @@ struct PairView {
   kin.velocity_lead_j = v.velocity_lead[j];
   kin.angular_velocity_lead_i = v.angular_velocity_lead[i];
   kin.angular_velocity_lead_j = v.angular_velocity_lead[j];
-  ContactHistory history{v.tangential[k], v.rolling ? v.rolling[k] : Vec3{}};
+  ContactHistory history{v.tangential[k], v.rolling ? v.rolling[k] : Vec3{}, attached};
   const ContactResult r =
       evaluate_contact(v.materials->between(v.material[i], v.material[j]), kin, history, v.dt);
   v.tangential[k] = history.tangential_displacement;
   if (v.rolling) v.rolling[k] = history.rolling_torque;
+  if (v.jkr_attached) v.jkr_attached[k] = history.jkr_attached;
   out.force = r.force_i;
   out.torque_i = r.torque_i;
   out.torque_j = r.torque_j;
@@ -288,7 +292,8 @@ void pair_forces(World& world, int& excessive) {
              world.force_workspace.angular_velocity_lead.data(), p.radius.data(),
              p.inv_mass.data(), p.material.data(), list.partner.data(),
              list.tangential_displacement.data(),
-             list.rolling_torque.empty() ? nullptr : list.rolling_torque.data(), &world.materials,
+             list.rolling_torque.empty() ? nullptr : list.rolling_torque.data(),
+             list.jkr_attached.empty() ? nullptr : list.jkr_attached.data(), &world.materials,
              world.dt, world.spec.simulation.max_overlap_fraction.value};
   const std::uint32_t* const offsets = list.offsets.data();
   Vec3* const force = p.force.data();
@@ -499,10 +504,19 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
     while (b < end && cand.surface[b] == cand.surface[a]) ++b;
     const std::uint16_t s = cand.surface[a];
     const Surface& surface = world.surfaces[s].mesh;
-    find_surface_contacts(surface, world.surfaces[s].topology, p.position[i], p.radius[i],
+    const InteractionParameters& law = world.materials.between(p.material[i], surface.material);
+    // A JKR contact holds down to the overlap δ_c < 0 (R* = Ri against a wall): search that
+    // much farther, and keep a contact found there only if it still adheres.
+    const double reach = law.surface_energy > 0.0
+                             ? -contact::jkr_scales(law.surface_energy, law.effective_youngs_modulus,
+                                                    p.radius[i])
+                                    .break_overlap
+                             : 0.0;  // m
+    find_surface_contacts(surface, world.surfaces[s].topology, p.position[i], p.radius[i] + reach,
                           std::span<const std::uint32_t>(cand.triangle.data() + a, b - a), found);
     a = b;
     for (const SurfaceContact& c : found) {
+      const double overlap = reach > 0.0 ? c.overlap - reach : c.overlap;  // m
       WallContact contact;
       contact.particle = i;
       contact.surface = s;
@@ -519,13 +533,14 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
         const double alignment = dot(q->normal, c.normal);
         if (alignment > best_alignment) best_alignment = alignment, best = slot;
       }
+      if (!(overlap > 0.0) && !(best >= 0 && previous_begin[best].history.jkr_attached)) continue;
       if (best >= 0) {
         used |= std::uint64_t{1} << best;
         contact.history = previous_begin[best].history;
       }
       ContactKinematics kin;
       kin.normal = c.normal;
-      kin.overlap = c.overlap;
+      kin.overlap = overlap;
       kin.radius_i = p.radius[i];
       kin.radius_j = 0.0;  // a wall
       kin.inv_mass_i = p.inv_mass[i];
@@ -535,10 +550,10 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
       kin.angular_velocity_i = p.angular_velocity[i];
       kin.velocity_lead_i = world.force_workspace.velocity_lead[i];
       kin.angular_velocity_lead_i = world.force_workspace.angular_velocity_lead[i];
-      const ContactResult r = evaluate_contact(
-          world.materials.between(p.material[i], surface.material), kin, contact.history, world.dt);
+      const ContactResult r = evaluate_contact(law, kin, contact.history, world.dt);
+      if (!(overlap > 0.0) && !contact.history.jkr_attached) continue;  // pulled off: released
       contact.force_on_particle = r.force_i;
-      excessive |= c.overlap > overlap_limit * p.radius[i];
+      excessive |= overlap > overlap_limit * p.radius[i];
       force += r.force_i;
       torque += r.torque_i;
       out.push_back(contact);

@@ -128,14 +128,17 @@ bool World::has_moving_surfaces() const {
 }
 
 std::size_t World::pair_contact_count() const {
-  // The force stage's own test (contact_law.h): |xi − xj|² < (Ri + Rj)².
+  // The force stage's own test (contact_law.h): |xi − xj|² < (Ri + Rj)², or a JKR contact
+  // that still adheres at negative overlap.
   std::size_t count = 0;
   const std::size_t n = pairs.offsets.empty() ? 0 : pairs.offsets.size() - 1;
+  const bool jkr = !pairs.jkr_attached.empty();
   for (std::size_t i = 0; i < n && i < particles.size(); ++i)
     for (std::uint32_t k = pairs.offsets[i]; k < pairs.offsets[i + 1]; ++k) {
       const std::uint32_t j = pairs.partner[k];
       const double touch = particles.radius[i] + particles.radius[j];  // m
-      count += norm2(particles.position[i] - particles.position[j]) < touch * touch;
+      count += norm2(particles.position[i] - particles.position[j]) < touch * touch ||
+               (jkr && pairs.jkr_attached[k] != 0);
     }
   return count;
 }
@@ -267,6 +270,38 @@ void build_search_grid(const World& world, WorldSurface& s) {
   }
 }
 
+namespace {
+
+// A JKR contact adheres down to the overlap δ_c < 0, i.e. across a gap of up to |δ_c|; the
+// pair list and the surface candidates hold only what lies within the skin, so the skin must
+// exceed that gap (|δ_c| grows with R*^{1/3}: the largest radius against a wall bounds it).
+void check_jkr_reach(const World& world) {
+  Diagnostics problems;
+  for (const InteractionSpec& interaction : world.spec.interactions) {
+    if (interaction.cohesion_model.value != CohesionModel::jkr) continue;
+    const std::vector<std::string>& names = world.materials.names;
+    const auto index = [&names](const std::string& name) {
+      return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+    };
+    const std::size_t a = index(interaction.material_a.value), b = index(interaction.material_b.value);
+    if (a >= world.materials.count() || b >= world.materials.count()) continue;
+    const InteractionParameters& law = world.materials.between(a, b);
+    const double gap = -contact::jkr_scales(law.surface_energy, law.effective_youngs_modulus,
+                                            world.max_radius)
+                            .break_overlap;  // m
+    if (!(gap < world.skin)) {
+      problems.error(interaction.surface_energy.where,
+                     fmt::format("a JKR contact of this interaction holds across a gap of up to {:.4g} m, "
+                                 "not less than the neighbour skin {:.4g} m",
+                                 gap, world.skin),
+                     "raise simulation.skin above the gap, or lower surface_energy");
+    }
+  }
+  if (problems.has_errors()) throw UserError(problems);
+}
+
+}  // namespace
+
 World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes) {
   if (!meshes.empty() && meshes.size() != spec.surfaces.size())
     throw std::invalid_argument("build_world: one mesh per surface of the spec, or none");
@@ -279,6 +314,10 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   world.pairs.keep_rolling_history = std::any_of(
       world.materials.pairs.begin(), world.materials.pairs.end(),
       [](const InteractionParameters& p) { return p.rolling_model == RollingModel::epsd; });
+  // Adhesion state exists only for JKR (contact_law.h).
+  world.pairs.keep_jkr_history = std::any_of(
+      world.materials.pairs.begin(), world.materials.pairs.end(),
+      [](const InteractionParameters& p) { return p.surface_energy > 0.0; });
   world.types = particle_type_infos(spec);
   for (const auto& t : spec.particle_types) {
     world.type_names.push_back(t.name.value);
@@ -307,6 +346,7 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   if (min_radius > 1e299) min_radius = world.max_radius;
   // Verlet skin: 10 % of the smallest diameter unless the deck says otherwise.
   world.skin = spec.simulation.skin.value >= 0.0 ? spec.simulation.skin.value : 0.2 * min_radius;
+  check_jkr_reach(world);
 
   world.spec.surfaces.clear();  // add_surface appends each again
   for (std::size_t s = 0; s < spec.surfaces.size(); ++s)
