@@ -55,14 +55,28 @@ TEST(SettledBedScene, JitterIsDeterministicPerSeed) {
   EXPECT_NE(a.particles.position[7].x, c.particles.position[7].x);
 }
 
+// Translational kinetic energy per particle (J): Σ ½ m v² / n.
+double translational_energy_per_particle(const World& world) {
+  const ParticleStore& p = world.particles;
+  double energy = 0.0;  // J
+  for (std::size_t i = 0; i < p.size(); ++i) energy += 0.5 * norm2(p.velocity[i]) / p.inv_mass[i];
+  return energy / static_cast<double>(p.size());
+}
+
 // Static equilibrium (Newton's second law with zero acceleration): once the bed is at rest the
 // pair forces cancel in pairs (Newton's third law), so the six walls together carry Σ m g.
-// Tolerance 0.5 %: the residual motion of a bed with kinetic energy < 1e-12 J per particle.
+// Tolerance 0.5 %: the residual motion of a bed with translational kinetic energy < 1e-12 J
+// per particle. Spin is not counted: a sphere spinning about its contact normal feels no
+// torque without rolling or twisting resistance, so a spin left by the settling survives it
+// and pushes on nothing (measured: 2.3e-12 J per particle of rotation, one particle with
+// 8e-11 J, while the translation was down to 2e-14 J; how much spin is left depends on the
+// chaotic path of the settling).
 TEST(SettledBedScene, SettledBedRestsOnItsWalls) {
   World world = make_lattice_world(small_bed());
   prepare_first_step(world);
-  for (int s = 0; s < 100000 && (s < 5000 || kinetic_energy_per_particle(world) > 1e-12); ++s) sim::step(world);
-  EXPECT_LT(kinetic_energy_per_particle(world), 1e-12);
+  for (int s = 0; s < 100000 && (s < 5000 || translational_energy_per_particle(world) > 1e-12); ++s)
+    sim::step(world);
+  EXPECT_LT(translational_energy_per_particle(world), 1e-12);
   const BedState bed = measure_bed(world);
   EXPECT_NEAR(bed.all_walls_force_z, bed.weight, 5e-3 * bed.weight);
   // The floor carries most of the weight; the side walls' friction (either sign, it depends on
