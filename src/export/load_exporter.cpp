@@ -122,8 +122,8 @@ LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* cons
     }
     outputs_.push_back(std::move(output));
   }
-  notes_.push_back(fmt::format("exporting loads of {} surface(s) every {} steps ({:.4g} s) to {}",
-                               outputs_.size(), every_steps_, every_steps_ * dt,
+  notes_.push_back(fmt::format("exporting loads of {} surface{} every {} steps ({:.4g} s) to {}",
+                               outputs_.size(), outputs_.size() == 1 ? "" : "s", every_steps_, every_steps_ * dt,
                                directory_.string()));
 }
 
@@ -219,8 +219,8 @@ void LoadExporter::finish(std::span<const Surface* const> surfaces, double time,
         notes_.push_back(fmt::format(
             "warning: support '{}' holds no node of surface '{}'; check its box",
             spec_.calculix->supports[s].name.value, output->name));
-    notes_.push_back(fmt::format("CalculiX deck {} ({} intervals); run: cd {} && ccx {}",
-                                 inp.string(), summary.frames, directory_.string(),
+    notes_.push_back(fmt::format("CalculiX deck {} ({} interval{}); run: cd {} && ccx {}",
+                                 inp.string(), summary.frames, summary.frames == 1 ? "" : "s", directory_.string(),
                                  output->name));
   }
 }

@@ -1,6 +1,7 @@
 // Monitor quantities and plots; the typed monitors' measurements are in monitor_sensors.cpp.
 #include "sim/monitors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -10,6 +11,20 @@
 
 namespace quarry::sim {
 
+namespace {
+bool rotating(const WorldSurface& s) {
+  return s.driver.kind == SurfaceDriverKind::prescribed && s.driver.motion.kind.value == MotionKind::rotation;
+}
+}  // namespace
+
+double torque_about_axis(const Vec3& torque_about_origin, const Vec3& force, const Vec3& axis_point,
+                         const Vec3& axis_direction) {
+  const double length = norm(axis_direction);
+  if (!(length > 0.0)) return 0.0;
+  // T_p = sum (x - p) x f = T_O - p x F; its component along the unit axis.
+  return dot(torque_about_origin - cross(axis_point, force), axis_direction / length);
+}
+
 std::vector<std::string> monitor_columns(const World& world, std::size_t surface_count) {
   std::vector<std::string> c = {"time_s", "particles", "kinetic_energy_J", "mean_speed_m_s",
                                 "mean_vx_m_s", "mean_vy_m_s", "mean_vz_m_s", "contacts",
@@ -17,6 +32,8 @@ std::vector<std::string> monitor_columns(const World& world, std::size_t surface
   for (std::size_t s = 0; s < surface_count; ++s)
     for (const char* q : {"Fx_N", "Fy_N", "Fz_N", "F_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"})
       c.push_back(world.surfaces[s].mesh.name + "_" + q);
+  for (std::size_t s = 0; s < surface_count; ++s)
+    if (rotating(world.surfaces[s])) c.push_back(world.surfaces[s].mesh.name + "_T_axis_Nm");
   for (const auto& m : world.spec.monitors)
     for (std::string& column : sensor_columns(m)) c.push_back(std::move(column));
   return c;
@@ -40,6 +57,13 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
   for (std::size_t s = 0; s < surface_count; ++s) {
     const Vec3 f = world.surfaces[s].mesh.total_force, t = world.surfaces[s].mesh.total_torque;
     for (double v : {f.x, f.y, f.z, norm(f), t.x, t.y, t.z}) row.push_back(v);
+  }
+  for (std::size_t s = 0; s < surface_count; ++s) {
+    const WorldSurface& surface = world.surfaces[s];
+    if (!rotating(surface)) continue;
+    const MotionSpec& motion = surface.driver.motion;
+    row.push_back(torque_about_axis(surface.mesh.total_torque, surface.mesh.total_force, motion.axis_point.value,
+                                    motion.axis_direction.value));
   }
   std::vector<FrameContact> contacts;  // gathered once for the stress monitors, if any
   bool contacts_gathered = false;
@@ -94,8 +118,19 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }
 }  // namespace
 
+std::vector<double> outflow_rate(const std::vector<double>& t, const std::vector<double>& m, std::size_t half_window) {
+  const std::size_t n = std::min(t.size(), m.size());
+  std::vector<double> rate(n, NAN);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t a = k >= half_window ? k - half_window : 0;
+    const std::size_t b = std::min(n - 1, k + half_window);
+    if (t[b] > t[a]) rate[k] = -(m[b] - m[a]) / (t[b] - t[a]);
+  }
+  return rate;
+}
+
 std::vector<std::string> write_monitor_plots(const std::string& directory, const std::vector<std::string>& columns,
-                                             const std::vector<std::vector<double>>& rows) {
+                                             const std::vector<std::vector<double>>& rows, double gravity) {
   namespace fs = std::filesystem;
   std::vector<std::string> written;
   const auto plot = [&](const std::string& file, const PlotSpec& spec) {
@@ -111,7 +146,22 @@ std::vector<std::string> write_monitor_plots(const std::string& directory, const
   for (std::size_t k = 0; k < columns.size(); ++k)
     if (ends_with(columns[k], "_F_N"))
       forces.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 4)));
+  // The reference: a bed at rest carries the weight of what lies in it (m g of the monitor
+  // region that holds the bed's load); impacts rise above it, arching and walls below it.
+  if (!forces.series.empty())
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      if (ends_with(columns[k], "_mass_kg")) {
+        PlotSeries weight = column_series(rows, k, "weight m g in " + columns[k].substr(0, columns[k].size() - 8));
+        for (double& y : weight.y) y *= gravity;
+        forces.series.push_back(weight);
+      }
   if (!forces.series.empty()) plot("surface_forces.png", forces);
+
+  PlotSpec torques{"Torque on each rotating surface about its rotation axis", "time (s)", "torque (N m)", {}};
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    if (ends_with(columns[k], "_T_axis_Nm"))
+      torques.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 10) + " about its axis"));
+  if (!torques.series.empty()) plot("surface_torques.png", torques);
 
   PlotSpec speed{"Mean particle speed", "time (s)", "speed (m/s)",
                  {column_series(rows, index_of("mean_speed_m_s"), "mean speed")}};
@@ -130,6 +180,14 @@ std::vector<std::string> write_monitor_plots(const std::string& directory, const
     if (ends_with(columns[k], "_mass_kg"))
       masses.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 8)));
   if (!masses.series.empty()) plot("region_mass.png", masses);
+
+  // The discharge rate of a hopper: -dm/dt of the mass in its region, over +-2 monitor rows.
+  PlotSpec flows{"Net outflow from monitor regions (-dm/dt; negative while filling)", "time (s)", "outflow (kg/s)", {}};
+  for (PlotSeries m : masses.series) {
+    m.y = outflow_rate(m.x, m.y, 2);
+    flows.series.push_back(m);
+  }
+  if (!flows.series.empty() && rows.size() >= 2) plot("region_outflow.png", flows);
   return written;
 }
 

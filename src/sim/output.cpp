@@ -13,6 +13,7 @@
 #include "export/load_exporter.h"
 #include "geometry/surface_pressure.h"
 #include "io/atomic_file.h"
+#include "io/paraview_script.h"
 #include "io/vtu_writer.h"
 #include "sim/frame_contacts.h"
 #include "sim/monitor_sensors.h"
@@ -173,6 +174,11 @@ Output::Output(World& world, const OutputOptions& options)
   wrote("monitors.csv");
   wrote("particles.pvd");
   for (const WorldSurface& s : world.surfaces) wrote(s.mesh.name + ".pvd");
+  // The ParaView script that opens these series (README "Seeing the results").
+  std::vector<std::string> surface_names;
+  for (const WorldSurface& s : world.surfaces) surface_names.push_back(s.mesh.name);
+  wrote(kParaviewScript);
+  write_file_atomically(directory_ / kParaviewScript, paraview_script(surface_names));
   for (const auto& note : exporter_->notes()) log_ << "quarry: " << note << "\n";
 }
 
@@ -201,7 +207,8 @@ void Output::finish(World& world, bool interrupted) {
   flush_tables();
   warn_of_unseen_particles(world, monitors_, log_);
   if (world.spec.output.plots.value && !monitors_.rows().empty())
-    for (const std::string& plot : write_monitor_plots(directory_.string(), monitors_.columns(), monitors_.rows()))
+    for (const std::string& plot : write_monitor_plots(directory_.string(), monitors_.columns(), monitors_.rows(),
+                                                       norm(world.spec.simulation.gravity.value)))
       wrote(plot);
 }
 
