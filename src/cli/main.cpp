@@ -24,6 +24,7 @@
 #include "fsi/structure_run.h"
 #include "core/allocator.h"
 #include "io/deck.h"
+#include "quarry_version.h"
 #include "sim/estimate.h"
 #include "sim/memory_estimate.h"
 #include "sim/run.h"
@@ -95,12 +96,16 @@ int command_check(const std::string& deck) {
   std::size_t triangles = 0;
   for (const auto& s : world.surfaces) triangles += s.mesh.triangle_count();
   const sim::MemoryEstimate memory = sim::estimate_memory(spec);
+  const auto count = [](std::size_t n, const char* one, const char* many) {
+    return fmt::format("{} {}", n, n == 1 ? one : many);
+  };
+  const auto steps = static_cast<std::size_t>(spec.simulation.end_time.value / world.dt + 0.5);
   std::cout << fmt::format(
-      "{}: ok — {} materials, {} particle types, {} surfaces ({} triangles), {} factories; "
-      "dt = {:.4g} s ({} steps to {:.4g} s); memory about {} of {}\n",
-      deck, spec.materials.size(), spec.particle_types.size(), world.surfaces.size(), triangles,
-      spec.factories.size(), world.dt,
-      static_cast<long long>(spec.simulation.end_time.value / world.dt + 0.5),
+      "{}: ok — {}, {}, {} ({}), {}; dt = {:.4g} s ({} to {:.4g} s); memory about {} of {}\n", deck,
+      count(spec.materials.size(), "material", "materials"),
+      count(spec.particle_types.size(), "particle type", "particle types"),
+      count(world.surfaces.size(), "surface", "surfaces"), count(triangles, "triangle", "triangles"),
+      count(spec.factories.size(), "factory", "factories"), world.dt, count(steps, "step", "steps"),
       spec.simulation.end_time.value, sim::format_bytes(memory.bytes),
       sim::format_bytes(static_cast<double>(sim::machine_memory_bytes())));
   return 0;
@@ -108,7 +113,9 @@ int command_check(const std::string& deck) {
 
 int command_estimate(const std::string& deck) {
   const SimulationSpec spec = parse_deck(deck);
-  std::cout << sim::format_estimate(sim::estimate_run(spec));
+  // The calibration runs the deck's own world with what `run` attaches to it (a fluid).
+  const auto attach = [](World& world) -> std::shared_ptr<void> { return cfdem::attach_fluid_from_spec(world); };
+  std::cout << sim::format_estimate(sim::estimate_run(spec, attach));
   return 0;
 }
 
@@ -149,6 +156,7 @@ int main(int argc, char** argv) {
   std::signal(SIGTERM, on_stop_signal);
   quarry::use_mapped_large_allocations();
   CLI::App app{"Quarry — discrete element method engine for bulk materials"};
+  app.set_version_flag("--version", std::string("quarry ") + QUARRY_VERSION);
   app.require_subcommand(1);
   Common common;
   std::string deck, checkpoint;
@@ -212,6 +220,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);

@@ -19,13 +19,16 @@ double StageTimers::total() const {
   return sum;
 }
 
-std::string StageTimers::table() const {
-  const double sum = total();
+std::string StageTimers::table(double wall_seconds) const {
+  const double timed = total();
+  const double sum = wall_seconds > 0.0 ? wall_seconds : timed;
+  const auto line = [sum](const std::string& name, double seconds) {
+    return fmt::format("{:<24} {:>12.3f} {:>7.1f}%\n", name, seconds, sum > 0.0 ? 100.0 * seconds / sum : 0.0);
+  };
   std::string out = fmt::format("{:<24} {:>12} {:>8}\n", "stage", "time (s)", "share");
-  for (std::size_t k = 0; k < names_.size(); ++k)
-    out += fmt::format("{:<24} {:>12.3f} {:>7.1f}%\n", names_[k], seconds_[k],
-                       sum > 0.0 ? 100.0 * seconds_[k] / sum : 0.0);
-  out += fmt::format("{:<24} {:>12.3f} {:>7.1f}%\n", "total", sum, 100.0);
+  for (std::size_t k = 0; k < names_.size(); ++k) out += line(names_[k], seconds_[k]);
+  if (wall_seconds > 0.0) out += line("untimed", wall_seconds - timed);
+  out += line(wall_seconds > 0.0 ? "total (wall)" : "total", sum);
   return out;
 }
 

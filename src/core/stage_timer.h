@@ -16,8 +16,10 @@ class StageTimers {
   double seconds(int stage_index) const { return seconds_[stage_index]; }
   const std::vector<std::string>& names() const { return names_; }
   double total() const;
-  // Table: stage, seconds, percent of total, one line each.
-  std::string table() const;
+  // Table: stage, seconds, percent of total, one line each. With `wall_seconds` (> 0, the
+  // run's measured wall time) the shares are of that time, a line "untimed" holds what no stage
+  // timed (the loop itself, progress lines) and the total is the wall time.
+  std::string table(double wall_seconds = 0.0) const;
   void reset();
 
  private:

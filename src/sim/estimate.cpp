@@ -1,16 +1,27 @@
-// Run-time estimate: expected particle count from the factories' schedules, and the cost per
-// particle-step measured on a lattice bed of the smallest particle type with the deck's contact
-// law (so contact count and stiffness are representative).
+// Run-time estimate: expected particle count from the factories' schedules, and a cost per step
+// a + b N measured on this machine. a (what a step costs whatever its particles: surfaces and
+// their search grids, moving geometry, factories, hooks such as a fluid) comes from the deck's
+// own first steps; b (per particle) from a stirred dense bed of the smallest particle type with
+// the deck's contact law, where every particle has its neighbours in contact and the lists are
+// rebuilt about as often as in a pour. Issue 20: the bed alone (no rebuilds of a real run, no
+// surfaces) under-estimated the flagship 3-7x.
 #include "sim/estimate.h"
 
 #include <fmt/format.h>
+#include <omp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <sstream>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "insert/size_distribution.h"
+#include "io/vtu_writer.h"
+#include "sim/output.h"
 #include "sim/step.h"
 #include "sim/time_step_choice.h"
 #include "sim/world.h"
@@ -18,6 +29,11 @@
 namespace quarry::sim {
 
 namespace {
+
+// Wall time (s) each calibration runs for: long enough that the timer and one neighbour-list
+// rebuild do not dominate the figure, short enough that `estimate` answers in a few seconds.
+constexpr double kBedBudget = 1.0;
+constexpr double kDeckBudget = 1.5;
 
 // Expected number of particles a factory has inserted by time t (linear ramp at its rate).
 double factory_count_at(const FactorySpec& f, double particle_mass, double t) {
@@ -35,7 +51,12 @@ double factory_count_at(const FactorySpec& f, double particle_mass, double t) {
 // lightly compressed so that each particle has its six neighbours in contact, and stirred with
 // random velocities of half the impact speed so that neighbour lists are rebuilt about as often
 // as in a pour (a bed at rest would hide the rebuild cost and under-estimate a filling run).
-double calibrate(const SimulationSpec& deck, std::size_t type_index, int count, double speed) {
+struct BedCalibration {
+  double seconds_per_particle_step = 0;  // s
+  double frame_seconds_per_particle = 0;  // s: a frame's VTU text, per particle
+};
+BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index, int count, double speed,
+                             double budget) {
   SimulationSpec spec;
   spec.deck_path = deck.deck_path;
   spec.materials = deck.materials;
@@ -57,7 +78,22 @@ double calibrate(const SimulationSpec& deck, std::size_t type_index, int count, 
   domain.lo = Vec3{-1, -1, -1} * (side * spacing);
   domain.hi = Vec3{2, 2, 2} * (side * spacing);
   spec.simulation.domain = domain;
-  spec.simulation.gravity = Vec3{};
+  // Confined under the deck's gravity by a box of the deck's first surface material, the walls
+  // touching the outer layer: the bed stays dense (a free stirred lattice flew apart, and the
+  // longer the calibration the cheaper it got: 14x between calls, issue 20), and a third of
+  // its particles (the outer layer of 16^3) touch a wall, about as many as rest on the
+  // surfaces of a filled hopper or truck bed.
+  if (!deck.surfaces.empty()) {
+    SurfaceSpec box;
+    box.name = Located<std::string>("calibration_box");
+    box.kind = Located<SurfaceKind>(SurfaceKind::box);
+    box.min = Located<Vec3>(Vec3{-1, -1, -1} * radius);
+    box.max = Located<Vec3>(Vec3{1, 1, 1} * ((side - 1) * spacing + radius));
+    box.material = deck.surfaces.front().material;
+    spec.surfaces = {box};
+  } else {
+    spec.simulation.gravity = Vec3{};
+  }
   World world = build_world(spec);
   std::size_t m = 0;
   while (m < world.materials.count() && world.materials.names[m] != material) ++m;
@@ -76,20 +112,103 @@ double calibrate(const SimulationSpec& deck, std::size_t type_index, int count, 
     world.particles.velocity[i] = Vec3{r * std::cos(phi), r * std::sin(phi), z} * speed;
   }
   initialize(world);
+  for (int k = 0; k < 3; ++k) step(world);  // warm-up: first-touch of the lists and scratch
   const auto start = std::chrono::steady_clock::now();
   int steps = 0;
   double elapsed = 0.0;
-  while (steps < 20 || (elapsed < 1.0 && steps < 2000)) {  // at least 20 steps, about 1 s
+  while (steps < 20 || (elapsed < budget && steps < 5000)) {  // at least 20 steps, about `budget` s
     step(world);
     ++steps;
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  return elapsed / (static_cast<double>(steps) * static_cast<double>(world.particles.size()));
+  BedCalibration c;
+  const double n = static_cast<double>(world.particles.size());
+  c.seconds_per_particle_step = elapsed / (static_cast<double>(steps) * n);
+  const auto frame_start = std::chrono::steady_clock::now();
+  const std::string text = particles_vtu(world.particles, world.type_names);
+  c.frame_seconds_per_particle =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - frame_start).count() / n;
+  if (text.empty()) c.frame_seconds_per_particle = 0;  // (keeps the call from being dropped)
+  return c;
+}
+
+// A scratch output folder beside where the run would write (same file system: the cost of a
+// frame is mostly its fsyncs), removed afterwards: the nearest existing folder of the deck's
+// output directory, in a hidden subfolder of this process.
+std::filesystem::path scratch_folder(const SimulationSpec& spec) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  fs::path folder = fs::absolute(fs::path(spec.output.directory.value), error);
+  while (!folder.empty() && !fs::is_directory(folder, error) && folder != folder.parent_path())
+    folder = folder.parent_path();
+  if (folder.empty() || !fs::is_directory(folder, error)) folder = fs::temp_directory_path();
+  return folder / fmt::format(".quarry_estimate.{}", static_cast<long>(::getpid()));
+}
+
+// The deck's own world for about `budget` s of wall time (or to its end), with its output into a
+// scratch folder: steps taken, their particle-steps and seconds (without the output), the cost
+// of a frame (the mean of those written, with their monitor rows) and of the end of the run (a
+// last frame, the export's last records and decks, the plots). A physics error ends the
+// calibration there (`check` accepted the deck: the run may still be worth pricing). The first
+// steps (initialize, a few warm-up steps) are not timed: they fill the lists and scratch memory.
+struct DeckCalibration {
+  double steps = 0, particle_steps = 0, seconds = 0, particles_at_start = 0;
+  double frame_seconds = 0, finish_seconds = 0;  // s: a frame (and the monitor rows before it), the end
+};
+DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& attach, double budget) {
+  namespace fs = std::filesystem;
+  using Clock = std::chrono::steady_clock;
+  DeckCalibration c;
+  const fs::path scratch = scratch_folder(spec);
+  World world = build_world(spec);
+  const std::shared_ptr<void> attached = attach ? attach(world) : nullptr;
+  const double end = spec.simulation.end_time.value;
+  const auto running = [&] { return world.time < end - 0.5 * world.dt; };
+  const auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  std::ostringstream notes;  // the output's notes are the run's, not the estimate's
+  try {
+    OutputOptions options;
+    options.directory = scratch;
+    options.end_time = end;
+    options.log = &notes;
+    options.overwrite = true;
+    world.output = std::make_unique<Output>(world, options);
+    const int output_stage = world.timers.stage("output");
+    initialize(world);  // the first frame: timed into the output stage
+    c.frame_seconds = world.timers.seconds(output_stage);
+    c.particles_at_start = static_cast<double>(world.particles.size());
+    for (int k = 0; k < 3 && running(); ++k) step(world);
+    const double output_before = world.timers.seconds(output_stage);
+    const auto start = Clock::now();
+    double elapsed = 0.0;
+    while (running() && (c.steps < 20 || elapsed < budget)) {
+      step(world);
+      c.steps += 1;
+      c.particle_steps += static_cast<double>(world.particles.size());
+      elapsed = seconds_since(start);
+    }
+    // The steps' own cost: without the monitor rows and frames that fell in the calibration
+    // (those are priced per frame below).
+    c.seconds = std::max(0.0, elapsed - (world.timers.seconds(output_stage) - output_before));
+    // A frame's cost: the mean over the frames written so far (with the monitor rows between).
+    c.frame_seconds = world.timers.seconds(output_stage) / static_cast<double>(std::max<std::uint64_t>(1, world.output->frame_index()));
+    const auto finish_start = Clock::now();
+    world.output->finish(world, false);
+    c.finish_seconds = seconds_since(finish_start);
+  } catch (const PhysicsError&) {
+    // Priced up to the step that failed: the run would stop there too, with the same message.
+  } catch (const std::exception&) {
+    // The scratch folder could not be written (read-only place): priced without the output.
+  }
+  world.output.reset();
+  std::error_code error;
+  fs::remove_all(scratch, error);
+  return c;
 }
 
 }  // namespace
 
-Estimate estimate_run(const SimulationSpec& spec) {
+Estimate estimate_run(const SimulationSpec& spec, const AttachToWorld& attach) {
   Estimate e;
   const TimeStepChoice choice = choose_time_step(spec);
   e.rayleigh_time = choice.rayleigh_time;
@@ -122,12 +241,36 @@ Estimate estimate_run(const SimulationSpec& spec) {
     e.peak_particles = std::max(e.peak_particles, n);
     e.particle_steps += n * e.steps / samples;
   }
+  e.threads = spec.simulation.threads.value > 0 ? spec.simulation.threads.value : omp_get_max_threads();
+  BedCalibration bed;
   if (!types.empty() && e.dt > 0) {
     e.calibration_particles = 4096;
-    e.seconds_per_particle_step =
-        calibrate(spec, smallest_type, e.calibration_particles, 0.5 * e.impact_speed);
+    bed = calibrate_bed(spec, smallest_type, e.calibration_particles, 0.5 * e.impact_speed, kBedBudget);
+    e.seconds_per_particle_step = bed.seconds_per_particle_step;
   }
-  e.wall_seconds = e.particle_steps * e.seconds_per_particle_step;
+  if (e.dt > 0 && e.steps > 0) {
+    const DeckCalibration deck = calibrate_deck(spec, attach, kDeckBudget);
+    e.deck_steps = deck.steps;
+    e.deck_particles = deck.steps > 0 ? deck.particle_steps / deck.steps : 0.0;
+    e.deck_seconds = deck.seconds;
+    if (deck.steps > 0)  // what the deck's steps cost beyond their particles (never below 0)
+      e.seconds_per_step =
+          std::max(0.0, (deck.seconds - deck.particle_steps * e.seconds_per_particle_step) / deck.steps);
+    // Frames: one at the start, one per output interval, priced as those of the calibration
+    // (their fsyncs and files, the monitor rows between) plus the VTU text of the particles
+    // expected then.
+    const double interval = spec.output.interval.value;
+    const double fixed_frame = std::max(0.0, deck.frame_seconds - e.deck_particles * bed.frame_seconds_per_particle);
+    if (interval > 0)
+      for (double t = interval; t < end + 0.5 * interval; t += interval) {
+        double n = 0.0;
+        for (std::size_t f = 0; f < spec.factories.size(); ++f) n += factory_count_at(spec.factories[f], particle_mass[f], t);
+        e.frames += 1;
+        e.output_seconds += fixed_frame + n * bed.frame_seconds_per_particle;
+      }
+    e.output_seconds += fixed_frame + deck.particles_at_start * bed.frame_seconds_per_particle + deck.finish_seconds;
+  }
+  e.wall_seconds = e.steps * e.seconds_per_step + e.particle_steps * e.seconds_per_particle_step + e.output_seconds;
   return e;
 }
 
@@ -141,8 +284,13 @@ std::string format_estimate(const Estimate& e) {
   s += fmt::format("steps                    {:.0f}\n", e.steps);
   s += fmt::format("particles (expected)     {:.0f} at most, {:.3g} particle-steps\n", e.peak_particles,
                    e.particle_steps);
-  s += fmt::format("cost on this machine     {:.3g} s per particle-step (measured on {} stirred particles)\n",
-                   e.seconds_per_particle_step, e.calibration_particles);
+  s += fmt::format("cost on this machine     {:.3g} s per step + {:.3g} s per particle-step on {} thread{}\n",
+                   e.seconds_per_step, e.seconds_per_particle_step, e.threads, e.threads == 1 ? "" : "s");
+  s += fmt::format("  measured on              the deck's first {:.0f} steps ({:.2f} s, {:.0f} particles on average) "
+                   "and {} stirred particles in contact\n",
+                   e.deck_steps, e.deck_seconds, e.deck_particles, e.calibration_particles);
+  s += fmt::format("output                   {:.0f} frames and the end of the run: {:.3g} s\n", e.frames + 1,
+                   e.output_seconds);
   const double w = e.wall_seconds;
   s += fmt::format("estimated wall time      {:.0f} s ({:.2f} h)\n", w, w / 3600.0);
   return s;

@@ -1,11 +1,16 @@
 // `quarry estimate`: the time step and its limiting particle/material (seed 003), the number of
-// steps, and the wall time, calibrated by a short timed run of a dense bed of the deck's own
-// smallest particles on this machine.
+// steps, and the wall time, from a cost per step calibrated on this machine by a short run of
+// the deck's own world (its surfaces, factories, contacts and neighbour-list rebuilds) and by a
+// short run of a stirred dense bed of its particles (the cost per particle in contact, which the
+// first steps of a deck whose factories have only begun cannot show).
 #pragma once
 
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "core/simulation_spec.h"
+#include "sim/world.h"
 
 namespace quarry::sim {
 
@@ -15,12 +20,24 @@ struct Estimate {
   double steps = 0;                 // to the end time
   double particle_steps = 0;        // Σ over steps of the expected particle count
   double peak_particles = 0;        // expected
-  double seconds_per_particle_step = 0;  // s, measured
-  int calibration_particles = 0;
+  // Cost per step = seconds_per_step + seconds_per_particle_step × particles (s, measured).
+  double seconds_per_step = 0;
+  double seconds_per_particle_step = 0;
+  double deck_steps = 0, deck_particles = 0, deck_seconds = 0;  // the deck's own calibration run
+  int calibration_particles = 0;    // the dense bed's
+  double frames = 0;                // frames after the first
+  double output_seconds = 0;        // s: frames, the end of the run (export decks, plots)
+  int threads = 1;                  // OpenMP threads the calibration ran with
   double wall_seconds = 0;          // s, estimate
 };
 
-Estimate estimate_run(const SimulationSpec& spec);
+// Called on the calibration world before it starts (what `run` attaches beyond build_world:
+// the fluid of a fluid: section); what it returns is kept alive while the world runs.
+using AttachToWorld = std::function<std::shared_ptr<void>(World&)>;
+
+// Never throws for a deck that `check` accepts: a calibration run that stops on a physics
+// error is priced up to that step.
+Estimate estimate_run(const SimulationSpec& spec, const AttachToWorld& attach = {});
 std::string format_estimate(const Estimate& e);
 
 }  // namespace quarry::sim

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/progress_eta.h"
 #include "sim/output.h"
 #include "sim/step.h"
 
@@ -28,8 +29,15 @@ std::string duration_text(double seconds) {
 
 int stop_requested(const RunOptions& options) { return options.stop ? options.stop->load() : 0; }
 
-// Steps the world (its output attached) to `end_time`.
-RunSummary run_loop(World& world, const RunOptions& options, double end_time) {
+using Clock = std::chrono::steady_clock;
+
+std::string plural(std::uint64_t n, const char* one, const char* many) {
+  return fmt::format("{} {}", n, n == 1 ? one : many);
+}
+
+// Steps the world (its output attached) to `end_time`. `start`: when the run began (before
+// initialize, whose forces and first frame the stage table counts).
+RunSummary run_loop(World& world, const RunOptions& options, double end_time, Clock::time_point start) {
   std::ostream& log = options.log ? *options.log : std::cerr;
   Output& output = *world.output;
   RunSummary summary;
@@ -38,8 +46,8 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time) {
                      static_cast<std::uint64_t>(std::max(0.0, (end_time - world.time) / world.dt) + 0.5),
                      end_time, output.directory().string());
 
-  const auto start = std::chrono::steady_clock::now();
-  auto last_progress = start;
+  auto last_progress = Clock::now();
+  ProgressEta eta_pace;  // smoothed over about 30 s of wall time (core/progress_eta.h)
   double last_progress_time = world.time;  // s, simulated time at the last progress line
   const double progress_every = world.spec.output.progress_interval.value;  // s of wall time
   std::vector<char> reported_shortfall(world.factories.size(), 0);
@@ -47,7 +55,10 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time) {
   while (world.time < end_time - 0.5 * world.dt) {
     if (const int signal_number = stop_requested(options)) {
       summary.stop_signal = signal_number;
-      summary.checkpoint = output.write_checkpoint_now(world);
+      {
+        ScopedStage timer(world.timers, world.timers.stage("output"));
+        summary.checkpoint = output.write_checkpoint_now(world);
+      }
       log << fmt::format("\nquarry: stopped by signal {} at step {} (t = {:.6g} s); checkpoint "
                          "written to {}; continue with: quarry restart {}\n",
                          signal_number, world.step_count, world.time, summary.checkpoint, summary.checkpoint);
@@ -74,10 +85,10 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time) {
     }
     const auto now = std::chrono::steady_clock::now();
     if (!options.quiet && std::chrono::duration<double>(now - last_progress).count() >= progress_every) {
-      // ETA from the pace since the last line: the cost per step grows as particles are added.
-      const double recent_wall = std::chrono::duration<double>(now - last_progress).count();
-      const double recent_simulated = world.time - last_progress_time;
-      const double eta = recent_simulated > 0 ? recent_wall * (end_time - world.time) / recent_simulated : NAN;
+      // ETA from the recent pace (the cost per step grows as particles are added), smoothed so
+      // that an interval holding a frame or a checkpoint does not swing it.
+      eta_pace.add(world.time - last_progress_time, std::chrono::duration<double>(now - last_progress).count());
+      const double eta = eta_pace.seconds_left(end_time - world.time);
       const double wall = std::chrono::duration<double>(now - start).count();
       last_progress = now;
       last_progress_time = world.time;
@@ -86,10 +97,13 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time) {
                          world.particles.size(), summary.steps / std::max(wall, 1e-9), duration_text(eta));
     }
   }
-  run_hooks(world, HookStage::end_of_run);
-  output.finish(world, summary.interrupted());
+  run_hooks(world, HookStage::end_of_run);  // timed under each hook's name
+  {
+    ScopedStage timer(world.timers, world.timers.stage("output"));
+    output.finish(world, summary.interrupted());  // last frame, export records and decks, plots
+  }
 
-  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   summary.simulated_time = world.time;
   summary.particles = world.particles.size();
   summary.final_state_hash = state_hash(world);
@@ -99,13 +113,17 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time) {
         log << fmt::format("quarry: note: factory '{}' had not finished at the end time\n",
                            factory.spec().name.value);
   }
-  log << fmt::format("quarry: {} steps in {:.2f} s ({:.0f} steps/s, {:.3g} particle-steps/s), {} "
-                     "particles, {} removed (left the domain), {} list rebuilds\n",
-                     summary.steps, summary.wall_seconds, summary.steps / std::max(summary.wall_seconds, 1e-9),
+  log << fmt::format("quarry: {} in {:.2f} s ({:.0f} steps/s, {:.3g} particle-steps/s), {}, {} removed "
+                     "(left the domain), {}\n",
+                     plural(summary.steps, "step", "steps"), summary.wall_seconds,
+                     summary.steps / std::max(summary.wall_seconds, 1e-9),
                      static_cast<double>(summary.steps) * static_cast<double>(world.particles.size()) /
                          std::max(summary.wall_seconds, 1e-9),
-                     world.particles.size(), world.removed_outside, world.rebuilds);
-  if (!options.quiet) log << world.timers.table();
+                     plural(world.particles.size(), "particle", "particles"), world.removed_outside,
+                     plural(world.rebuilds, "list rebuild", "list rebuilds"));
+  // The table's stages and its "untimed" line add up to the wall time above (issue 20: the
+  // output at the end was missing, the table summed 63 s of a 71 s run).
+  if (!options.quiet) log << world.timers.table(summary.wall_seconds);
   return summary;
 }
 
@@ -126,8 +144,9 @@ RunSummary run(World& world, const RunOptions& options) {
   if (options.threads > 0) world.threading.threads = options.threads;
   world.stop_request = options.stop;
   world.output = std::make_unique<Output>(world, output_options(world, options, end_time));
+  const Clock::time_point start = Clock::now();
   initialize(world);  // also the first monitor row and frame
-  RunSummary summary = run_loop(world, options, end_time);
+  RunSummary summary = run_loop(world, options, end_time, start);
   world.output.reset();
   return summary;
 }
@@ -151,7 +170,7 @@ RunSummary restart(const std::string& checkpoint_path, const RunOptions& options
   output.frame_index = restored.frame_index;
   world.output = std::make_unique<Output>(world, output);
   world.stop_request = options.stop;
-  RunSummary summary = run_loop(world, o, end_time);
+  RunSummary summary = run_loop(world, o, end_time, Clock::now());
   world.output.reset();
   return summary;
 }

@@ -41,7 +41,10 @@ void initialize(World& world) {
   rebuild_lists(world);
   compute_forces(world, 0.0);  // the velocities are those of the configuration
   world.initialized = true;
-  if (world.output) world.output->start(world);
+  if (world.output) {
+    ScopedStage timer(world.timers, world.timers.stage("output"));
+    world.output->start(world);  // the first monitor row and frame
+  }
 }
 
 void step(World& world) {
