@@ -30,6 +30,20 @@ namespace quarry::sim {
 
 namespace {
 
+// The median wall time (s) of `count` rebuilds of the world's lists: a rebuild takes a few
+// milliseconds, about a time slice of a loaded machine, so a single timing (or a mean) moved
+// by 2x between calls where the median of 11 does not.
+double median_rebuild_seconds(World& world, int count = 11) {
+  std::vector<double> seconds;
+  for (int k = 0; k < count; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    rebuild_lists(world);
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::nth_element(seconds.begin(), seconds.begin() + count / 2, seconds.end());
+  return seconds[count / 2];
+}
+
 // Wall time (s) each calibration runs for: long enough that the timer and one neighbour-list
 // rebuild do not dominate the figure, short enough that `estimate` answers in a few seconds.
 constexpr double kBedBudget = 1.0;
@@ -52,8 +66,9 @@ double factory_count_at(const FactorySpec& f, double particle_mass, double t) {
 // random velocities of half the impact speed so that neighbour lists are rebuilt about as often
 // as in a pour (a bed at rest would hide the rebuild cost and under-estimate a filling run).
 struct BedCalibration {
-  double seconds_per_particle_step = 0;  // s
-  double frame_seconds_per_particle = 0;  // s: a frame's VTU text, per particle
+  double seconds_per_particle_step = 0;     // s: a step without its neighbour stage
+  double rebuild_seconds_per_particle = 0;  // s: one rebuild of the pair and surface lists
+  double frame_seconds_per_particle = 0;    // s: a frame's VTU text, per particle
 };
 BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index, int count, double speed,
                              double budget) {
@@ -71,6 +86,9 @@ BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index,
   spec.simulation.max_overlap_fraction = 1.0;
   const std::string material = spec.particle_types[0].material.value;
   const SizeSampler sampler(spec.particle_types[0].size);
+  // One size, the smallest: a lattice of the deck's mix spaced by its largest leaves the small
+  // ones out of contact (tried on the flagship: 3.2-3.8e-7 s per particle-step, this bed
+  // 5.5-6e-7, the flagship's settled bed restored from its checkpoint 7.5e-7).
   const double radius = sampler.min_radius();
   const int side = std::max(2, static_cast<int>(std::cbrt(static_cast<double>(count))));
   const double spacing = 2.0 * radius * 0.999;  // m, slight overlap
@@ -113,6 +131,7 @@ BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index,
   }
   initialize(world);
   for (int k = 0; k < 3; ++k) step(world);  // warm-up: first-touch of the lists and scratch
+  const double neighbor_before = world.timers.seconds(world.timers.stage("neighbor"));
   const auto start = std::chrono::steady_clock::now();
   int steps = 0;
   double elapsed = 0.0;
@@ -123,7 +142,10 @@ BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index,
   }
   BedCalibration c;
   const double n = static_cast<double>(world.particles.size());
-  c.seconds_per_particle_step = elapsed / (static_cast<double>(steps) * n);
+  // Without the neighbour stage (rebuilds are priced per rebuild: their rate is the deck's).
+  const double neighbor = world.timers.seconds(world.timers.stage("neighbor")) - neighbor_before;
+  c.seconds_per_particle_step = std::max(0.0, elapsed - neighbor) / (static_cast<double>(steps) * n);
+  c.rebuild_seconds_per_particle = median_rebuild_seconds(world) / n;
   const auto frame_start = std::chrono::steady_clock::now();
   const std::string text = particles_vtu(world.particles, world.type_names);
   c.frame_seconds_per_particle =
@@ -153,6 +175,8 @@ std::filesystem::path scratch_folder(const SimulationSpec& spec) {
 // steps (initialize, a few warm-up steps) are not timed: they fill the lists and scratch memory.
 struct DeckCalibration {
   double steps = 0, particle_steps = 0, seconds = 0, particles_at_start = 0;
+  double rebuild_seconds = 0, particles_at_end = 0;  // one rebuild of the lists at the end
+  double rebuild_particle_steps = 0;  // sum of the particle count over the steps that rebuilt
   double frame_seconds = 0, finish_seconds = 0;  // s: a frame (and the monitor rows before it), the end
 };
 DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& attach, double budget) {
@@ -182,9 +206,11 @@ DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& 
     const auto start = Clock::now();
     double elapsed = 0.0;
     while (running() && (c.steps < 20 || elapsed < budget)) {
+      const std::uint64_t rebuilds = world.rebuilds;
       step(world);
       c.steps += 1;
       c.particle_steps += static_cast<double>(world.particles.size());
+      if (world.rebuilds != rebuilds) c.rebuild_particle_steps += static_cast<double>(world.particles.size());
       elapsed = seconds_since(start);
     }
     // The steps' own cost: without the monitor rows and frames that fell in the calibration
@@ -192,6 +218,8 @@ DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& 
     c.seconds = std::max(0.0, elapsed - (world.timers.seconds(output_stage) - output_before));
     // A frame's cost: the mean over the frames written so far (with the monitor rows between).
     c.frame_seconds = world.timers.seconds(output_stage) / static_cast<double>(std::max<std::uint64_t>(1, world.output->frame_index()));
+    c.rebuild_seconds = median_rebuild_seconds(world);
+    c.particles_at_end = static_cast<double>(world.particles.size());
     const auto finish_start = Clock::now();
     world.output->finish(world, false);
     c.finish_seconds = seconds_since(finish_start);
@@ -236,23 +264,32 @@ Estimate estimate_run(const SimulationSpec& spec, const AttachToWorld& attach) {
   for (int k = 0; k < samples; ++k) {
     const double t = (k + 0.5) / samples * end;
     double n = 0.0;
-    for (std::size_t f = 0; f < spec.factories.size(); ++f)
+    for (std::size_t f = 0; f < spec.factories.size(); ++f) {
       n += factory_count_at(spec.factories[f], particle_mass[f], t);
+    }
     e.peak_particles = std::max(e.peak_particles, n);
     e.particle_steps += n * e.steps / samples;
   }
   e.threads = spec.simulation.threads.value > 0 ? spec.simulation.threads.value : omp_get_max_threads();
+  const DeckCalibration deck = e.dt > 0 && e.steps > 0 ? calibrate_deck(spec, attach, kDeckBudget) : DeckCalibration{};
   BedCalibration bed;
   if (!types.empty() && e.dt > 0) {
     e.calibration_particles = 4096;
-    bed = calibrate_bed(spec, smallest_type, e.calibration_particles, 0.5 * e.impact_speed, kBedBudget);
+    bed = calibrate_bed(spec, types[smallest_type].type_index, e.calibration_particles, 0.5 * e.impact_speed,
+                        kBedBudget);
     e.seconds_per_particle_step = bed.seconds_per_particle_step;
   }
   if (e.dt > 0 && e.steps > 0) {
-    const DeckCalibration deck = calibrate_deck(spec, attach, kDeckBudget);
     e.deck_steps = deck.steps;
     e.deck_particles = deck.steps > 0 ? deck.particle_steps / deck.steps : 0.0;
     e.deck_seconds = deck.seconds;
+    // Rebuilds: the deck's own rate (set by its speeds and skin: a pour rebuilds every few
+    // steps), each priced per particle as the dearer of the bed's and the deck's own (its
+    // surfaces' candidate lists, its domain's grid), timed at the end of its calibration.
+    e.rebuild_fraction = deck.particle_steps > 0 ? deck.rebuild_particle_steps / deck.particle_steps : 0.0;
+    const double rebuild = std::max(bed.rebuild_seconds_per_particle,
+                                    deck.particles_at_end > 0 ? deck.rebuild_seconds / deck.particles_at_end : 0.0);
+    e.seconds_per_particle_step = bed.seconds_per_particle_step + e.rebuild_fraction * rebuild;
     if (deck.steps > 0)  // what the deck's steps cost beyond their particles (never below 0)
       e.seconds_per_step =
           std::max(0.0, (deck.seconds - deck.particle_steps * e.seconds_per_particle_step) / deck.steps);
@@ -286,13 +323,13 @@ std::string format_estimate(const Estimate& e) {
                    e.particle_steps);
   s += fmt::format("cost on this machine     {:.3g} s per step + {:.3g} s per particle-step on {} thread{}\n",
                    e.seconds_per_step, e.seconds_per_particle_step, e.threads, e.threads == 1 ? "" : "s");
-  s += fmt::format("  measured on              the deck's first {:.0f} steps ({:.2f} s, {:.0f} particles on average) "
-                   "and {} stirred particles in contact\n",
-                   e.deck_steps, e.deck_seconds, e.deck_particles, e.calibration_particles);
+  s += fmt::format("  measured on              the deck's first {:.0f} steps ({:.2f} s, {:.0f} particles on average, "
+                   "lists rebuilt at {:.0f} % of the steps) and {} stirred particles in a box\n",
+                   e.deck_steps, e.deck_seconds, e.deck_particles, 100.0 * e.rebuild_fraction, e.calibration_particles);
   s += fmt::format("output                   {:.0f} frames and the end of the run: {:.3g} s\n", e.frames + 1,
                    e.output_seconds);
   const double w = e.wall_seconds;
-  s += fmt::format("estimated wall time      {:.0f} s ({:.2f} h)\n", w, w / 3600.0);
+  s += fmt::format("estimated wall time      {:.{}f} s ({:.2f} h)\n", w, w < 100 ? 1 : 0, w / 3600.0);
   return s;
 }
 

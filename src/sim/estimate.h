@@ -23,6 +23,7 @@ struct Estimate {
   // Cost per step = seconds_per_step + seconds_per_particle_step × particles (s, measured).
   double seconds_per_step = 0;
   double seconds_per_particle_step = 0;
+  double rebuild_fraction = 0;      // of the deck's calibration steps (weighted by particles)
   double deck_steps = 0, deck_particles = 0, deck_seconds = 0;  // the deck's own calibration run
   int calibration_particles = 0;    // the dense bed's
   double frames = 0;                // frames after the first
