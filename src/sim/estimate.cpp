@@ -1,10 +1,12 @@
-// Run-time estimate: expected particle count from the factories' schedules, and a cost per step
-// a + b N measured on this machine. a (what a step costs whatever its particles: surfaces and
-// their search grids, moving geometry, factories, hooks such as a fluid) comes from the deck's
-// own first steps; b (per particle) from a stirred dense bed of the smallest particle type with
-// the deck's contact law, where every particle has its neighbours in contact and the lists are
-// rebuilt about as often as in a pour. Issue 20: the bed alone (no rebuilds of a real run, no
-// surfaces) under-estimated the flagship 3-7x.
+// Run-time estimate: expected particle count N(t) from the factories' schedules, and a cost per
+// step a + N (b + r c) measured on this machine, plus the output (docs/performance.md, "What
+// quarry estimate measures"). a (what a step costs beyond its particles: surfaces and their
+// search grids, moving geometry, factories, hooks such as a fluid) and r (the fraction of steps
+// that rebuild the lists) come from the deck's own first steps; b (a step without its
+// neighbour stage, per particle) from a stirred bed of the smallest particle type confined in a
+// box under gravity, with the deck's contact law; c (a rebuild per particle) from the dearer of
+// the two. Issue 20: the free bed alone (no rebuilds of a real run, no surfaces, no output)
+// under-estimated the flagship 3-7x.
 #include "sim/estimate.h"
 
 #include <fmt/format.h>
