@@ -173,7 +173,7 @@ std::filesystem::path scratch_folder(const SimulationSpec& spec) {
 // scratch folder: steps taken, their particle-steps and seconds (without the output), the cost
 // of a frame (the mean of those written, with their monitor rows) and of the end of the run (a
 // last frame, the export's last records and decks, the plots). A physics error ends the
-// calibration there (`check` accepted the deck: the run may still be worth pricing). The first
+// calibration there, with the costs of the steps before it (`check` accepted the deck). The first
 // steps (initialize, a few warm-up steps) are not timed: they fill the lists and scratch memory.
 struct DeckCalibration {
   double steps = 0, particle_steps = 0, seconds = 0, particles_at_start = 0;
@@ -214,10 +214,10 @@ DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& 
       c.particle_steps += static_cast<double>(world.particles.size());
       if (world.rebuilds != rebuilds) c.rebuild_particle_steps += static_cast<double>(world.particles.size());
       elapsed = seconds_since(start);
+      // The steps' own cost: without the monitor rows and frames that fell in the calibration
+      // (those are priced per frame below). Kept up to date: a physics error may end the loop.
+      c.seconds = std::max(0.0, elapsed - (world.timers.seconds(output_stage) - output_before));
     }
-    // The steps' own cost: without the monitor rows and frames that fell in the calibration
-    // (those are priced per frame below).
-    c.seconds = std::max(0.0, elapsed - (world.timers.seconds(output_stage) - output_before));
     // A frame's cost: the mean over the frames written so far (with the monitor rows between).
     c.frame_seconds = world.timers.seconds(output_stage) / static_cast<double>(std::max<std::uint64_t>(1, world.output->frame_index()));
     c.rebuild_seconds = median_rebuild_seconds(world);
@@ -226,7 +226,8 @@ DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& 
     world.output->finish(world, false);
     c.finish_seconds = seconds_since(finish_start);
   } catch (const PhysicsError&) {
-    // Priced up to the step that failed: the run would stop there too, with the same message.
+    // The costs are those of the steps before the one that failed (the run would stop there
+    // too, with the same message; `estimate` prices the deck as written).
   } catch (const std::exception&) {
     // The scratch folder could not be written (read-only place): priced without the output.
   }
@@ -328,8 +329,8 @@ std::string format_estimate(const Estimate& e) {
   s += fmt::format("  measured on              the deck's first {:.0f} steps ({:.2f} s, {:.0f} particles on average, "
                    "lists rebuilt at {:.0f} % of the steps) and {} stirred particles in a box\n",
                    e.deck_steps, e.deck_seconds, e.deck_particles, 100.0 * e.rebuild_fraction, e.calibration_particles);
-  s += fmt::format("output                   {:.0f} frames and the end of the run: {:.3g} s\n", e.frames + 1,
-                   e.output_seconds);
+  s += fmt::format("output                   {:.0f} frame{} and the end of the run: {:.3g} s\n", e.frames + 1,
+                   e.frames + 1 == 1 ? "" : "s", e.output_seconds);
   const double w = e.wall_seconds;
   s += fmt::format("estimated wall time      {:.{}f} s ({:.2f} h)\n", w, w < 100 ? 1 : 0, w / 3600.0);
   return s;

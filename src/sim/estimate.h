@@ -37,7 +37,7 @@ struct Estimate {
 using AttachToWorld = std::function<std::shared_ptr<void>(World&)>;
 
 // Never throws for a deck that `check` accepts: a calibration run that stops on a physics
-// error is priced up to that step.
+// error gives the costs of the steps before it.
 Estimate estimate_run(const SimulationSpec& spec, const AttachToWorld& attach = {});
 std::string format_estimate(const Estimate& e);
 
