@@ -326,9 +326,10 @@ std::string format_estimate(const Estimate& e) {
                    e.particle_steps);
   s += fmt::format("cost on this machine     {:.3g} s per step + {:.3g} s per particle-step on {} thread{}\n",
                    e.seconds_per_step, e.seconds_per_particle_step, e.threads, e.threads == 1 ? "" : "s");
-  s += fmt::format("  measured on              the deck's first {:.0f} steps ({:.2f} s, {:.0f} particles on average, "
+  s += fmt::format("  measured on              the deck's first {:.0f} steps ({:.2f} s, {:.0f} particle{} on average, "
                    "lists rebuilt at {:.0f} % of the steps) and {} stirred particles in a box\n",
-                   e.deck_steps, e.deck_seconds, e.deck_particles, 100.0 * e.rebuild_fraction, e.calibration_particles);
+                   e.deck_steps, e.deck_seconds, e.deck_particles, std::lround(e.deck_particles) == 1 ? "" : "s",
+                   100.0 * e.rebuild_fraction, e.calibration_particles);
   s += fmt::format("output                   {:.0f} frame{} and the end of the run: {:.3g} s\n", e.frames + 1,
                    e.frames + 1 == 1 ? "" : "s", e.output_seconds);
   const double w = e.wall_seconds;
