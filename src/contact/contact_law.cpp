@@ -14,6 +14,7 @@ namespace {
 
 void check_material(const MaterialProperties& material, const Located<std::string>& name,
                     Diagnostics& diagnostics) {
+  if (material.rigid) return;  // no elastic constants
   if (!(material.youngs_modulus > 0.0)) {
     diagnostics.error(name.where,
                       fmt::format("material \"{}\" has Young's modulus {} Pa; it must be positive",

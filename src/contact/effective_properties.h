@@ -13,25 +13,31 @@ struct MaterialProperties {
   double density = 0.0;         // kg/m³
   double youngs_modulus = 0.0;  // Pa
   double poisson_ratio = 0.0;   // 1
+  // Infinitely stiff (a surface material, `rigid: true`): its compliance terms below vanish, so a
+  // particle on it has E* = Ep/(1−νp²) and G* = Gp/(2−νp) (Johnson 1985, eq. 4.22 with E → ∞), the
+  // rigid plane of the classic benchmarks. Young's modulus and Poisson ratio are then unused.
+  bool rigid = false;
 };
 
 namespace contact {
 
 // 1/E* = (1−νi²)/Ei + (1−νj²)/Ej  (Johnson 1985, Contact Mechanics, eq. 4.22; EDEM guide).
-// Precondition: both Young's moduli > 0. Cost: a few flops.
+// A rigid material adds no compliance (two rigid ones give +inf: surfaces, which never touch).
+// Precondition: Young's moduli > 0 (of the non-rigid ones). Cost: a few flops.
 inline double effective_youngs_modulus(const MaterialProperties& a, const MaterialProperties& b) {
-  const double compliance = (1.0 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
-                            (1.0 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus;  // 1/Pa
-  return 1.0 / compliance;
+  const auto compliance_of = [](const MaterialProperties& m) {
+    return m.rigid ? 0.0 : (1.0 - m.poisson_ratio * m.poisson_ratio) / m.youngs_modulus;  // 1/Pa
+  };
+  return 1.0 / (compliance_of(a) + compliance_of(b));
 }
 
 // 1/G* = 2(2−νi)(1+νi)/Ei + 2(2−νj)(1+νj)/Ej, i.e. (2−νi)/Gi + (2−νj)/Gj with G = E/(2(1+ν))
-// (Mindlin & Deresiewicz 1953; EDEM guide). Precondition: both Young's moduli > 0.
+// (Mindlin & Deresiewicz 1953; EDEM guide); a rigid material adds none. Precondition as above.
 inline double effective_shear_modulus(const MaterialProperties& a, const MaterialProperties& b) {
-  const double compliance =
-      2.0 * (2.0 - a.poisson_ratio) * (1.0 + a.poisson_ratio) / a.youngs_modulus +
-      2.0 * (2.0 - b.poisson_ratio) * (1.0 + b.poisson_ratio) / b.youngs_modulus;  // 1/Pa
-  return 1.0 / compliance;
+  const auto compliance_of = [](const MaterialProperties& m) {
+    return m.rigid ? 0.0 : 2.0 * (2.0 - m.poisson_ratio) * (1.0 + m.poisson_ratio) / m.youngs_modulus;  // 1/Pa
+  };
+  return 1.0 / (compliance_of(a) + compliance_of(b));
 }
 
 // 1/R* = 1/Ri + 1/Rj (m). radius_j = 0 marks a wall (flat: infinite radius), so R* = Ri.

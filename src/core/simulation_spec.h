@@ -44,6 +44,9 @@ struct MaterialSpec {
   Located<double> density{0.0};        // kg/m³
   Located<double> youngs_modulus{0.0}; // Pa
   Located<double> poisson_ratio{0.0};  // 1
+  // Infinitely stiff (surfaces only): no Young's modulus or Poisson ratio; a particle on it has
+  // E* = Ep/(1−νp²) (contact/effective_properties.h).
+  Located<bool> rigid{false};
 };
 
 // Interaction between two materials (order-independent).
@@ -144,7 +147,34 @@ struct FactorySpec {
   std::optional<Located<double>> mass_rate;           // kg/s; absent = all at start_time
   Located<double> start_time{0.0}, stop_time{1e300};  // s
   Located<Vec3> initial_velocity;                     // m/s
+  Located<Vec3> initial_angular_velocity;             // rad/s
   Located<int> max_attempts{50};                      // placement tries per particle
+};
+
+// ---- Initial particles (`particles:` section, issue #20): a run may start from particles read
+// from files (a CSV table, or a particle frame of an earlier run) or given one by one. ----
+struct ParticleSourceSpec {
+  SourceLocation where;        // the list entry, for messages
+  Located<std::string> file;   // CSV or VTU, absolute path; empty: one particle given inline
+  // One inline particle: its type's name, centre (m), radius (m; absent: drawn from the type),
+  // velocity (m/s), angular velocity (rad/s).
+  Located<std::string> type;
+  Located<Vec3> position, velocity, angular_velocity;
+  std::optional<Located<double>> radius;
+  // Overlaps of this entry's particles (with any particle or surface) are accepted, not errors.
+  Located<bool> allow_overlap{false};
+};
+
+// One particle the run starts with, as the deck parser read it from its source.
+struct InitialParticle {
+  std::uint16_t type = 0;      // particle-type index
+  Vec3 position;               // m
+  Vec3 velocity;               // m/s
+  Vec3 angular_velocity;       // rad/s
+  double radius = 0.0;         // m; ≤ 0: drawn from the type's size distribution
+  std::uint64_t id = 0;        // the file's id, kept; 0: a new one
+  std::uint32_t source = 0;    // index into SimulationSpec::particle_sources
+  std::uint32_t line = 0;      // CSV line (1-based); 0: the source entry is the location
 };
 
 // What a monitor measures (docs/deck.md "## monitors", sim/monitor_sensors.h). A monitor without
@@ -216,6 +246,10 @@ struct SimulationSpec {
   std::vector<ParticleTypeSpec> particle_types;
   std::vector<SurfaceSpec> surfaces;
   std::vector<FactorySpec> factories;
+  std::vector<ParticleSourceSpec> particle_sources;   // `particles:` section
+  // The particles those sources hold, read by the parser (files are not read again at a
+  // restart: the checkpoint holds the particles); the deck writer writes the sources only.
+  std::vector<InitialParticle> initial_particles;
   std::vector<MonitorSpec> monitors;
   OutputSpec output;
   ExportSpec fem_export;                // `export:` section (export is a C++ keyword)

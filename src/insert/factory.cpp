@@ -148,8 +148,9 @@ InsertionReport Factory::insert_due(double time, ParticleStore& particles, Parti
       const Vec3 centre = region_.sample_point(random_, radius);
       if (grid.overlaps(centre, radius)) continue;
       if (touches_surface && touches_surface(centre, radius)) continue;
-      particles.add(next_id++, type_.type_index, type_.material_index, centre,
-                    spec_.initial_velocity.value, radius, type_.density, time);
+      const std::size_t index = particles.add(next_id++, type_.type_index, type_.material_index, centre,
+                                              spec_.initial_velocity.value, radius, type_.density, time);
+      particles.angular_velocity[index] = spec_.initial_angular_velocity.value;
       grid.insert(centre, radius);
       const double mass = particle_mass(radius);  // kg
       inserted_count_ += 1;

@@ -56,7 +56,7 @@ class Factory {
   Factory(const FactorySpec& spec, const ParticleTypeInfo& type, std::uint64_t seed);
 
   // Inserts the particles due at `time` (s) into `particles` with ids next_id, next_id + 1, …
-  // (next_id is advanced), initial velocity from the spec, creation time `time`.
+  // (next_id is advanced), initial velocity and angular velocity from the spec, creation time `time`.
   // Cost: O(particles.size()) to find those near the region, plus O(due × max_attempts) local
   // overlap tests and surface queries. `stop_requested`, if given, is asked every 1024
   // particles: when it says yes the call returns at once, the rest still due (placed by a later

@@ -24,7 +24,7 @@ using deck_detail::MapReader;
 
 const std::vector<std::string> kTopLevelKeys = {"simulation",     "materials", "interactions",
                                                 "particle_types", "surfaces",  "factories",
-                                                "monitors",       "output",
+                                                "monitors",       "output",         "particles",
                                                 "export",         "structures",     "fluid"};
 
 // Reports a second entry of the same name in one section; empty names were reported already.
@@ -145,7 +145,14 @@ void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
 
   const std::vector<std::string> material_names = spellings_of(spec.materials);
   for (const ParticleTypeSpec& particle_type : spec.particle_types)
-    check_reference(context, "material", particle_type.material, material_names);
+    if (check_reference(context, "material", particle_type.material, material_names))
+      for (const MaterialSpec& material : spec.materials)
+        if (material.name.value == particle_type.material.value && material.rigid.value)
+          context.error(particle_type.material.where,
+                        fmt::format("particle type \"{}\" has the rigid material \"{}\"", particle_type.name.value,
+                                    material.name.value),
+                        "rigid: true is for surface materials (an infinitely stiff wall); particles need "
+                        "youngs_modulus and poisson_ratio");
   for (const SurfaceSpec& surface : spec.surfaces)
     check_reference(context, "material", surface.material, material_names);
   const std::vector<std::string> particle_type_names = spellings_of(spec.particle_types);
@@ -161,13 +168,16 @@ void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
 }
 
 // Errors in the order of the file (the first line of the output is the first mistake in the
-// deck); errors without a line go last.
-Diagnostics in_file_order(const Diagnostics& diagnostics) {
+// deck); errors without a line go last, and errors in other files the deck reads (particle
+// tables) after the deck's own, each file's in the order found.
+Diagnostics in_file_order(const Diagnostics& diagnostics, const std::string& deck_name) {
   std::vector<Diagnostic> items = diagnostics.all();
   const auto line_key = [](const Diagnostic& item) {
     return item.where.line > 0 ? item.where.line : std::numeric_limits<int>::max();
   };
   std::stable_sort(items.begin(), items.end(), [&](const Diagnostic& a, const Diagnostic& b) {
+    const bool a_other = a.where.file != deck_name, b_other = b.where.file != deck_name;
+    if (a_other || b_other) return !a_other && b_other;
     return std::make_pair(line_key(a), a.where.column) <
            std::make_pair(line_key(b), b.where.column);
   });
@@ -235,6 +245,7 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
     deck_detail::read_particle_types_section(top, spec.particle_types);
     deck_detail::read_surfaces_section(top, options, spec.surfaces);
     deck_detail::read_factories_section(top, spec.factories);
+    deck_detail::read_particles_section(top, options, spec);
     deck_detail::read_monitors_section(top, spec.monitors);
     deck_detail::read_output_section(top, spec.output);
     deck_detail::read_export_section(top, spec.fem_export);
@@ -242,7 +253,7 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
     deck_detail::read_fluid_section(top, options, spec.fluid);
     check_cross_references(context, spec);
   }
-  if (context.diagnostics.has_errors()) throw UserError(in_file_order(context.diagnostics));
+  if (context.diagnostics.has_errors()) throw UserError(in_file_order(context.diagnostics, display_name));
   return spec;
 }
 

@@ -352,7 +352,7 @@ void read_factories_section(MapReader& root, std::vector<FactorySpec>& factories
     DeckContext& context = map.context();
     FactorySpec factory;
     map.reject_unknown_keys({"name", "particle_type", "region", "count", "mass", "mass_rate",
-                             "start_time", "stop_time", "velocity", "max_attempts"});
+                             "start_time", "stop_time", "velocity", "angular_velocity", "max_attempts"});
     map.read("name", factory.name, Presence::required);
     map.read("particle_type", factory.particle_type, Presence::required);
     if (map.require("region")) factory.region = read_region(map, "region");
@@ -372,6 +372,7 @@ void read_factories_section(MapReader& root, std::vector<FactorySpec>& factories
     if (map.read("mass_rate", mass_rate, positive(), "kg/s")) factory.mass_rate = mass_rate;
     read_time_window(map, factory.start_time, factory.stop_time);
     map.read("velocity", factory.initial_velocity);
+    map.read("angular_velocity", factory.initial_angular_velocity);
     map.read("max_attempts", factory.max_attempts, at_least(1.0));
     factories.push_back(std::move(factory));
   }

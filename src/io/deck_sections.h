@@ -29,6 +29,11 @@ void read_surfaces_section(MapReader& root, const DeckParseOptions& options,
 void read_factories_section(MapReader& root, std::vector<FactorySpec>& factories);
 void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors);
 
+// deck_particles.cpp: the optional `particles:` section (issue #20); needs the particle types
+// read before it. Files are resolved against options.base_directory and read (CSV or VTU
+// frame) when options.require_files; their problems are reported at the file's line:col.
+void read_particles_section(MapReader& root, const DeckParseOptions& options, SimulationSpec& spec);
+
 // deck_structures.cpp: the optional `structures:` section (two-way shell coupling, issue #17);
 // needs the materials, surfaces and end time read before it (names and PERIOD are checked).
 void read_structures_section(MapReader& root, const DeckParseOptions& options, const SimulationSpec& spec,

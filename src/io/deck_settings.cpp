@@ -357,13 +357,20 @@ void read_materials_section(MapReader& root, std::vector<MaterialSpec>& material
                          "poisson_ratio: 0.25}");
   for (MapReader& map : maps) {
     MaterialSpec material;
-    map.reject_unknown_keys({"name", "density", "youngs_modulus", "poisson_ratio"});
+    map.read("rigid", material.rigid);
+    if (material.rigid.value)  // infinitely stiff: no elastic constants to give
+      map.reject_unknown_keys({"name", "density", "rigid"}, {"youngs_modulus", "poisson_ratio"},
+                              "a rigid material (rigid: true)");
+    else
+      map.reject_unknown_keys({"name", "density", "youngs_modulus", "poisson_ratio", "rigid"});
     map.read("name", material.name, Presence::required);
     map.read("density", material.density, kDensityRange, "kg/m³", Presence::required);
-    map.read("youngs_modulus", material.youngs_modulus, kYoungsModulusRange, "Pa", Presence::required);
-    // Isotropic elasticity requires −1 < ν < 0.5; granular solids have ν ≥ 0.
-    map.read("poisson_ratio", material.poisson_ratio, interval(0.0, true, 0.5, false), "1",
-             Presence::required);
+    if (!material.rigid.value) {
+      map.read("youngs_modulus", material.youngs_modulus, kYoungsModulusRange, "Pa", Presence::required);
+      // Isotropic elasticity requires −1 < ν < 0.5; granular solids have ν ≥ 0.
+      map.read("poisson_ratio", material.poisson_ratio, interval(0.0, true, 0.5, false), "1",
+               Presence::required);
+    }
     materials.push_back(std::move(material));
   }
 }

@@ -184,6 +184,10 @@ void write_materials(DeckText& deck, const std::vector<MaterialSpec>& materials)
   for (const MaterialSpec& material : materials) {
     deck.line(2, "- name: {}", text(material.name));
     deck.line(4, "density: {}", number(material.density));
+    if (material.rigid.value) {
+      deck.line(4, "rigid: true");
+      continue;
+    }
     deck.line(4, "youngs_modulus: {}", number(material.youngs_modulus));
     deck.line(4, "poisson_ratio: {}", number(material.poisson_ratio));
   }
@@ -352,6 +356,7 @@ void write_factories(DeckText& deck, const std::vector<FactorySpec>& factories) 
     deck.line(4, "start_time: {}", number(factory.start_time));
     if (factory.stop_time.value < kNever) deck.line(4, "stop_time: {}", number(factory.stop_time));
     deck.line(4, "velocity: {}", vector_text(factory.initial_velocity));
+    deck.line(4, "angular_velocity: {}", vector_text(factory.initial_angular_velocity));
     deck.line(4, "max_attempts: {}", factory.max_attempts.value);
   }
 }
@@ -445,6 +450,25 @@ void write_structures(DeckText& deck, const std::vector<StructureSpec>& structur
   }
 }
 
+// The `particles:` sources (files by their stored absolute path); left out when there are none.
+// The particles read from the files are not written: a restart takes them from its checkpoint.
+void write_particle_sources(DeckText& deck, const std::vector<ParticleSourceSpec>& sources) {
+  if (sources.empty()) return;
+  list_key(deck, "particles", false);
+  for (const ParticleSourceSpec& source : sources) {
+    if (!source.file.value.empty()) {
+      deck.line(2, "- file: {}", text(source.file));
+    } else {
+      deck.line(2, "- type: {}", text(source.type));
+      deck.line(4, "position: {}", vector_text(source.position));
+      if (source.radius) deck.line(4, "radius: {}", number(*source.radius));
+      deck.line(4, "velocity: {}", vector_text(source.velocity));
+      deck.line(4, "angular_velocity: {}", vector_text(source.angular_velocity));
+    }
+    deck.line(4, "allow_overlap: {}", boolean(source.allow_overlap));
+  }
+}
+
 }  // namespace
 
 std::string write_deck(const SimulationSpec& spec) {
@@ -458,6 +482,7 @@ std::string write_deck(const SimulationSpec& spec) {
   write_particle_types(deck, spec.particle_types);
   write_surfaces(deck, spec.surfaces);
   write_factories(deck, spec.factories);
+  write_particle_sources(deck, spec.particle_sources);
   write_monitors(deck, spec.monitors);
   write_output(deck, spec.output);
   write_export(deck, spec.fem_export);

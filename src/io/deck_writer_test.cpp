@@ -45,6 +45,7 @@ void expect_same(const MotionSpec& a, const MotionSpec& b, const std::string& wh
 void expect_same(const SurfaceSpec& a, const SurfaceSpec& b, const std::string& what);
 void expect_same(const RegionSpec& a, const RegionSpec& b, const std::string& what);
 void expect_same(const FactorySpec& a, const FactorySpec& b, const std::string& what);
+void expect_same(const ParticleSourceSpec& a, const ParticleSourceSpec& b, const std::string& what);
 void expect_same(const MonitorSpec& a, const MonitorSpec& b, const std::string& what);
 void expect_same(const OutputSpec& a, const OutputSpec& b, const std::string& what);
 void expect_same(const SupportSpec& a, const SupportSpec& b, const std::string& what);
@@ -117,6 +118,7 @@ void expect_same(const MaterialSpec& a, const MaterialSpec& b, const std::string
   EXPECT_SAME_FIELD(density);
   EXPECT_SAME_FIELD(youngs_modulus);
   EXPECT_SAME_FIELD(poisson_ratio);
+  EXPECT_SAME_FIELD(rigid);
 }
 
 void expect_same(const InteractionSpec& a, const InteractionSpec& b, const std::string& what) {
@@ -214,7 +216,18 @@ void expect_same(const FactorySpec& a, const FactorySpec& b, const std::string& 
   EXPECT_SAME_FIELD(start_time);
   EXPECT_SAME_FIELD(stop_time);
   EXPECT_SAME_FIELD(initial_velocity);
+  EXPECT_SAME_FIELD(initial_angular_velocity);
   EXPECT_SAME_FIELD(max_attempts);
+}
+
+void expect_same(const ParticleSourceSpec& a, const ParticleSourceSpec& b, const std::string& what) {
+  EXPECT_SAME_FIELD(file);
+  EXPECT_SAME_FIELD(type);
+  EXPECT_SAME_FIELD(position);
+  EXPECT_SAME_FIELD(radius);
+  EXPECT_SAME_FIELD(velocity);
+  EXPECT_SAME_FIELD(angular_velocity);
+  EXPECT_SAME_FIELD(allow_overlap);
 }
 
 void expect_same(const MonitorSpec& a, const MonitorSpec& b, const std::string& what) {
@@ -271,6 +284,7 @@ void expect_same(const SimulationSpec& a, const SimulationSpec& b, const std::st
   EXPECT_SAME_FIELD(particle_types);
   EXPECT_SAME_FIELD(surfaces);
   EXPECT_SAME_FIELD(factories);
+  EXPECT_SAME_FIELD(particle_sources);
   EXPECT_SAME_FIELD(monitors);
   EXPECT_SAME_FIELD(output);
   EXPECT_SAME_FIELD(fem_export);
@@ -342,6 +356,7 @@ materials:
   - {name: ore, density: 2600, youngs_modulus: 5.0e7, poisson_ratio: 0.25}
   - {name: steel, density: 7850, youngs_modulus: 2.1e11, poisson_ratio: 0.3}
   - {name: rubber, density: 1100, youngs_modulus: 1.0e6, poisson_ratio: 0.45}
+  - {name: anvil, density: 7800, rigid: true}
 interactions:
   - {materials: [ore, ore], restitution: 0.3, static_friction: 0.6, rolling_friction: 0.1,
      rolling_model: constant_torque, cohesion: 30000}
@@ -396,9 +411,14 @@ factories:
     start_time: 0.1
     stop_time: 1.0
     velocity: [0, 0, -1]
+    angular_velocity: [0, 5, -2.5]
     max_attempts: 20
   - {name: right, particle_type: fine, region: {type: box, min: [0, 0, 0], max: [1, 1, 1]}, count: 1000}
   - {name: batch, particle_type: skewed, region: {type: box, min: [0, 0, 1], max: [1, 1, 2]}, mass: 3}
+particles:
+  - {type: fine, position: [0.5, 0.5, 0.5], radius: 0.012, velocity: [0, 0, -1], angular_velocity: [1, 2, 3],
+     allow_overlap: true}
+  - {type: fine, position: [0.1, 0.1, 0.1]}
 monitors:
   - {name: in_bed, region: {type: box, min: [0, 0, 0], max: [1, 1, 1]}}
   - {name: in_pipe, region: {type: cylinder, base: [0, 0, 0], axis: [0, 0, 1], radius: 0.25, length: 2}}

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_set>
 
 namespace quarry::sim {
 
@@ -43,6 +44,12 @@ std::vector<ParticleId> add_particles(World& world, std::span<const NewParticle>
     if (!domain.empty() && !domain.contains(q.position))
       fail(fmt::format("position {} m is outside the domain", show(q.position)));
   }
+  if (std::any_of(particles.begin(), particles.end(), [](const NewParticle& q) { return q.id != 0; })) {
+    std::unordered_set<ParticleId> taken(world.particles.id.begin(), world.particles.id.end());
+    for (std::size_t k = 0; k < particles.size(); ++k)
+      if (particles[k].id != 0 && !taken.insert(particles[k].id).second)
+        throw std::invalid_argument(fmt::format("particle {} of the list: id {} is taken", k, particles[k].id));
+  }
   ParticleStore& p = world.particles;
   const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
   std::vector<ParticleId> ids;
@@ -50,11 +57,13 @@ std::vector<ParticleId> add_particles(World& world, std::span<const NewParticle>
   for (const NewParticle& q : particles) {
     const ParticleTypeInfo& type = world.types[q.type];
     const double radius = q.radius > 0.0 ? q.radius : world.size_samplers[q.type].sample(world.size_random);  // m
-    const std::size_t i = p.add(world.next_id, type.type_index, type.material_index, q.position, q.velocity,
+    const ParticleId id = q.id != 0 ? q.id : world.next_id;
+    const std::size_t i = p.add(id, type.type_index, type.material_index, q.position, q.velocity,
                                 radius, type.density, world.time);
     p.angular_velocity[i] = q.angular_velocity;
     p.force[i] = gravity / p.inv_mass[i];  // its body force, as set_body_forces would give
-    ids.push_back(world.next_id++);
+    world.next_id = std::max(world.next_id, id + 1);
+    ids.push_back(id);
   }
   if (!particles.empty()) mark_lists_stale(world);
   return ids;

@@ -18,13 +18,16 @@ struct NewParticle {
   Vec3 velocity;              // m/s
   Vec3 angular_velocity;      // rad/s
   double radius = 0.0;        // m; ≤ 0: drawn from the type's size distribution
+  ParticleId id = 0;          // 0: the next free id; else this id (kept from a file)
 };
 
 // Adds particles at the world's time and returns their new ids (in the order given). Their
 // force is set to the body forces (gravity); contacts they make act from the next step's force
 // stage on (the lists are rebuilt then). Throws std::invalid_argument, naming the entry, for an
 // unknown type, a non-finite value, a radius above the largest the world was sized for, or a
-// position outside the domain; nothing is added then. Cost: O(added) plus a list rebuild.
+// position outside the domain, or a given id that exists already (or is given twice); nothing is
+// added then. A given id moves next_id past it, so later ids never collide. Cost: O(added) plus
+// a list rebuild (and O(n) to check given ids against the particles there are).
 std::vector<ParticleId> add_particles(World& world, std::span<const NewParticle> particles);
 
 // Removes the particles with these ids. Throws std::invalid_argument naming the first id that

@@ -24,7 +24,7 @@ const MaterialSpec* find_material(const SimulationSpec& spec, const std::string&
 }
 
 MaterialProperties properties_of(const MaterialSpec& m) {
-  return {m.density.value, m.youngs_modulus.value, m.poisson_ratio.value};
+  return {m.density.value, m.youngs_modulus.value, m.poisson_ratio.value, m.rigid.value};
 }
 
 // The fastest factory launch speed (m/s) and its factory.
@@ -36,12 +36,14 @@ std::pair<double, const FactorySpec*> fastest_launch(const SimulationSpec& spec)
   return fastest;
 }
 
-// Impact speed estimated from the deck (m/s): the fastest factory velocity plus free fall over
-// the domain's diagonal, v = |v0| + sqrt(2 g H).
+// Impact speed estimated from the deck (m/s): the fastest factory velocity or initial particle
+// (`particles:`) plus free fall over the domain's diagonal, v = |v0| + sqrt(2 g H).
 double estimated_impact_speed(const SimulationSpec& spec) {
   const Aabb& box = spec.simulation.domain.value;
   const double height = box.empty() ? 0.0 : norm(box.hi - box.lo);
-  return fastest_launch(spec).first + std::sqrt(2.0 * norm(spec.simulation.gravity.value) * height);
+  double launch = fastest_launch(spec).first;  // m/s
+  for (const InitialParticle& p : spec.initial_particles) launch = std::max(launch, norm(p.velocity));
+  return launch + std::sqrt(2.0 * norm(spec.simulation.gravity.value) * height);
 }
 
 // Expected impact speed (m/s): the deck's value, else the estimate.

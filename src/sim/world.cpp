@@ -30,7 +30,7 @@ MaterialTable build_material_table(const SimulationSpec& spec) {
   const std::size_t n = spec.materials.size();
   for (const auto& m : spec.materials) {
     table.names.push_back(m.name.value);
-    table.properties.push_back({m.density.value, m.youngs_modulus.value, m.poisson_ratio.value});
+    table.properties.push_back({m.density.value, m.youngs_modulus.value, m.poisson_ratio.value, m.rigid.value});
   }
   table.pairs.resize(n * n);
   std::vector<char> defined(n * n, 0);
@@ -365,6 +365,7 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   }
   // Factories are polled every 2 ms of simulated time (or every step if dt is larger).
   world.insertion_interval_steps = std::max(1, static_cast<int>(std::lround(2e-3 / world.dt)));
+  place_initial_particles(world);
   return world;
 }
 

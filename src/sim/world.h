@@ -303,6 +303,14 @@ void build_search_grid(const World& world, WorldSurface& s);
 // particles' forces yet: sim::initialize comes next.
 World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes = {});
 
+// Adds world.spec.initial_particles (the deck's `particles:`) to a world being built (build_world
+// calls it, after the surfaces): file ids kept, radii drawn where none is given. Throws UserError
+// at the particle's file line or deck entry for a radius outside its type's size range, a centre
+// outside the domain, an id two files share, and an overlap with another particle or a surface
+// above 1 % of the smaller radius (contacts of a settled bed are below; unless the entry has
+// allow_overlap: true). Cost: O(n) with the neighbour grid.
+void place_initial_particles(World& world);
+
 // Appends a surface to a built world (and its spec): mesh from `mesh` if given, else built from
 // the spec entry; driver from the entry (prescribed motion, coupled, or fixed). The lists are
 // rebuilt before the next force stage. Returns its index. Throws UserError for an unknown
