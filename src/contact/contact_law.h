@@ -114,7 +114,10 @@ struct ContactResult {
   const double effective_radius =
       contact::effective_radius(kinematics.radius_i, kinematics.radius_j);
   // 1/m* = 1/mi + 1/mj; a wall has 1/mj = 0 (kg).
-  const double effective_mass = 1.0 / (kinematics.inv_mass_i + kinematics.inv_mass_j);
+  // m* = 1/(1/mi + 1/mj): a fixed particle (1/m = 0) gives m* = the other's mass; two fixed
+  // ones (or a fixed one on a wall) have no relative motion to damp: m* = 0, not 1/0.
+  const double inverse_sum = kinematics.inv_mass_i + kinematics.inv_mass_j;  // 1/kg
+  const double effective_mass = inverse_sum > 0.0 ? 1.0 / inverse_sum : 0.0;
 
   // Distances (m) from each centre to the contact point: r_i = −lever_i n, r_j = +lever_j n.
   const double lever_i =

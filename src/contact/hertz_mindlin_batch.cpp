@@ -37,7 +37,9 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double ri = b.radius_i[m], rj = b.radius_j[m];
     const double overlap = (ri + rj) - distance;                              // m, δ > 0
     const double effective_radius = ri * rj / (ri + rj);                      // m, R*
-    const double effective_mass = 1.0 / (b.inv_mass_i[m] + b.inv_mass_j[m]);  // kg, m*
+    // kg, m*; two fixed particles (both 1/m = 0): 0, no damping of a motion neither has.
+    const double inverse_sum = b.inv_mass_i[m] + b.inv_mass_j[m];  // 1/kg
+    const double effective_mass = inverse_sum > 0.0 ? 1.0 / inverse_sum : 0.0;
     const double lever_i = ri - 0.5 * overlap, lever_j = rj - 0.5 * overlap;  // m
     // The run's overlap guard; the padding lanes are not contacts.
     excessive |= (m < count) & overlap_past_limit(overlap, ri, rj, overlap_limit);

@@ -73,7 +73,16 @@ struct ParticleStore {
   bool external_loads_enabled = false;
   void clear();
 
-  double mass(std::size_t i) const { return 1.0 / inv_mass[i]; }
+  // Makes particle i fixed (a `fixed: true` type): inv_mass 0 (infinite mass and inertia, so no
+  // force moves or turns it), velocity and angular velocity zero.
+  void make_fixed(std::size_t i) {
+    inv_mass[i] = 0.0;
+    velocity[i] = Vec3{};
+    angular_velocity[i] = Vec3{};
+  }
+  bool fixed(std::size_t i) const { return inv_mass[i] == 0.0; }
+
+  double mass(std::size_t i) const { return 1.0 / inv_mass[i]; }  // +inf for a fixed particle
   // 1/I (1/(kg·m²)) of the solid sphere, I = 2/5 m R²: derived, not stored (8 bytes per
   // particle saved; one division where it is needed).
   double inv_inertia(std::size_t i) const { return 2.5 * inv_mass[i] / (radius[i] * radius[i]); }

@@ -82,6 +82,9 @@ struct ParticleTypeSpec {
   Located<std::string> name;
   Located<std::string> material;
   SizeDistributionSpec size;
+  // Particles that do not move (rough walls, obstacles): infinite mass and moment of inertia
+  // (inv_mass 0), velocity zero; they exert contact forces but are not integrated.
+  Located<bool> fixed{false};
 };
 
 enum class MotionKind { none, translation, rotation, vibration };
@@ -129,13 +132,14 @@ struct SurfaceSpec {
   Located<bool> coupled{false};
 };
 
-enum class RegionKind { box, cylinder };
+enum class RegionKind { box, cylinder, point };
 
 struct RegionSpec {
   Located<RegionKind> kind{RegionKind::box};
   Located<Vec3> min, max;               // box (m)
   Located<Vec3> base, axis{Vec3{0, 0, 1}};  // cylinder
   Located<double> radius{0.0}, length{0.0};
+  Located<Vec3> position;               // point (m): every particle is placed with its centre here
 };
 
 struct FactorySpec {

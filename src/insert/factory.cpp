@@ -151,6 +151,7 @@ InsertionReport Factory::insert_due(double time, ParticleStore& particles, Parti
       const std::size_t index = particles.add(next_id++, type_.type_index, type_.material_index, centre,
                                               spec_.initial_velocity.value, radius, type_.density, time);
       particles.angular_velocity[index] = spec_.initial_angular_velocity.value;
+      if (type_.fixed) particles.make_fixed(index);
       grid.insert(centre, radius);
       const double mass = particle_mass(radius);  // kg
       inserted_count_ += 1;

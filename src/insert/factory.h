@@ -20,6 +20,7 @@ struct ParticleTypeInfo {
   std::uint16_t type_index = 0, material_index = 0;
   double density = 0.0;  // kg/m³
   SizeDistributionSpec size;
+  bool fixed = false;    // particles that do not move (ParticleStore::make_fixed)
 };
 
 // Answers whether a sphere (centre m, radius m) would overlap any surface (the sim supplies it).

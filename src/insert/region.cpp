@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace quarry {
@@ -21,7 +22,7 @@ Region::Region(const RegionSpec& spec) : spec_(spec) {
         problems.error(spec.max.where,
                        fmt::format("region box: max {} must exceed min {} on the {} axis", hi[axis],
                                    lo[axis], "xyz"[axis]));
-  } else {
+  } else if (spec.kind.value == RegionKind::cylinder) {
     if (!(spec.radius.value > 0.0))
       problems.error(
           spec.radius.where,
@@ -50,6 +51,7 @@ Region::Region(const RegionSpec& spec) : spec_(spec) {
 bool Region::contains(const Vec3& p) const {
   if (spec_.kind.value == RegionKind::box)
     return Aabb{spec_.min.value, spec_.max.value}.contains(p);
+  if (spec_.kind.value == RegionKind::point) return p == spec_.position.value;
   const Vec3 offset = p - spec_.base.value;
   const double along = dot(offset, axis_unit_);
   if (along < 0.0 || along > spec_.length.value) return false;
@@ -59,6 +61,7 @@ bool Region::contains(const Vec3& p) const {
 
 Vec3 Region::sample_point(Random& random, double margin) const {
   assert(margin >= 0.0 && margin <= inscribed_radius());
+  if (spec_.kind.value == RegionKind::point) return spec_.position.value;  // no draw: one place
   if (spec_.kind.value == RegionKind::box) {
     const Vec3& lo = spec_.min.value;
     const Vec3& hi = spec_.max.value;
@@ -84,11 +87,13 @@ double Region::volume() const {
     const Vec3 size = spec_.max.value - spec_.min.value;
     return size.x * size.y * size.z;
   }
+  if (spec_.kind.value == RegionKind::point) return 0.0;
   return std::numbers::pi * spec_.radius.value * spec_.radius.value * spec_.length.value;
 }
 
 Aabb Region::bounds() const {
   if (spec_.kind.value == RegionKind::box) return Aabb{spec_.min.value, spec_.max.value};
+  if (spec_.kind.value == RegionKind::point) return Aabb{spec_.position.value, spec_.position.value};
   // A disc of radius R normal to unit a reaches R·√(1 − a_k²) along coordinate axis k.
   Aabb box;
   const Vec3 top = spec_.base.value + spec_.length.value * axis_unit_;
@@ -108,6 +113,8 @@ double Region::inscribed_radius() const {
     const Vec3 size = spec_.max.value - spec_.min.value;
     return 0.5 * std::min({size.x, size.y, size.z});
   }
+  // A point takes a particle of any size: its centre goes there.
+  if (spec_.kind.value == RegionKind::point) return std::numeric_limits<double>::infinity();
   return std::min(spec_.radius.value, 0.5 * spec_.length.value);
 }
 

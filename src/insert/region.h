@@ -1,5 +1,6 @@
-// Region: the volume a factory fills (box or cylinder with its axis in any direction), used
-// at insertion to draw candidate centres and by monitors to test membership.
+// Region: the volume a factory fills (box or cylinder with its axis in any direction, or a point:
+// every particle centred there, one at a time, as from a nozzle), used at insertion to draw
+// candidate centres and by monitors to test membership (boxes and cylinders only).
 #pragma once
 
 #include "core/simulation_spec.h"

@@ -53,7 +53,7 @@ const EnumChoices<MotionKind> kMotionKinds{"motion type",
                                             {"vibration", MotionKind::vibration}}};
 
 const EnumChoices<RegionKind> kRegionKinds{
-    "region type", {{"box", RegionKind::box}, {"cylinder", RegionKind::cylinder}}};
+    "region type", {{"box", RegionKind::box}, {"cylinder", RegionKind::cylinder}, {"point", RegionKind::point}}};
 
 const EnumChoices<MonitorKind> kMonitorKinds{"monitor type",
                                              {{"mass", MonitorKind::mass},

@@ -56,7 +56,8 @@ RegionSpec read_region(MapReader& parent, const std::string& key) {
   if (!map.is_map()) return region;
   const std::vector<std::string> box_keys = {"type", "min", "max"};
   const std::vector<std::string> cylinder_keys = {"type", "base", "axis", "radius", "length"};
-  const std::vector<std::string> all_keys = union_of({box_keys, cylinder_keys});
+  const std::vector<std::string> point_keys = {"type", "position"};
+  const std::vector<std::string> all_keys = union_of({box_keys, cylinder_keys, point_keys});
   if (!map.has("type") || !map.read("type", region.kind, kRegionKinds)) {
     map.reject_unknown_keys(all_keys);
     map.require("type", "type: is one of " + join_choices(kRegionKinds));
@@ -66,6 +67,9 @@ RegionSpec read_region(MapReader& parent, const std::string& key) {
   if (region.kind.value == RegionKind::box) {
     map.reject_unknown_keys(box_keys, all_keys, variant);
     read_box_corners(map, "region", region.min, region.max);
+  } else if (region.kind.value == RegionKind::point) {
+    map.reject_unknown_keys(point_keys, all_keys, variant);
+    map.read("position", region.position, Presence::required);
   } else {
     map.reject_unknown_keys(cylinder_keys, all_keys, variant);
     map.read("base", region.base, Presence::required);
@@ -408,7 +412,12 @@ void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors) 
     switch (monitor.kind.value) {
       case MonitorKind::mass:
         map.reject_unknown_keys(joined(common_keys, mass_keys), all_keys, variant);
-        if (map.has("region")) monitor.region = read_region(map, "region");
+        if (map.has("region")) {
+          monitor.region = read_region(map, "region");
+          if (monitor.region->kind.value == RegionKind::point)
+            map.context().error(monitor.region->kind.where, "a monitor's region cannot be a point: it holds no mass",
+                                "use a box or a cylinder around the place to watch");
+        }
         break;
       case MonitorKind::particle:
         map.reject_unknown_keys(joined(common_keys, particle_keys), all_keys, variant);

@@ -446,9 +446,10 @@ void read_interactions_section(MapReader& root, std::vector<InteractionSpec>& in
 void read_particle_types_section(MapReader& root, std::vector<ParticleTypeSpec>& particle_types) {
   for (MapReader& map : list_of_maps(root, "particle_types", "particle type")) {
     ParticleTypeSpec particle_type;
-    map.reject_unknown_keys({"name", "material", "size"});
+    map.reject_unknown_keys({"name", "material", "size", "fixed"});
     map.read("name", particle_type.name, Presence::required);
     map.read("material", particle_type.material, Presence::required);
+    map.read("fixed", particle_type.fixed);
     read_size_distribution(map, particle_type.size);
     particle_types.push_back(std::move(particle_type));
   }

@@ -129,6 +129,8 @@ std::string region_text(const RegionSpec& region) {
       return fmt::format("{{type: {}, base: {}, axis: {}, radius: {}, length: {}}}",
                          spelling(region.kind), vector_text(region.base), vector_text(region.axis),
                          number(region.radius), number(region.length));
+    case RegionKind::point:
+      return fmt::format("{{type: {}, position: {}}}", spelling(region.kind), vector_text(region.position));
   }
   return "{}";
 }
@@ -252,6 +254,7 @@ void write_particle_types(DeckText& deck, const std::vector<ParticleTypeSpec>& p
     deck.line(2, "- name: {}", text(particle_type.name));
     deck.line(4, "material: {}", text(particle_type.material));
     deck.line(4, "size: {}", size_text(particle_type.size));
+    deck.line(4, "fixed: {}", boolean(particle_type.fixed));
   }
 }
 

@@ -155,6 +155,7 @@ void expect_same(const ParticleTypeSpec& a, const ParticleTypeSpec& b, const std
   EXPECT_SAME_FIELD(name);
   EXPECT_SAME_FIELD(material);
   EXPECT_SAME_FIELD(size);
+  EXPECT_SAME_FIELD(fixed);
 }
 
 void expect_same(const MotionSpec& a, const MotionSpec& b, const std::string& what) {
@@ -368,6 +369,7 @@ interactions:
      surface_energy: 0.08}
 particle_types:
   - {name: fine, material: ore, size: {distribution: fixed, radius: 0.012}}
+  - {name: studs, material: ore, size: {distribution: fixed, radius: 0.01}, fixed: true}
   - {name: medium, material: ore, size: {distribution: uniform, min_radius: 0.013, max_radius: 0.016}}
   - {name: coarse, material: ore, size: {distribution: normal, mean_radius: 0.018, std_radius: 0.0015}}
   - {name: clipped, material: ore, size: {distribution: normal, mean_radius: 0.018, std_radius: 0.0015,

@@ -283,7 +283,7 @@ void validate(const World& world) {
   expect_finite(p.torque, "particle torques");
   for (std::size_t i = 0; i < n; ++i) {
     if (!(p.radius[i] > 0.0) || !std::isfinite(p.radius[i])) bad(fmt::format("particle {} has radius {}", i, p.radius[i]));
-    if (!(p.inv_mass[i] > 0.0) || !std::isfinite(p.inv_mass[i])) bad(fmt::format("particle {} has an invalid mass", i));
+    if (!(p.inv_mass[i] >= 0.0) || !std::isfinite(p.inv_mass[i])) bad(fmt::format("particle {} has an invalid mass", i));
     if (p.material[i] >= world.materials.count()) bad(fmt::format("particle {} has material index {}", i, p.material[i]));
     if (p.type[i] >= world.types.size()) bad(fmt::format("particle {} has type index {}", i, p.type[i]));
     if (p.id[i] == 0 || p.id[i] >= world.next_id) bad(fmt::format("particle {} has id {} (next id {})", i, p.id[i], world.next_id));

@@ -62,6 +62,10 @@ std::vector<ParticleId> add_particles(World& world, std::span<const NewParticle>
                                 radius, type.density, world.time);
     p.angular_velocity[i] = q.angular_velocity;
     p.force[i] = gravity / p.inv_mass[i];  // its body force, as set_body_forces would give
+    if (type.fixed) {
+      p.make_fixed(i);
+      p.force[i] = Vec3{};
+    }
     world.next_id = std::max(world.next_id, id + 1);
     ids.push_back(id);
   }

@@ -96,13 +96,13 @@ RegionStress region_stress(const World& world, const RegionSpec& box, const std:
   double mass = 0.0;  // kg
   Vec3 momentum;      // kg·m/s
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!region.contains(p.position[i])) continue;
+    if (p.fixed(i) || !region.contains(p.position[i])) continue;  // a fixed particle: infinite mass, at rest
     mass += 1.0 / p.inv_mass[i];
     momentum += p.velocity[i] / p.inv_mass[i];
   }
   const Vec3 mean = mass > 0.0 ? momentum / mass : Vec3{};  // m/s
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!region.contains(p.position[i])) continue;
+    if (p.fixed(i) || !region.contains(p.position[i])) continue;  // a fixed particle: infinite mass, at rest
     const Vec3 fluctuation = p.velocity[i] - mean;  // m/s
     for (int k = 0; k < 6; ++k) stress.kinetic[k] += fluctuation[kRow[k]] * fluctuation[kColumn[k]] / p.inv_mass[i];
   }
@@ -121,7 +121,7 @@ std::vector<VelocityBin> velocity_profile(const World& world, const MonitorSpec&
   for (std::size_t b = 0; b < bins; ++b) profile[b].centre = lower + (static_cast<double>(b) + 0.5) * width;
   const ParticleStore& p = world.particles;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (!region.contains(p.position[i])) continue;
+    if (p.fixed(i) || !region.contains(p.position[i])) continue;  // a fixed particle: infinite mass, at rest
     const double s = std::floor((p.position[i][axis] - lower) / width);
     const std::size_t b = s < 0.0 ? 0 : std::min(bins - 1, static_cast<std::size_t>(s));
     profile[b].particles += 1;

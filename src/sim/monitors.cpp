@@ -44,6 +44,7 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
   double kinetic = 0.0, speed = 0.0;  // J, m/s
   Vec3 velocity;
   for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.fixed(i)) continue;  // at rest, of infinite mass: no kinetic energy to add
     const double m = 1.0 / p.inv_mass[i];
     kinetic += 0.5 * m * norm2(p.velocity[i]) + 0.5 / p.inv_inertia(i) * norm2(p.angular_velocity[i]);
     speed += norm(p.velocity[i]);
@@ -75,7 +76,7 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
         const Region region(*m.region);
         double mass = 0.0;  // kg
         for (std::size_t i = 0; i < p.size(); ++i)
-          if (region.contains(p.position[i])) mass += 1.0 / p.inv_mass[i];
+          if (!p.fixed(i) && region.contains(p.position[i])) mass += 1.0 / p.inv_mass[i];  // fixed: infinite
         row.push_back(mass);
         break;
       }

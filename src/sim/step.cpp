@@ -119,14 +119,16 @@ void set_body_forces(World& world) {
   if (!p.has_external_loads()) {
 #pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
     for (std::size_t i = 0; i < n; ++i) {
-      p.force[i] = gravity / p.inv_mass[i];
+      // A fixed particle (inv_mass 0) has no weight to carry: m g would be inf (and 0/0 = NaN).
+      p.force[i] = p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{};
       p.torque[i] = Vec3{};
     }
     return;
   }
 #pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
   for (std::size_t i = 0; i < n; ++i) {
-    p.force[i] = gravity / p.inv_mass[i] + p.external_force[i] + p.external_force_once[i];
+    p.force[i] = (p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{}) + p.external_force[i] +
+                 p.external_force_once[i];
     p.torque[i] = p.external_torque[i] + p.external_torque_once[i];
   }
 }

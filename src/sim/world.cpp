@@ -110,6 +110,7 @@ std::vector<ParticleTypeInfo> particle_type_infos(const SimulationSpec& spec) {
     info.material_index = static_cast<std::uint16_t>(m);
     info.density = m < spec.materials.size() ? spec.materials[m].density.value : 0.0;
     info.size = type.size;
+    info.fixed = type.fixed.value;
     infos.push_back(info);
   }
   return infos;

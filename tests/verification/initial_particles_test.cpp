@@ -17,6 +17,7 @@
 #include "contact/contact_law.h"
 #include "io/deck.h"
 #include "io/vtu_writer.h"
+#include "sim/run.h"
 #include "sim/step.h"
 #include "sim/world.h"
 
@@ -247,5 +248,115 @@ TEST(RigidMaterial, HertzContactTimeOfASphereOnARigidPlane) {
   EXPECT_NEAR(world.particles.velocity[0].z, 1.0, 1e-6);  // e = 1: rebounds at the impact speed
 }
 
+
+// ---- fixed particles (particle_types[].fixed) ----
+
+// A ball launched at 1 m/s (no gravity) onto a target: a fixed particle of the ball's type or the
+// floor plane; returns the contact time (s) and the rebound speed over the impact speed.
+struct Bounce {
+  double contact_time = 0.0, restitution = 0.0;
+};
+Bounce bounce(const std::string& restitution, bool on_fixed_particle) {
+  std::string text = deck(on_fixed_particle ? "particles:\n  - {type: stud, position: [0, 0, 0.05]}\n"
+                                              "  - {type: ball, position: [0, 0, 0.0601], velocity: [0, 0, -1]}\n"
+                                            : "particles:\n  - {type: ball, position: [0, 0, 0.0051], velocity: [0, 0, -1]}\n");
+  text.replace(text.find("time_step: 2.0e-5"), 17, "time_step: 1.0e-7");
+  text.replace(text.find("  end_time: 0.5"), 15, "  end_time: 0.5\n  gravity: [0, 0, 0]");
+  text.replace(text.find("youngs_modulus: 1.0e7"), 21, "youngs_modulus: 7.0e10");
+  text.replace(text.find("restitution: 0.5}"), 17, "restitution: " + restitution + "}");
+  text.replace(text.find("surfaces:"), 9,
+               "  - {name: stud, material: glass, size: {distribution: fixed, radius: 0.005}, fixed: true}\nsurfaces:");
+  World world = build_world(parse(text));
+  sim::initialize(world);
+  const std::size_t ball = world.particles.size() - 1;
+  const Vec3 stud_at = world.particles.position[0];
+  int steps_in_contact = 0;
+  const auto touching = [&] { return world.pair_contact_count() + world.wall_contact_count() > 0; };
+  for (int step = 0; step < 3000 && (steps_in_contact == 0 || touching()); ++step) {
+    sim::step(world);
+    steps_in_contact += touching();
+  }
+  if (on_fixed_particle) {
+    // The fixed particle took the impact without moving: position, velocity and spin unchanged.
+    EXPECT_EQ(world.particles.position[0].z, stud_at.z);
+    EXPECT_EQ(norm(world.particles.velocity[0]), 0.0);
+    EXPECT_EQ(norm(world.particles.angular_velocity[0]), 0.0);
+  }
+  return {steps_in_contact * 1.0e-7, world.particles.velocity[ball].z / 1.0};
+}
+
+// Hertz contact of a ball (mass m, radius R) with a fixed ball of the same radius and material:
+// m* = m (the fixed one's mass is infinite), R* = R/2, E* = E/(2(1 − ν²)), so with e = 1 the
+// contact lasts t_c = 2.868 (m*² / (R* E*² v))^(1/5) (Johnson 1985, §11.4) and the ball comes
+// back at its impact speed.
+TEST(FixedParticles, ABallBouncesOffAFixedOneInTheHertzTime) {
+  const Bounce elastic = bounce("1.0", true);
+  const double radius = 0.005, mass = 2500.0 * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+  const double modulus = 7.0e10 / (2.0 * (1.0 - 0.25 * 0.25));  // Pa
+  const double expected = 2.868 * std::pow(mass * mass / (0.5 * radius * modulus * modulus * 1.0), 0.2);  // s
+  EXPECT_NEAR(elastic.contact_time, expected, 2.0e-7 + 1e-3 * expected) << "expected " << expected << " s";
+  EXPECT_NEAR(elastic.restitution, 1.0, 1e-6);
+  std::printf("on a fixed ball: contact %.4g s, Hertz closed form %.4g s\n", elastic.contact_time, expected);
+}
+
+// With damping, the Hertz–Mindlin dashpot (β from e; Tsuji et al. 1992) gives a restitution that
+// depends on β only, not on m*, R* or E*: a ball rebounds off a fixed ball exactly as off a wall
+// of the same material (up to the time discretisation, ~1e-3 at ~300 steps per contact).
+TEST(FixedParticles, RestitutionOffAFixedParticleIsThatOffAWall) {
+  const Bounce on_particle = bounce("0.5", true), on_wall = bounce("0.5", false);
+  EXPECT_GT(on_particle.restitution, 0.3);
+  EXPECT_NEAR(on_particle.restitution, on_wall.restitution, 2e-3)
+      << "off a fixed particle " << on_particle.restitution << ", off the wall " << on_wall.restitution;
+  std::printf("restitution 0.5: off a fixed ball %.5f, off the wall %.5f\n", on_particle.restitution, on_wall.restitution);
+}
+
+// A run started from a table (with fixed particles among them) restarts from its checkpoint bit
+// for bit without the table: the particles are in the checkpoint, the file is not read again.
+TEST(InitialParticles, ACheckpointRestartsWithoutTheTable) {
+  const fs::path table = scratch("restart_bed.csv");
+  {
+    std::ofstream out(table, std::ios::binary);
+    out << "x,y,z,radius,type\n";
+    for (int k = 0; k < 5; ++k) out << fmt::format("{},0,0.005,0.005,stud\n", -0.02 + 0.01 * k);
+    for (int k = 0; k < 5; ++k) out << fmt::format("{},0.001,0.03,0.0035,bead\n", -0.02 + 0.01 * k);
+  }
+  std::string text = deck(fmt::format("particles:\n  - {{file: {}}}\n", table.string()) + kPour);
+  text.replace(text.find("surfaces:"), 9,
+               "  - {name: stud, material: glass, size: {distribution: fixed, radius: 0.005}, fixed: true}\nsurfaces:");
+  World world = build_world(parse(text));
+  sim::initialize(world);
+  sim::advance(world, 200);
+  const std::string bytes = sim::checkpoint_bytes(world, 0);
+  fs::remove(table);
+  World restored = sim::read_checkpoint_bytes(bytes, "restart.qck").world;
+  EXPECT_EQ(restored.particles.size(), world.particles.size());
+  sim::advance(world, 200);
+  sim::advance(restored, 200);
+  EXPECT_EQ(sim::state_hash(restored), sim::state_hash(world));
+  for (std::size_t i = 0; i < 5; ++i) {  // the fixed ones have not moved
+    EXPECT_EQ(world.particles.position[i].z, 0.005);
+    EXPECT_EQ(world.particles.inv_mass[i], 0.0);
+  }
+}
+
+// A factory at a point places each particle with its centre exactly there, one at a time: the
+// next waits until the one before has moved off the place (a nozzle).
+TEST(InitialParticles, AFactoryAtAPointPlacesEachParticleThereInTurn) {
+  World world = build_world(parse(deck(
+      "factories:\n  - {name: nozzle, particle_type: ball, region: {type: point, position: [0.01, -0.02, 0.1]}, "
+      "count: 3, velocity: [0, 0, -2], angular_velocity: [0, 7, 0]}\n")));
+  sim::initialize(world);
+  ASSERT_EQ(world.particles.size(), 1u);  // the others wait for the place to be free
+  EXPECT_EQ(world.particles.position[0].x, 0.01);
+  EXPECT_EQ(world.particles.position[0].y, -0.02);
+  EXPECT_EQ(world.particles.position[0].z, 0.1);
+  EXPECT_EQ(world.particles.angular_velocity[0].y, 7.0);
+  sim::advance(world, 1000);  // 20 ms: each ball leaves its diameter in 5 ms
+  ASSERT_EQ(world.particles.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(world.particles.position[i].x, 0.01);  // straight down the z axis, no spin-off
+    EXPECT_LT(world.particles.position[i].z, 0.1);
+  }
+}
 }  // namespace
 }  // namespace quarry
