@@ -185,6 +185,13 @@ TEST(ParticleVtu, BrokenFramesAreReportedNotRead) {
   store.id[3] = store.id[1];
   write(path, particles_vtu(store, kTypes));
   EXPECT_NE(first_error(path).find("error: particles 1 and 3 have the same id 103"), std::string::npos) << first_error(path);
+  // Counts and offsets that do not fit the file (a damaged or hostile header) are refused, not
+  // followed past the end of the data.
+  write(path, io_testing::replace_all(good, "NumberOfPoints=\"7\"", "NumberOfPoints=\"2305843009213693952\""));
+  EXPECT_NE(first_error(path).find("NumberOfPoints 2305843009213693952 is more than the file's"), std::string::npos)
+      << first_error(path);
+  write(path, io_testing::replace_all(good, "offset=\"0\"", "offset=\"18446744073709551615\""));
+  EXPECT_NE(first_error(path).find("starts past the end of the file"), std::string::npos) << first_error(path);
   store = frame_particles();
   store.velocity[0].y = std::numeric_limits<double>::quiet_NaN();
   write(path, particles_vtu(store, kTypes));

@@ -135,6 +135,12 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
       reading.error(piece, "the <Piece> element has no NumberOfPoints");
       return particles;
     }
+    // Each particle takes 24 bytes of Points alone: a larger count cannot be in this file (and
+    // would overflow the byte counts below).
+    if (count > text.size() / 24) {
+      reading.error(piece, fmt::format("NumberOfPoints {} is more than the file's {} bytes can hold", count, text.size()));
+      return particles;
+    }
   }
 
   std::unordered_map<std::string, ArrayTag> arrays;
@@ -167,7 +173,7 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
                                                 array.components, type, components));
       return nullptr;
     }
-    if (base + array.offset + 8 > text.size()) {
+    if (array.offset > text.size() - base || text.size() - base - array.offset < 8) {
       reading.error(array.position, fmt::format("array \"{}\" starts past the end of the file (truncated?)", name));
       return nullptr;
     }
