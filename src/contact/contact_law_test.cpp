@@ -42,6 +42,39 @@ TEST(MakeInteraction, EffectiveModuliAndDampingRatioMatchHandComputation) {
   EXPECT_DOUBLE_EQ(swapped.effective_shear_modulus, parameters.effective_shear_modulus);
 }
 
+// A rigid material (materials[].rigid) adds no compliance: against it E* = E/(1 − ν²) and
+// G* = E/(2 (2 − ν)(1 + ν)) of the other material (Johnson 1985 eq. 4.22 with E → ∞).
+TEST(MakeInteraction, RigidMaterialAddsNoCompliance) {
+  MaterialProperties anvil;
+  anvil.density = 7800.0;
+  anvil.rigid = true;  // no Young's modulus or Poisson ratio: they are not read
+  const InteractionParameters parameters = make_interaction(glass, anvil, InteractionSpec{});
+  EXPECT_EQ(parameters.effective_youngs_modulus, 1.0 / ((1.0 - 0.25 * 0.25) / 7.0e10));
+  EXPECT_EQ(parameters.effective_shear_modulus, 1.0 / (2.0 * (2.0 - 0.25) * (1.0 + 0.25) / 7.0e10));
+  // 7e10 / 0.9375 = 7.4666667e10 Pa: above the glass–glass E* = 3.7333333e10 Pa, twice it.
+  EXPECT_NEAR(parameters.effective_youngs_modulus, 7.4666667e10, 1e3);
+}
+
+// Two fixed particles (1/m = 0 on both sides) that overlap: m* would be 1/0; the law takes
+// m* = 0 (neither can move, there is nothing to damp) and gives the elastic Hertz force alone,
+// F = 4/3 E* √R* δ^{3/2} (Johnson 1985 eq. 4.23), finite whatever the velocities.
+TEST(EvaluateContact, TwoFixedParticlesFeelTheElasticForceOnly) {
+  InteractionSpec spec;
+  spec.restitution = 0.3;
+  const InteractionParameters parameters = make_interaction(glass, glass, spec);
+  ContactKinematics k;
+  k.normal = Vec3{0.0, 0.0, 1.0};
+  k.overlap = 1e-6;                    // m
+  k.radius_i = k.radius_j = 2e-3;      // m
+  k.inv_mass_i = k.inv_mass_j = 0.0;   // both fixed
+  k.velocity_i = Vec3{0.0, 0.0, -0.5};  // m/s (a fixed particle has none; the law must not care)
+  ContactHistory history;
+  const ContactResult result = evaluate_contact(parameters, k, history, 1e-6);
+  const double elastic = 4.0 / 3.0 * parameters.effective_youngs_modulus * std::sqrt(1e-3) * std::pow(1e-6, 1.5);  // N
+  EXPECT_NEAR(result.normal_force, elastic, 1e-12 * elastic);
+  EXPECT_TRUE(std::isfinite(result.force_i.x) && std::isfinite(result.force_i.y) && std::isfinite(result.force_i.z));
+}
+
 TEST(MakeInteraction, ElasticRestitutionGivesZeroDamping) {
   InteractionSpec spec;
   spec.restitution = 1.0;
@@ -182,6 +215,9 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
       k.overlap = 1e-6 * (1.01 + unit(random));  // m
       k.inv_mass_i = 1.0 / (1e-5 * (1.5 + unit(random)));  // 1/kg
       k.inv_mass_j = 1.0 / (1e-5 * (1.5 + unit(random)));
+      // Fixed particles (particle_types[].fixed: 1/m = 0) on one side or, m = 0 mod 35, both.
+      if (m % 5 == 0) k.inv_mass_i = 0.0;
+      if (m % 7 == 0) k.inv_mass_j = 0.0;
       k.velocity_i = random_vec(0.1);
       k.velocity_j = random_vec(0.1);
       k.angular_velocity_i = random_vec(50.0);
