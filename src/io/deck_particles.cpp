@@ -16,8 +16,8 @@ namespace quarry::deck_detail {
 namespace {
 
 const std::vector<std::string> kFileKeys = {"file", "allow_overlap"};
-const std::vector<std::string> kInlineKeys = {"type", "position", "radius", "velocity", "angular_velocity",
-                                              "allow_overlap"};
+const std::vector<std::string> kInlineKeys = {"type",     "position",         "radius",
+                                              "velocity", "angular_velocity", "allow_overlap"};
 
 std::string lower_extension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
@@ -27,15 +27,18 @@ std::string lower_extension(const std::string& path) {
 }
 
 // Resolves `file` against the deck's folder (stored absolute) and reads its particles.
-void read_particle_file(MapReader& map, const DeckParseOptions& options, const std::vector<std::string>& type_names,
-                        std::uint32_t source, ParticleSourceSpec& entry, std::vector<InitialParticle>& particles) {
+void read_particle_file(MapReader& map, const DeckParseOptions& options,
+                        const std::vector<std::string>& type_names, std::uint32_t source,
+                        ParticleSourceSpec& entry, std::vector<InitialParticle>& particles) {
   if (!map.read("file", entry.file, Presence::required)) return;
   namespace fs = std::filesystem;
   DeckContext& context = map.context();
   const std::string extension = lower_extension(entry.file.value);
   if (extension != ".csv" && extension != ".vtu") {
-    context.error(entry.file.where, fmt::format("particle file \"{}\" is neither .csv nor .vtu", entry.file.value),
-                  "a CSV table (x,y,z,radius,type,…) or a particles_NNNNNN.vtu frame of an earlier run");
+    context.error(
+        entry.file.where,
+        fmt::format("particle file \"{}\" is neither .csv nor .vtu", entry.file.value),
+        "a CSV table (x,y,z,radius,type,…) or a particles_NNNNNN.vtu frame of an earlier run");
     return;
   }
   fs::path path(entry.file.value);
@@ -46,20 +49,24 @@ void read_particle_file(MapReader& map, const DeckParseOptions& options, const s
   // A restart reads the particles from its checkpoint, not from the file.
   if (!options.require_files) return;
   if (!fs::is_regular_file(resolved, ignored)) {
-    context.error(entry.file.where,
-                  fmt::format("particle file \"{}\" {}", path.filename().string(),
-                              fs::is_directory(resolved, ignored) ? "is a folder, not a file" : "not found"),
-                  fmt::format("looked for \"{}\"; relative paths start at the deck's folder", resolved.string()));
+    context.error(
+        entry.file.where,
+        fmt::format("particle file \"{}\" {}", path.filename().string(),
+                    fs::is_directory(resolved, ignored) ? "is a folder, not a file" : "not found"),
+        fmt::format("looked for \"{}\"; relative paths start at the deck's folder",
+                    resolved.string()));
     return;
   }
   std::vector<InitialParticle> read =
-      extension == ".csv" ? read_particle_csv(entry.file.value, type_names, source, context.diagnostics)
-                          : read_particle_vtu(entry.file.value, type_names, source, context.diagnostics);
+      extension == ".csv"
+          ? read_particle_csv(entry.file.value, type_names, source, context.diagnostics)
+          : read_particle_vtu(entry.file.value, type_names, source, context.diagnostics);
   particles.insert(particles.end(), read.begin(), read.end());
 }
 
-void read_inline_particle(MapReader& map, const std::vector<std::string>& type_names, std::uint32_t source,
-                          ParticleSourceSpec& entry, std::vector<InitialParticle>& particles) {
+void read_inline_particle(MapReader& map, const std::vector<std::string>& type_names,
+                          std::uint32_t source, ParticleSourceSpec& entry,
+                          std::vector<InitialParticle>& particles) {
   DeckContext& context = map.context();
   InitialParticle particle;
   particle.source = source;
@@ -95,7 +102,8 @@ void read_inline_particle(MapReader& map, const std::vector<std::string>& type_n
 
 }  // namespace
 
-void read_particles_section(MapReader& root, const DeckParseOptions& options, SimulationSpec& spec) {
+void read_particles_section(MapReader& root, const DeckParseOptions& options,
+                            SimulationSpec& spec) {
   std::vector<std::string> type_names;
   for (const ParticleTypeSpec& type : spec.particle_types) type_names.push_back(type.name.value);
   for (MapReader& map : list_of_maps(root, "particles", "particles entry")) {
@@ -106,14 +114,17 @@ void read_particles_section(MapReader& root, const DeckParseOptions& options, Si
     if (from_file) {
       map.reject_unknown_keys(kFileKeys, kInlineKeys, "a particles entry with file:");
       // An entry that mixes both kinds is reported above; its file is not read.
-      const bool mixed = std::any_of(kInlineKeys.begin(), kInlineKeys.end(),
-                                     [&](const std::string& key) { return key != "allow_overlap" && map.has(key); });
-      if (!mixed) read_particle_file(map, options, type_names, source, entry, spec.initial_particles);
+      const bool mixed = std::any_of(
+          kInlineKeys.begin(), kInlineKeys.end(),
+          [&](const std::string& key) { return key != "allow_overlap" && map.has(key); });
+      if (!mixed)
+        read_particle_file(map, options, type_names, source, entry, spec.initial_particles);
     } else {
       map.reject_unknown_keys(kInlineKeys);
       if (map.is_map() && !map.has("type") && !map.has("position"))
-        map.context().error(map.location(), "a particles entry needs file: or type: and position:",
-                            "- {file: settled.csv} (or a .vtu frame), or - {type: NAME, position: [x, y, z]}");
+        map.context().error(
+            map.location(), "a particles entry needs file: or type: and position:",
+            "- {file: settled.csv} (or a .vtu frame), or - {type: NAME, position: [x, y, z]}");
       else
         read_inline_particle(map, type_names, source, entry, spec.initial_particles);
     }

@@ -1,7 +1,5 @@
 // The CSV particle table of the deck's `particles:` section (particle_file_reader.h): a header
 // naming the columns, then one particle per line; every problem located at line:col.
-#include "io/particle_file_reader.h"
-
 #include <fmt/format.h>
 
 #include <array>
@@ -12,6 +10,8 @@
 #include <sstream>
 #include <string_view>
 #include <unordered_map>
+
+#include "io/particle_file_reader.h"
 
 namespace quarry {
 
@@ -98,7 +98,8 @@ std::vector<InitialParticle> read_particle_csv(const std::string& path,
   std::vector<InitialParticle> particles;
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    problems.error({path, 0, 0}, "cannot open the particle file", "check the path and its permissions");
+    problems.error({path, 0, 0}, "cannot open the particle file",
+                   "check the path and its permissions");
     return particles;
   }
   CsvReading reading(path, problems);
@@ -110,7 +111,8 @@ std::vector<InitialParticle> read_particle_csv(const std::string& path,
   bool have_header = false;
   while (!have_header && std::getline(in, line)) {
     ++number;
-    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // UTF-8 byte-order mark
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0)
+      line.erase(0, 3);  // UTF-8 byte-order mark
     if (!line.empty() && line.back() == '\r') line.pop_back();
     int ignored = 1;
     if (trimmed(line, ignored).empty()) continue;
@@ -123,10 +125,12 @@ std::vector<InitialParticle> read_particle_csv(const std::string& path,
       if (c == column_count) {
         std::vector<std::string> names(kColumnNames.begin(), kColumnNames.end());
         const std::string guess = closest_match(std::string(fields[f].text), names);
-        reading.error(number, fields[f].column, fmt::format("unknown column \"{}\"", fields[f].text),
-                      guess.empty() ? std::string(kHeaderHint) : fmt::format("did you mean \"{}\"?", guess));
+        reading.error(
+            number, fields[f].column, fmt::format("unknown column \"{}\"", fields[f].text),
+            guess.empty() ? std::string(kHeaderHint) : fmt::format("did you mean \"{}\"?", guess));
       } else if (where[c] != 0) {
-        reading.error(number, fields[f].column, fmt::format("column \"{}\" appears twice", fields[f].text),
+        reading.error(number, fields[f].column,
+                      fmt::format("column \"{}\" appears twice", fields[f].text),
                       fmt::format("it is column {} already; remove one", where[c]));
       } else {
         where[c] = static_cast<int>(f) + 1;
@@ -134,14 +138,16 @@ std::vector<InitialParticle> read_particle_csv(const std::string& path,
     }
     for (const Column c : {x, y, z, radius, type})
       if (where[c] == 0)
-        reading.error(number, 1, fmt::format("missing column \"{}\"", kColumnNames[c]), std::string(kHeaderHint));
+        reading.error(number, 1, fmt::format("missing column \"{}\"", kColumnNames[c]),
+                      std::string(kHeaderHint));
     for (const Column first : {vx, wx}) {
       const int present = (where[first] != 0) + (where[first + 1] != 0) + (where[first + 2] != 0);
       if (present != 0 && present != 3)
-        reading.error(number, 1,
-                      fmt::format("columns {}, {} and {} go together: {} of them given", kColumnNames[first],
-                                  kColumnNames[first + 1], kColumnNames[first + 2], present),
-                      std::string(kHeaderHint));
+        reading.error(
+            number, 1,
+            fmt::format("columns {}, {} and {} go together: {} of them given", kColumnNames[first],
+                        kColumnNames[first + 1], kColumnNames[first + 2], present),
+            std::string(kHeaderHint));
     }
   }
   if (!have_header) {
@@ -158,8 +164,10 @@ std::vector<InitialParticle> read_particle_csv(const std::string& path,
     if (trimmed(line, ignored).empty()) continue;
     const std::vector<Field> fields = split(line);
     if (fields.size() != field_count) {
-      reading.error(number, 1, fmt::format("{} fields on this line, the header has {}", fields.size(), field_count),
-                    "one value per column, separated by commas");
+      reading.error(
+          number, 1,
+          fmt::format("{} fields on this line, the header has {}", fields.size(), field_count),
+          "one value per column, separated by commas");
       continue;
     }
     InitialParticle p;
@@ -174,7 +182,8 @@ std::vector<InitialParticle> read_particle_csv(const std::string& path,
       if (!parsed || !std::isfinite(*parsed)) {
         reading.error(number, field.column,
                       fmt::format("{} \"{}\" is not a finite number", kColumnNames[c], field.text),
-                      c == radius ? "a radius in m, e.g. 0.002" : "a number in SI units, e.g. 0.25 or -1.5e-3");
+                      c == radius ? "a radius in m, e.g. 0.002"
+                                  : "a number in SI units, e.g. 0.25 or -1.5e-3");
         valid = false;
         continue;
       }
@@ -191,21 +200,24 @@ std::vector<InitialParticle> read_particle_csv(const std::string& path,
     while (t < type_names.size() && type_names[t] != type_field.text) ++t;
     if (t == type_names.size()) {
       const std::string guess = closest_match(std::string(type_field.text), type_names);
-      reading.error(number, type_field.column, fmt::format("unknown particle type \"{}\"", type_field.text),
-                    guess.empty() ? fmt::format("the deck's particle types are: {}", quoted_list(type_names))
-                                  : fmt::format("did you mean \"{}\"?", guess));
+      reading.error(
+          number, type_field.column, fmt::format("unknown particle type \"{}\"", type_field.text),
+          guess.empty() ? fmt::format("the deck's particle types are: {}", quoted_list(type_names))
+                        : fmt::format("did you mean \"{}\"?", guess));
       valid = false;
     }
     if (where[id] != 0) {
       const Field& field = fields[static_cast<std::size_t>(where[id] - 1)];
       const std::optional<std::uint64_t> parsed = parse_id(field.text);
       if (!parsed || *parsed == 0) {
-        reading.error(number, field.column, fmt::format("id \"{}\" is not an integer ≥ 1", field.text),
+        reading.error(number, field.column,
+                      fmt::format("id \"{}\" is not an integer ≥ 1", field.text),
                       "ids are whole numbers from 1 up, each particle its own");
         valid = false;
       } else if (const auto [entry, inserted] = line_of_id.emplace(*parsed, number); !inserted) {
-        reading.error(number, field.column, fmt::format("id {} is given twice", *parsed),
-                      fmt::format("first on line {}; each particle needs its own id", entry->second));
+        reading.error(
+            number, field.column, fmt::format("id {} is given twice", *parsed),
+            fmt::format("first on line {}; each particle needs its own id", entry->second));
         valid = false;
       } else {
         p.id = *parsed;

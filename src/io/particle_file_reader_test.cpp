@@ -33,7 +33,9 @@ void write(const fs::path& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;
 }
 
-std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
+std::uint64_t bits(double value) {
+  return std::bit_cast<std::uint64_t>(value);
+}
 
 void expect_same_bits(const Vec3& a, const Vec3& b) {
   EXPECT_EQ(bits(a.x), bits(b.x));
@@ -43,7 +45,8 @@ void expect_same_bits(const Vec3& a, const Vec3& b) {
 
 // Awkward doubles: not short decimals, a subnormal, a negative zero, extremes.
 std::vector<double> awkward_values() {
-  return {0.1 + 0.2, -1.0 / 3.0, 5e-324, -0.0, 1.7976931348623157e308, 2.0 / 7.0 * 1e-3, 123456.789e-9};
+  return {0.1 + 0.2,        -1.0 / 3.0,   5e-324, -0.0, 1.7976931348623157e308,
+          2.0 / 7.0 * 1e-3, 123456.789e-9};
 }
 
 TEST(ParticleCsv, ReadsEveryColumnInAnyOrderBitForBit) {
@@ -52,9 +55,10 @@ TEST(ParticleCsv, ReadsEveryColumnInAnyOrderBitForBit) {
   // Shortest round-trip text ("{}"), as CsvTable writes numbers; columns shuffled, CRLF endings.
   std::string text = "id, type,radius,z,y,x,wx,wy,wz,vx,vy,vz\r\n";
   for (std::size_t k = 0; k < v.size(); ++k)
-    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\r\n", 10 + k, kTypes[k % 2], 1e-3 + 1e-6 * k, v[k],
-                        v[(k + 1) % v.size()], v[(k + 2) % v.size()], v[(k + 3) % v.size()], -v[k], v[(k + 4) % v.size()],
-                        v[(k + 5) % v.size()], v[(k + 6) % v.size()], -v[(k + 1) % v.size()]);
+    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\r\n", 10 + k, kTypes[k % 2],
+                        1e-3 + 1e-6 * k, v[k], v[(k + 1) % v.size()], v[(k + 2) % v.size()],
+                        v[(k + 3) % v.size()], -v[k], v[(k + 4) % v.size()], v[(k + 5) % v.size()],
+                        v[(k + 6) % v.size()], -v[(k + 1) % v.size()]);
   text += "\n";  // a blank last line is skipped
   write(path, text);
   Diagnostics problems;
@@ -69,8 +73,10 @@ TEST(ParticleCsv, ReadsEveryColumnInAnyOrderBitForBit) {
     EXPECT_EQ(read[k].line, k + 2);
     EXPECT_EQ(bits(read[k].radius), bits(1e-3 + 1e-6 * k));
     expect_same_bits(read[k].position, {v[(k + 2) % v.size()], v[(k + 1) % v.size()], v[k]});
-    expect_same_bits(read[k].angular_velocity, {v[(k + 3) % v.size()], -v[k], v[(k + 4) % v.size()]});
-    expect_same_bits(read[k].velocity, {v[(k + 5) % v.size()], v[(k + 6) % v.size()], -v[(k + 1) % v.size()]});
+    expect_same_bits(read[k].angular_velocity,
+                     {v[(k + 3) % v.size()], -v[k], v[(k + 4) % v.size()]});
+    expect_same_bits(read[k].velocity,
+                     {v[(k + 5) % v.size()], v[(k + 6) % v.size()], -v[(k + 1) % v.size()]});
   }
 }
 
@@ -100,8 +106,8 @@ TEST(ParticleCsv, BrokenTablesFirstErrorLineMatchesGolden) {
     Diagnostics problems;
     read_particle_csv(file.string(), kTypes, 0, problems);
     ASSERT_TRUE(problems.has_errors()) << "the table was read without an error";
-    io_testing::expect_first_line_matches_golden(file, io_testing::first_line(problems.format()), "{file}", update,
-                                                 problems.format());
+    io_testing::expect_first_line_matches_golden(file, io_testing::first_line(problems.format()),
+                                                 "{file}", update, problems.format());
   }
 }
 
@@ -121,10 +127,11 @@ ParticleStore frame_particles() {
   for (std::size_t k = 0; k < v.size(); ++k) {
     const std::size_t i = store.add(100 + 3 * k, static_cast<std::uint16_t>(k % 2), 0,
                                     {v[k], v[(k + 1) % v.size()], -v[(k + 2) % v.size()]},
-                                    {v[(k + 3) % v.size()], -v[k], v[(k + 4) % v.size()]}, 1e-3 * (1.0 + 0.1 * k), 2500.0, 0.0);
+                                    {v[(k + 3) % v.size()], -v[k], v[(k + 4) % v.size()]},
+                                    1e-3 * (1.0 + 0.1 * k), 2500.0, 0.0);
     store.angular_velocity[i] = {-v[(k + 5) % v.size()], v[(k + 6) % v.size()], v[k]};
   }
-  store.inv_mass[1] = 0.0;  // a fixed particle: mass +inf in the frame
+  store.inv_mass[1] = 0.0;                               // a fixed particle: mass +inf in the frame
   store.register_custom("temperature", 1, 293.15, "K");  // an array the reader does not know
   return store;
 }
@@ -153,50 +160,67 @@ TEST(ParticleVtu, FrameOfTheWriterReadsBackBitForBitWithTypesByName) {
 std::string first_error(const fs::path& path, const std::vector<std::string>& types = kTypes) {
   Diagnostics problems;
   read_particle_vtu(path.string(), types, 0, problems);
-  return problems.has_errors() ? io_testing::replace_all(io_testing::first_line(problems.format()), path.string(), "{file}")
+  return problems.has_errors() ? io_testing::replace_all(io_testing::first_line(problems.format()),
+                                                         path.string(), "{file}")
                                : "no error";
 }
 
 TEST(ParticleVtu, ATypeNameTheDeckDoesNotDefineIsAnErrorNamingIt) {
   const fs::path path = scratch("unknown_type.vtu");
   write(path, particles_vtu(frame_particles(), {"ore", "steel_bal"}));
-  EXPECT_EQ(first_error(path), "{file}:5:1: error: particle type \"steel_bal\" of the frame is not defined in the deck");
+  EXPECT_EQ(
+      first_error(path),
+      "{file}:5:1: error: particle type \"steel_bal\" of the frame is not defined in the deck");
 }
 
 TEST(ParticleVtu, BrokenFramesAreReportedNotRead) {
   const std::string good = particles_vtu(frame_particles(), kTypes);
   const fs::path path = scratch("broken.vtu");
   write(path, good.substr(0, good.size() - 200));  // truncated inside the cell arrays' data
-  EXPECT_NE(first_error(path).find("runs past the end of the file (truncated?)"), std::string::npos) << first_error(path);
+  EXPECT_NE(first_error(path).find("runs past the end of the file (truncated?)"), std::string::npos)
+      << first_error(path);
   write(path, "x,y,z\n1,2,3\n");
-  EXPECT_EQ(first_error(path), "{file}:1:1: error: not a VTU file with appended data (no <VTKFile> or <AppendedData> element)");
+  EXPECT_EQ(first_error(path),
+            "{file}:1:1: error: not a VTU file with appended data (no <VTKFile> or <AppendedData> "
+            "element)");
   write(path, io_testing::replace_all(good, "encoding=\"raw\"", "encoding=\"base64\""));
   EXPECT_NE(first_error(path).find("error: the appended data is not raw"), std::string::npos);
   write(path, io_testing::replace_all(good, "Name=\"radius\"", "Name=\"size\""));
   EXPECT_NE(first_error(path).find("error: the frame has no array \"radius\""), std::string::npos);
   write(path, particles_vtu(frame_particles(), {}));  // no type_names
-  EXPECT_NE(first_error(path).find("no field data \"type_names\""), std::string::npos) << first_error(path);
+  EXPECT_NE(first_error(path).find("no field data \"type_names\""), std::string::npos)
+      << first_error(path);
   ParticleStore store = frame_particles();
   store.radius[2] = -1.0;
   write(path, particles_vtu(store, kTypes));
-  EXPECT_NE(first_error(path).find("error: particle 2 (id 106) has radius -1 m, not a positive number"), std::string::npos)
+  EXPECT_NE(
+      first_error(path).find("error: particle 2 (id 106) has radius -1 m, not a positive number"),
+      std::string::npos)
       << first_error(path);
   store = frame_particles();
   store.id[3] = store.id[1];
   write(path, particles_vtu(store, kTypes));
-  EXPECT_NE(first_error(path).find("error: particles 1 and 3 have the same id 103"), std::string::npos) << first_error(path);
+  EXPECT_NE(first_error(path).find("error: particles 1 and 3 have the same id 103"),
+            std::string::npos)
+      << first_error(path);
   // Counts and offsets that do not fit the file (a damaged or hostile header) are refused, not
   // followed past the end of the data.
-  write(path, io_testing::replace_all(good, "NumberOfPoints=\"7\"", "NumberOfPoints=\"2305843009213693952\""));
-  EXPECT_NE(first_error(path).find("NumberOfPoints 2305843009213693952 is more than the file's"), std::string::npos)
+  write(path, io_testing::replace_all(good, "NumberOfPoints=\"7\"",
+                                      "NumberOfPoints=\"2305843009213693952\""));
+  EXPECT_NE(first_error(path).find("NumberOfPoints 2305843009213693952 is more than the file's"),
+            std::string::npos)
       << first_error(path);
   write(path, io_testing::replace_all(good, "offset=\"0\"", "offset=\"18446744073709551615\""));
-  EXPECT_NE(first_error(path).find("starts past the end of the file"), std::string::npos) << first_error(path);
+  EXPECT_NE(first_error(path).find("starts past the end of the file"), std::string::npos)
+      << first_error(path);
   store = frame_particles();
   store.velocity[0].y = std::numeric_limits<double>::quiet_NaN();
   write(path, particles_vtu(store, kTypes));
-  EXPECT_NE(first_error(path).find("particle 0 (id 100) has a position, velocity or angular velocity that is not a finite"),
-            std::string::npos) << first_error(path);
+  EXPECT_NE(
+      first_error(path).find(
+          "particle 0 (id 100) has a position, velocity or angular velocity that is not a finite"),
+      std::string::npos)
+      << first_error(path);
 }
 
 }  // namespace

@@ -2,8 +2,6 @@
 // io/vtu_writer.cpp writes (XML header, then `<AppendedData encoding="raw">` and `_`, then one
 // block per array: a UInt64 byte count and the little-endian values). Arrays are found by
 // name; the ones not needed are skipped.
-#include "io/particle_file_reader.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -18,12 +16,15 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "io/particle_file_reader.h"
+
 namespace quarry {
 
 namespace {
 
 constexpr std::string_view kNotAFrame =
-    "give a particles_NNNNNN.vtu frame written by Quarry (binary appended raw data), or a CSV table";
+    "give a particles_NNNNNN.vtu frame written by Quarry (binary appended raw data), or a CSV "
+    "table";
 
 struct ArrayTag {
   std::string name, type;
@@ -39,7 +40,8 @@ std::optional<std::string> attribute(std::string_view tag, std::string_view name
     const std::size_t at = tag.find(name, from);
     if (at == std::string_view::npos) return std::nullopt;
     from = at + name.size();
-    const bool starts_word = at > 0 && (tag[at - 1] == ' ' || tag[at - 1] == '\n' || tag[at - 1] == '\t');
+    const bool starts_word =
+        at > 0 && (tag[at - 1] == ' ' || tag[at - 1] == '\n' || tag[at - 1] == '\t');
     if (!starts_word || tag.substr(from, 2) != "=\"") continue;
     const std::size_t end = tag.find('"', from + 2);
     if (end == std::string_view::npos) return std::nullopt;
@@ -66,7 +68,8 @@ class FrameReading {
       if (text_[k] == '\n') ++line, line_start = k + 1;
     return {path_, line, static_cast<int>(begin - line_start) + 1};
   }
-  void error(std::size_t position, std::string message, std::string hint = std::string(kNotAFrame)) {
+  void error(std::size_t position, std::string message,
+             std::string hint = std::string(kNotAFrame)) {
     problems_.error(at(position), std::move(message), std::move(hint));
     failed = true;
   }
@@ -86,7 +89,8 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
   std::vector<InitialParticle> particles;
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    problems.error({path, 0, 0}, "cannot open the particle file", "check the path and its permissions");
+    problems.error({path, 0, 0}, "cannot open the particle file",
+                   "check the path and its permissions");
     return particles;
   }
   std::ostringstream buffer;
@@ -101,16 +105,21 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
     return particles;
   }
   const std::string_view header(text.data(), data_tag);
-  const std::string_view file_element = header.substr(file_tag, header.find('>', file_tag) - file_tag);
-  if (attribute(file_element, "type") != "UnstructuredGrid" || attribute(file_element, "byte_order") != "LittleEndian" ||
+  const std::string_view file_element =
+      header.substr(file_tag, header.find('>', file_tag) - file_tag);
+  if (attribute(file_element, "type") != "UnstructuredGrid" ||
+      attribute(file_element, "byte_order") != "LittleEndian" ||
       attribute(file_element, "header_type") != "UInt64") {
-    reading.error(file_tag, "not a particle frame of Quarry's format: an UnstructuredGrid, LittleEndian, "
-                            "header_type UInt64 is expected");
+    reading.error(file_tag,
+                  "not a particle frame of Quarry's format: an UnstructuredGrid, LittleEndian, "
+                  "header_type UInt64 is expected");
     return particles;
   }
-  const std::string_view data_element = std::string_view(text).substr(data_tag, text.find('>', data_tag) - data_tag);
+  const std::string_view data_element =
+      std::string_view(text).substr(data_tag, text.find('>', data_tag) - data_tag);
   if (attribute(data_element, "encoding") != "raw") {
-    reading.error(data_tag, "the appended data is not raw (base64 or compressed frames are not read)");
+    reading.error(data_tag,
+                  "the appended data is not raw (base64 or compressed frames are not read)");
     return particles;
   }
   const std::size_t underscore = text.find('_', data_tag);
@@ -129,8 +138,9 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
   {
     const std::string_view piece_element = header.substr(piece, header.find('>', piece) - piece);
     const std::optional<std::string> points = attribute(piece_element, "NumberOfPoints");
-    const auto parsed = points ? std::from_chars(points->data(), points->data() + points->size(), count)
-                               : std::from_chars_result{nullptr, std::errc::invalid_argument};
+    const auto parsed =
+        points ? std::from_chars(points->data(), points->data() + points->size(), count)
+               : std::from_chars_result{nullptr, std::errc::invalid_argument};
     if (parsed.ec != std::errc{}) {
       reading.error(piece, "the <Piece> element has no NumberOfPoints");
       return particles;
@@ -138,7 +148,9 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
     // Each particle takes 24 bytes of Points alone: a larger count cannot be in this file (and
     // would overflow the byte counts below).
     if (count > text.size() / 24) {
-      reading.error(piece, fmt::format("NumberOfPoints {} is more than the file's {} bytes can hold", count, text.size()));
+      reading.error(
+          piece, fmt::format("NumberOfPoints {} is more than the file's {} bytes can hold", count,
+                             text.size()));
       return particles;
     }
   }
@@ -163,34 +175,40 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
   }
 
   // The bytes of array `name`, checked to hold `values` values of `bytes_each` bytes.
-  const auto block = [&](const std::string& name, std::string_view type, int components, std::uint64_t values,
-                         std::size_t bytes_each) -> const char* {
+  const auto block = [&](const std::string& name, std::string_view type, int components,
+                         std::uint64_t values, std::size_t bytes_each) -> const char* {
     const auto found = arrays.find(name);
     if (found == arrays.end()) return nullptr;
     const ArrayTag& array = found->second;
     if (array.type != type || array.components != components) {
-      reading.error(array.position, fmt::format("array \"{}\" is {} × {}, expected {} × {}", name, array.type,
-                                                array.components, type, components));
+      reading.error(array.position, fmt::format("array \"{}\" is {} × {}, expected {} × {}", name,
+                                                array.type, array.components, type, components));
       return nullptr;
     }
     if (array.offset > text.size() - base || text.size() - base - array.offset < 8) {
-      reading.error(array.position, fmt::format("array \"{}\" starts past the end of the file (truncated?)", name));
+      reading.error(array.position,
+                    fmt::format("array \"{}\" starts past the end of the file (truncated?)", name));
       return nullptr;
     }
     const char* start = text.data() + base + array.offset;
     const std::uint64_t bytes = little_endian_u64(start);
-    if (values != ~std::uint64_t{0} && bytes != values * bytes_each * static_cast<std::uint64_t>(components)) {
-      reading.error(array.position, fmt::format("array \"{}\" holds {} bytes, {} particles need {}", name, bytes,
-                                                values, values * bytes_each * static_cast<std::uint64_t>(components)));
+    if (values != ~std::uint64_t{0} &&
+        bytes != values * bytes_each * static_cast<std::uint64_t>(components)) {
+      reading.error(
+          array.position,
+          fmt::format("array \"{}\" holds {} bytes, {} particles need {}", name, bytes, values,
+                      values * bytes_each * static_cast<std::uint64_t>(components)));
       return nullptr;
     }
     if (bytes > text.size() - (base + array.offset + 8)) {
-      reading.error(array.position, fmt::format("array \"{}\" runs past the end of the file (truncated?)", name));
+      reading.error(array.position,
+                    fmt::format("array \"{}\" runs past the end of the file (truncated?)", name));
       return nullptr;
     }
     return start + 8;
   };
-  const auto required = [&](const std::string& name, std::string_view type, int components) -> const char* {
+  const auto required = [&](const std::string& name, std::string_view type,
+                            int components) -> const char* {
     const char* data = block(name, type, components, count, type == "Int32" ? 4 : 8);
     if (!data && !reading.failed)
       reading.error(piece, fmt::format("the frame has no array \"{}\"", name),
@@ -209,20 +227,27 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
     const std::uint64_t bytes = little_endian_u64(names - 8);
     std::string current;
     for (std::uint64_t k = 0; k < bytes; ++k) {
-      if (names[k] == '\0') frame_names.push_back(current), current.clear();
-      else current.push_back(names[k]);
+      if (names[k] == '\0')
+        frame_names.push_back(current), current.clear();
+      else
+        current.push_back(names[k]);
     }
   } else if (!reading.failed) {
-    reading.error(piece, "the frame has no field data \"type_names\" to match its types to the deck's",
-                  "frames written by Quarry carry type_names; CSV tables name each particle's type");
+    reading.error(
+        piece, "the frame has no field data \"type_names\" to match its types to the deck's",
+        "frames written by Quarry carry type_names; CSV tables name each particle's type");
   }
   if (reading.failed) return particles;
 
   const auto f64 = [](const char* data, std::uint64_t k) {
     return std::bit_cast<double>(little_endian_u64(data + 8 * k));
   };
-  const auto vec = [&](const char* data, std::uint64_t i) { return Vec3{f64(data, 3 * i), f64(data, 3 * i + 1), f64(data, 3 * i + 2)}; };
-  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const auto vec = [&](const char* data, std::uint64_t i) {
+    return Vec3{f64(data, 3 * i), f64(data, 3 * i + 1), f64(data, 3 * i + 2)};
+  };
+  const auto finite = [](const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   std::vector<std::size_t> deck_type(frame_names.size(), type_names.size());
   for (std::size_t n = 0; n < frame_names.size(); ++n)
     for (std::size_t t = 0; t < type_names.size(); ++t)
@@ -234,13 +259,16 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
     InitialParticle p;
     p.source = source;
     std::uint32_t raw_type = 0;
-    for (int k = 3; k >= 0; --k) raw_type = (raw_type << 8) | static_cast<unsigned char>(types[4 * i + k]);
+    for (int k = 3; k >= 0; --k)
+      raw_type = (raw_type << 8) | static_cast<unsigned char>(types[4 * i + k]);
     const auto type_index = static_cast<std::int32_t>(raw_type);
-    const std::string who = ids ? fmt::format("particle {} (id {})", i, little_endian_u64(ids + 8 * i))
-                                : fmt::format("particle {}", i);
+    const std::string who =
+        ids ? fmt::format("particle {} (id {})", i, little_endian_u64(ids + 8 * i))
+            : fmt::format("particle {}", i);
     if (type_index < 0 || static_cast<std::size_t>(type_index) >= frame_names.size()) {
-      reading.error(arrays["type"].position, fmt::format("{} has type {}, but type_names has {} names", who,
-                                                         type_index, frame_names.size()));
+      reading.error(arrays["type"].position,
+                    fmt::format("{} has type {}, but type_names has {} names", who, type_index,
+                                frame_names.size()));
       break;
     }
     const std::size_t t = deck_type[static_cast<std::size_t>(type_index)];
@@ -248,10 +276,11 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
       if (!reported[static_cast<std::size_t>(type_index)]) {
         const std::string& name = frame_names[static_cast<std::size_t>(type_index)];
         const std::string guess = closest_match(name, type_names);
-        reading.error(arrays["type_names"].position,
-                      fmt::format("particle type \"{}\" of the frame is not defined in the deck", name),
-                      guess.empty() ? fmt::format("add a particle type named \"{}\" to particle_types", name)
-                                    : fmt::format("did you mean \"{}\"? Types are matched by name", guess));
+        reading.error(
+            arrays["type_names"].position,
+            fmt::format("particle type \"{}\" of the frame is not defined in the deck", name),
+            guess.empty() ? fmt::format("add a particle type named \"{}\" to particle_types", name)
+                          : fmt::format("did you mean \"{}\"? Types are matched by name", guess));
         reported[static_cast<std::size_t>(type_index)] = 1;
       }
       continue;
@@ -262,11 +291,14 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
     if (velocities) p.velocity = vec(velocities, i);
     if (spins) p.angular_velocity = vec(spins, i);
     if (!finite(p.position) || !finite(p.velocity) || !finite(p.angular_velocity))
-      reading.error(arrays["Points"].position, fmt::format("{} has a position, velocity or angular velocity "
-                                                           "that is not a finite number", who),
+      reading.error(arrays["Points"].position,
+                    fmt::format("{} has a position, velocity or angular velocity "
+                                "that is not a finite number",
+                                who),
                     "the frame comes from a run that diverged; start from an earlier frame");
     else if (!(p.radius > 0.0) || !std::isfinite(p.radius))
-      reading.error(arrays["radius"].position, fmt::format("{} has radius {} m, not a positive number", who, p.radius),
+      reading.error(arrays["radius"].position,
+                    fmt::format("{} has radius {} m, not a positive number", who, p.radius),
                     "the frame is damaged; start from another frame");
     if (ids) {
       p.id = little_endian_u64(ids + 8 * i);
@@ -274,7 +306,8 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
       if (p.id == 0 || !inserted)
         reading.error(arrays["id"].position,
                       p.id == 0 ? fmt::format("particle {} has id 0", i)
-                                : fmt::format("particles {} and {} have the same id {}", entry->second, i, p.id),
+                                : fmt::format("particles {} and {} have the same id {}",
+                                              entry->second, i, p.id),
                       "the frame is damaged; start from another frame");
     }
     particles.push_back(p);

@@ -7,8 +7,8 @@
 
 #include <bit>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -53,10 +53,13 @@ surfaces:
 }
 
 const std::string kPour =
-    "factories:\n  - {name: pour, particle_type: bead, region: {type: box, min: [-0.04, -0.04, 0.02], max: [0.04, "
+    "factories:\n  - {name: pour, particle_type: bead, region: {type: box, min: [-0.04, -0.04, "
+    "0.02], max: [0.04, "
     "0.04, 0.1]}, count: 60, velocity: [0.1, 0, -0.5], angular_velocity: [3, -2, 1]}\n";
 
-SimulationSpec parse(const std::string& text) { return parse_deck_string(text, "deck.yaml"); }
+SimulationSpec parse(const std::string& text) {
+  return parse_deck_string(text, "deck.yaml");
+}
 
 // A world that ran a while (50 ms): particles hitting the floor and each other, moving and
 // spinning; mid-impact overlaps, hence allow_overlap in the runs that start from it.
@@ -67,7 +70,9 @@ World settled_world() {
   return world;
 }
 
-std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
+std::uint64_t bits(double value) {
+  return std::bit_cast<std::uint64_t>(value);
+}
 
 void expect_same_particles(const ParticleStore& a, const ParticleStore& b) {
   ASSERT_EQ(a.size(), b.size());
@@ -103,9 +108,12 @@ TEST(InitialParticles, AFrameOfOneRunStartsTheNextBitForBit) {
   std::ofstream(frame, std::ios::binary) << particles_vtu(first.particles, first.type_names);
   // The next run: the frame, and a factory whose ids must come after the frame's.
   const std::string factory =
-      "factories:\n  - {name: top, particle_type: ball, region: {type: box, min: [-0.04, -0.04, 0.15], max: [0.04, "
+      "factories:\n  - {name: top, particle_type: ball, region: {type: box, min: [-0.04, -0.04, "
+      "0.15], max: [0.04, "
       "0.04, 0.19]}, count: 3}\n";
-  World next = build_world(parse(deck(fmt::format("particles:\n  - {{file: {}, allow_overlap: true}}\n", frame.string()) + factory)));
+  World next = build_world(parse(
+      deck(fmt::format("particles:\n  - {{file: {}, allow_overlap: true}}\n", frame.string()) +
+           factory)));
   expect_same_particles(first.particles, next.particles);
   EXPECT_EQ(next.next_id, first.next_id);
   sim::initialize(next);
@@ -123,18 +131,21 @@ TEST(InitialParticles, ACsvTableOfOneRunStartsTheNextBitForBit) {
     out << "x,y,z,radius,type,vx,vy,vz,wx,wy,wz,id\n";
     const ParticleStore& p = first.particles;
     for (std::size_t i = 0; i < p.size(); ++i)
-      out << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", p.position[i].x, p.position[i].y, p.position[i].z,
-                         p.radius[i], first.type_names[p.type[i]], p.velocity[i].x, p.velocity[i].y, p.velocity[i].z,
-                         p.angular_velocity[i].x, p.angular_velocity[i].y, p.angular_velocity[i].z, p.id[i]);
+      out << fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", p.position[i].x, p.position[i].y,
+                         p.position[i].z, p.radius[i], first.type_names[p.type[i]], p.velocity[i].x,
+                         p.velocity[i].y, p.velocity[i].z, p.angular_velocity[i].x,
+                         p.angular_velocity[i].y, p.angular_velocity[i].z, p.id[i]);
   }
-  const World next = build_world(parse(deck(fmt::format("particles:\n  - {{file: {}, allow_overlap: true}}\n", table.string()))));
+  const World next = build_world(parse(
+      deck(fmt::format("particles:\n  - {{file: {}, allow_overlap: true}}\n", table.string()))));
   expect_same_particles(first.particles, next.particles);
 }
 
 TEST(InitialParticles, OneParticleGivenInTheDeck) {
-  const World world = build_world(parse(deck(
-      "particles:\n  - {type: ball, position: [0.01, 0, 0.05], velocity: [0, 0, -1], angular_velocity: [0, 5, 0]}\n"
-      "  - {type: bead, position: [-0.02, 0, 0.05]}\n")));
+  const World world =
+      build_world(parse(deck("particles:\n  - {type: ball, position: [0.01, 0, 0.05], velocity: "
+                             "[0, 0, -1], angular_velocity: [0, 5, 0]}\n"
+                             "  - {type: bead, position: [-0.02, 0, 0.05]}\n")));
   ASSERT_EQ(world.particles.size(), 2u);
   EXPECT_EQ(world.particles.radius[0], 0.005);
   EXPECT_EQ(world.particles.velocity[0].z, -1.0);
@@ -157,43 +168,56 @@ std::string build_error(const std::string& text) {
 
 TEST(InitialParticles, OverlapsAreRefusedNamingBothUnlessAllowed) {
   const std::string pair =
-      "particles:\n  - {type: ball, position: [0, 0, 0.05]}\n  - {type: ball, position: [0.009, 0, 0.05]}\n";
+      "particles:\n  - {type: ball, position: [0, 0, 0.05]}\n  - {type: ball, position: [0.009, 0, "
+      "0.05]}\n";
   const std::string message = build_error(deck(pair));
-  EXPECT_NE(message.find("deck.yaml:17:5: error: the particle of the entry on line 17 and the particle of the entry "
+  EXPECT_NE(message.find("deck.yaml:17:5: error: the particle of the entry on line 17 and the "
+                         "particle of the entry "
                          "on line 18 overlap by 1 mm"),
             std::string::npos)
       << message;
-  EXPECT_EQ(build_error(deck(pair + "  - {type: ball, position: [0.03, 0, 0.05], allow_overlap: true}\n")),
+  EXPECT_EQ(build_error(
+                deck(pair + "  - {type: ball, position: [0.03, 0, 0.05], allow_overlap: true}\n")),
             build_error(deck(pair)));
   const std::string allowed =
-      "particles:\n  - {type: ball, position: [0, 0, 0.05], allow_overlap: true}\n  - {type: ball, position: [0.009, "
+      "particles:\n  - {type: ball, position: [0, 0, 0.05], allow_overlap: true}\n  - {type: ball, "
+      "position: [0.009, "
       "0, 0.05]}\n";
   EXPECT_EQ(build_error(deck(allowed)), "no error");
   // A contact of 0.4 % of R (a resting bed's are smaller still) is not a mistake.
-  EXPECT_EQ(build_error(deck("particles:\n  - {type: ball, position: [0, 0, 0.05]}\n  - {type: ball, position: "
-                             "[0.00998, 0, 0.05]}\n")),
+  EXPECT_EQ(build_error(deck(
+                "particles:\n  - {type: ball, position: [0, 0, 0.05]}\n  - {type: ball, position: "
+                "[0.00998, 0, 0.05]}\n")),
             "no error");
   const std::string on_floor = "particles:\n  - {type: ball, position: [0, 0, 0.004]}\n";
-  EXPECT_NE(build_error(deck(on_floor)).find("overlaps surface \"floor\" by 1 mm"), std::string::npos)
+  EXPECT_NE(build_error(deck(on_floor)).find("overlaps surface \"floor\" by 1 mm"),
+            std::string::npos)
       << build_error(deck(on_floor));
 }
 
 TEST(InitialParticles, RadiusOutsideTheTypeOrCentreOutsideTheDomainIsRefused) {
-  const std::string message = build_error(deck("particles:\n  - {type: ball, position: [0, 0, 0.05], radius: 0.006}\n"));
-  EXPECT_NE(message.find("radius 6 mm is outside the sizes of particle type \"ball\" (5 mm to 5 mm)"), std::string::npos)
+  const std::string message =
+      build_error(deck("particles:\n  - {type: ball, position: [0, 0, 0.05], radius: 0.006}\n"));
+  EXPECT_NE(
+      message.find("radius 6 mm is outside the sizes of particle type \"ball\" (5 mm to 5 mm)"),
+      std::string::npos)
       << message;
-  const std::string outside = build_error(deck("particles:\n  - {type: ball, position: [0, 0, 0.5]}\n"));
-  EXPECT_NE(outside.find("centre [0, 0, 0.5] m is outside the domain"), std::string::npos) << outside;
+  const std::string outside =
+      build_error(deck("particles:\n  - {type: ball, position: [0, 0, 0.5]}\n"));
+  EXPECT_NE(outside.find("centre [0, 0, 0.5] m is outside the domain"), std::string::npos)
+      << outside;
 }
 
 TEST(InitialParticles, TwoFilesSharingAnIdAreRefused) {
   const fs::path table = scratch("one.csv");
   std::ofstream(table, std::ios::binary) << "x,y,z,radius,type,id\n0,0,0.05,0.005,ball,7\n";
-  const std::string twice =
-      fmt::format("particles:\n  - {{file: {0}}}\n  - {{file: {0}, allow_overlap: true}}\n", table.string());
+  const std::string twice = fmt::format(
+      "particles:\n  - {{file: {0}}}\n  - {{file: {0}, allow_overlap: true}}\n", table.string());
   const std::string message = build_error(deck(twice));
-  EXPECT_NE(message.find("the particle on line 2 of one.csv has id 7, as the particle on line 2 of one.csv has"),
-            std::string::npos)
+  EXPECT_NE(
+      message.find(
+          "the particle on line 2 of one.csv has id 7, as the particle on line 2 of one.csv has"),
+      std::string::npos)
       << message;
 }
 
@@ -205,14 +229,15 @@ TEST(InitialParticles, ATenThousandParticleTableLoadsFast) {
     out << "x,y,z,radius,type\n";
     const double spacing = 2.05 * 0.003;  // m
     for (int k = 0; k < 10000; ++k)
-      out << fmt::format("{},{},{},0.003,bead\n", -0.045 + spacing * (k % 14), -0.045 + spacing * (k / 14 % 14),
-                         0.004 + spacing * (k / 196));
+      out << fmt::format("{},{},{},0.003,bead\n", -0.045 + spacing * (k % 14),
+                         -0.045 + spacing * (k / 14 % 14), 0.004 + spacing * (k / 196));
   }
   std::string text = deck(fmt::format("particles:\n  - {{file: {}}}\n", table.string()));
   text.replace(text.find("max: [0.05, 0.05, 0.2]"), 22, "max: [0.05, 0.05, 0.4]");
   const auto start = std::chrono::steady_clock::now();
   const World world = build_world(parse(text));
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(world.particles.size(), 10000u);
   // Measured about 0.05 s in the optimised build; 10x for the sanitizers, and a margin.
   EXPECT_LT(seconds, 3.0);
@@ -223,7 +248,8 @@ TEST(InitialParticles, ATenThousandParticleTableLoadsFast) {
 // t_c = 2.868 (m*² / (R* E*² v))^(1/5) (Johnson 1985, §11.4; m* = m, R* = R for a wall) with
 // E* = E/(1 − ν²) (Johnson eq. 4.22, E_wall → ∞).
 TEST(RigidMaterial, HertzContactTimeOfASphereOnARigidPlane) {
-  std::string text = deck("particles:\n  - {type: ball, position: [0, 0, 0.0051], velocity: [0, 0, -1]}\n", "anvil");
+  std::string text = deck(
+      "particles:\n  - {type: ball, position: [0, 0, 0.0051], velocity: [0, 0, -1]}\n", "anvil");
   text.replace(text.find("time_step: 2.0e-5"), 17, "time_step: 1.0e-7");
   text.replace(text.find("restitution: 0.5}\nparticle_types"), 17, "restitution: 1.0}");
   text.replace(text.find("  end_time: 0.5"), 15, "  end_time: 0.5\n  gravity: [0, 0, 0]");
@@ -234,20 +260,22 @@ TEST(RigidMaterial, HertzContactTimeOfASphereOnARigidPlane) {
   EXPECT_EQ(pair.effective_shear_modulus, 1.0 / (2.0 * (2.0 - 0.25) * (1.0 + 0.25) / 7.0e10));
   sim::initialize(world);
   int steps_in_contact = 0;
-  for (int step = 0; step < 2000 && (steps_in_contact == 0 || world.wall_contact_count() > 0); ++step) {
+  for (int step = 0; step < 2000 && (steps_in_contact == 0 || world.wall_contact_count() > 0);
+       ++step) {
     sim::step(world);
     steps_in_contact += world.wall_contact_count() > 0;
   }
-  const double radius = 0.005, mass = 2500.0 * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+  const double radius = 0.005,
+               mass = 2500.0 * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
   const double modulus = 7.0e10 / (1.0 - 0.25 * 0.25);  // Pa
-  const double expected = 2.868 * std::pow(mass * mass / (radius * modulus * modulus * 1.0), 0.2);  // s
-  const double measured = steps_in_contact * 1.0e-7;  // s
+  const double expected =
+      2.868 * std::pow(mass * mass / (radius * modulus * modulus * 1.0), 0.2);  // s
+  const double measured = steps_in_contact * 1.0e-7;                            // s
   // ± one step at each end, and the 4-digit constant.
   EXPECT_NEAR(measured, expected, 2.0e-7 + 1e-3 * expected) << "expected " << expected << " s";
   std::printf("rigid plane: contact %.4g s, Hertz closed form %.4g s\n", measured, expected);
   EXPECT_NEAR(world.particles.velocity[0].z, 1.0, 1e-6);  // e = 1: rebounds at the impact speed
 }
-
 
 // ---- fixed particles (particle_types[].fixed) ----
 
@@ -257,15 +285,18 @@ struct Bounce {
   double contact_time = 0.0, restitution = 0.0;
 };
 Bounce bounce(const std::string& restitution, bool on_fixed_particle) {
-  std::string text = deck(on_fixed_particle ? "particles:\n  - {type: stud, position: [0, 0, 0.05]}\n"
-                                              "  - {type: ball, position: [0, 0, 0.0601], velocity: [0, 0, -1]}\n"
-                                            : "particles:\n  - {type: ball, position: [0, 0, 0.0051], velocity: [0, 0, -1]}\n");
+  std::string text =
+      deck(on_fixed_particle
+               ? "particles:\n  - {type: stud, position: [0, 0, 0.05]}\n"
+                 "  - {type: ball, position: [0, 0, 0.0601], velocity: [0, 0, -1]}\n"
+               : "particles:\n  - {type: ball, position: [0, 0, 0.0051], velocity: [0, 0, -1]}\n");
   text.replace(text.find("time_step: 2.0e-5"), 17, "time_step: 1.0e-7");
   text.replace(text.find("  end_time: 0.5"), 15, "  end_time: 0.5\n  gravity: [0, 0, 0]");
   text.replace(text.find("youngs_modulus: 1.0e7"), 21, "youngs_modulus: 7.0e10");
   text.replace(text.find("restitution: 0.5}"), 17, "restitution: " + restitution + "}");
   text.replace(text.find("surfaces:"), 9,
-               "  - {name: stud, material: glass, size: {distribution: fixed, radius: 0.005}, fixed: true}\nsurfaces:");
+               "  - {name: stud, material: glass, size: {distribution: fixed, radius: 0.005}, "
+               "fixed: true}\nsurfaces:");
   World world = build_world(parse(text));
   sim::initialize(world);
   const std::size_t ball = world.particles.size() - 1;
@@ -291,12 +322,16 @@ Bounce bounce(const std::string& restitution, bool on_fixed_particle) {
 // back at its impact speed.
 TEST(FixedParticles, ABallBouncesOffAFixedOneInTheHertzTime) {
   const Bounce elastic = bounce("1.0", true);
-  const double radius = 0.005, mass = 2500.0 * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+  const double radius = 0.005,
+               mass = 2500.0 * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
   const double modulus = 7.0e10 / (2.0 * (1.0 - 0.25 * 0.25));  // Pa
-  const double expected = 2.868 * std::pow(mass * mass / (0.5 * radius * modulus * modulus * 1.0), 0.2);  // s
-  EXPECT_NEAR(elastic.contact_time, expected, 2.0e-7 + 1e-3 * expected) << "expected " << expected << " s";
+  const double expected =
+      2.868 * std::pow(mass * mass / (0.5 * radius * modulus * modulus * 1.0), 0.2);  // s
+  EXPECT_NEAR(elastic.contact_time, expected, 2.0e-7 + 1e-3 * expected)
+      << "expected " << expected << " s";
   EXPECT_NEAR(elastic.restitution, 1.0, 1e-6);
-  std::printf("on a fixed ball: contact %.4g s, Hertz closed form %.4g s\n", elastic.contact_time, expected);
+  std::printf("on a fixed ball: contact %.4g s, Hertz closed form %.4g s\n", elastic.contact_time,
+              expected);
 }
 
 // With damping, the Hertz–Mindlin dashpot (β from e; Tsuji et al. 1992) gives a restitution that
@@ -306,8 +341,10 @@ TEST(FixedParticles, RestitutionOffAFixedParticleIsThatOffAWall) {
   const Bounce on_particle = bounce("0.5", true), on_wall = bounce("0.5", false);
   EXPECT_GT(on_particle.restitution, 0.3);
   EXPECT_NEAR(on_particle.restitution, on_wall.restitution, 2e-3)
-      << "off a fixed particle " << on_particle.restitution << ", off the wall " << on_wall.restitution;
-  std::printf("restitution 0.5: off a fixed ball %.5f, off the wall %.5f\n", on_particle.restitution, on_wall.restitution);
+      << "off a fixed particle " << on_particle.restitution << ", off the wall "
+      << on_wall.restitution;
+  std::printf("restitution 0.5: off a fixed ball %.5f, off the wall %.5f\n",
+              on_particle.restitution, on_wall.restitution);
 }
 
 // A run started from a table (with fixed particles among them) restarts from its checkpoint bit
@@ -322,7 +359,8 @@ TEST(InitialParticles, ACheckpointRestartsWithoutTheTable) {
   }
   std::string text = deck(fmt::format("particles:\n  - {{file: {}}}\n", table.string()) + kPour);
   text.replace(text.find("surfaces:"), 9,
-               "  - {name: stud, material: glass, size: {distribution: fixed, radius: 0.005}, fixed: true}\nsurfaces:");
+               "  - {name: stud, material: glass, size: {distribution: fixed, radius: 0.005}, "
+               "fixed: true}\nsurfaces:");
   World world = build_world(parse(text));
   sim::initialize(world);
   sim::advance(world, 200);
@@ -342,9 +380,10 @@ TEST(InitialParticles, ACheckpointRestartsWithoutTheTable) {
 // A factory at a point places each particle with its centre exactly there, one at a time: the
 // next waits until the one before has moved off the place (a nozzle).
 TEST(InitialParticles, AFactoryAtAPointPlacesEachParticleThereInTurn) {
-  World world = build_world(parse(deck(
-      "factories:\n  - {name: nozzle, particle_type: ball, region: {type: point, position: [0.01, -0.02, 0.1]}, "
-      "count: 3, velocity: [0, 0, -2], angular_velocity: [0, 7, 0]}\n")));
+  World world =
+      build_world(parse(deck("factories:\n  - {name: nozzle, particle_type: ball, region: {type: "
+                             "point, position: [0.01, -0.02, 0.1]}, "
+                             "count: 3, velocity: [0, 0, -2], angular_velocity: [0, 7, 0]}\n")));
   sim::initialize(world);
   ASSERT_EQ(world.particles.size(), 1u);  // the others wait for the place to be free
   EXPECT_EQ(world.particles.position[0].x, 0.01);
