@@ -46,6 +46,7 @@ struct Common {
   double end_time = -1.0;
   bool quiet = false;
   bool overwrite = false;
+  bool fixed_threads = false;
 };
 
 void apply_threads(int threads) {
@@ -60,6 +61,7 @@ sim::RunOptions run_options(const Common& c) {
   o.stop = &g_stop_signal;
   o.threads = c.threads;
   o.overwrite = c.overwrite;
+  o.adapt_threads = !c.fixed_threads;
   return o;
 }
 
@@ -179,6 +181,8 @@ int main(int argc, char** argv) {
       sub->add_flag("--quiet", common.quiet, "no progress lines or stage table");
       sub->add_flag("--overwrite", common.overwrite,
                     "replace an earlier run's output in the output folder (only the files it wrote)");
+      sub->add_flag("--fixed-threads", common.fixed_threads,
+                    "use every thread at every step, even when one is measured faster (benchmarks)");
     }
   };
   CLI::App* run = app.add_subcommand("run", "run a simulation from a YAML deck");

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <omp.h>
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +13,7 @@
 
 #include "core/progress_eta.h"
 #include "sim/output.h"
+#include "sim/thread_governor.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -51,6 +54,13 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
   double last_progress_time = world.time;  // s, simulated time at the last progress line
   const double progress_every = world.spec.output.progress_interval.value;  // s of wall time
   std::vector<char> reported_shortfall(world.factories.size(), 0);
+  // The team of each step: all requested threads, or one while that is measured to be faster
+  // (another process busy on the cores; thread_governor.h). Results do not depend on it.
+  const int configured = world.threading.threads;  // 0: the OpenMP default
+  const int requested = configured > 0 ? configured : omp_get_max_threads();
+  ThreadGovernor::Options adapt;
+  adapt.enabled = options.adapt_threads;
+  ThreadGovernor governor(requested, adapt);
 
   while (world.time < end_time - 0.5 * world.dt) {
     if (const int signal_number = stop_requested(options)) {
@@ -64,12 +74,16 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
                          signal_number, world.step_count, world.time, summary.checkpoint, summary.checkpoint);
       break;
     }
+    const auto step_start = Clock::now();
     try {
+      world.threading.threads = governor.threads();
       step(world);
     } catch (const PhysicsError&) {
+      world.threading.threads = configured;
       output.stopped_by_error(world);  // the monitors so far and a last frame to look at
       throw;
     }
+    governor.step_took(std::chrono::duration<double>(Clock::now() - step_start).count());
     summary.steps += 1;
     if (output.checkpoint_written()) summary.checkpoint = output.checkpoint_path();
     for (std::size_t f = 0; f < world.factories.size(); ++f) {
@@ -97,6 +111,8 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
                          world.particles.size(), summary.steps / std::max(wall, 1e-9), duration_text(eta));
     }
   }
+  world.threading.threads = configured;
+  summary.steps_on_one_thread = requested > 1 && options.adapt_threads ? governor.steps_with_one() : 0;
   run_hooks(world, HookStage::end_of_run);  // timed under each hook's name
   {
     ScopedStage timer(world.timers, world.timers.stage("output"));
@@ -123,6 +139,10 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
                      plural(world.rebuilds, "list rebuild", "list rebuilds"));
   // The table's stages and its "untimed" line add up to the wall time above (issue 20: the
   // output at the end was missing, the table summed 63 s of a 71 s run).
+  if (requested > 1 && options.adapt_threads && governor.steps_with_one() > 0)
+    log << fmt::format("quarry: {} of the {} steps ran on 1 thread instead of {}, measured faster then "
+                       "(the cores were busy with another process; results are the same)\n",
+                       governor.steps_with_one(), summary.steps, requested);
   if (!options.quiet) log << world.timers.table(summary.wall_seconds);
   return summary;
 }

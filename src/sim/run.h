@@ -20,6 +20,9 @@ struct RunOptions {
   bool quiet = false;                // no progress lines
   int threads = 0;                   // > 0: overrides the deck's simulation.threads
   bool overwrite = false;            // a folder with an earlier run's output: replace its files
+  // Run a step on one thread instead of several while that is measured to be faster (another
+  // process busy on the cores; sim/thread_governor.h). Results are the same either way.
+  bool adapt_threads = true;
   std::ostream* log = nullptr;       // progress/summary stream (default std::cerr)
   // Read after every step: non-zero (a signal number) asks the run to stop with a checkpoint.
   // The CLI's SIGINT/SIGTERM handler sets it; null: the run is never asked.
@@ -34,6 +37,7 @@ struct RunSummary {
   int stop_signal = 0;               // the signal that stopped the run (checkpoint written); 0: none
   std::string checkpoint;            // last checkpoint written, if any
   std::uint64_t final_state_hash = 0;  // state_hash() at the end (determinism checks)
+  std::uint64_t steps_on_one_thread = 0;  // of `steps`, run on one thread by the governor
   bool interrupted() const { return stop_signal != 0; }
 };
 

@@ -1,0 +1,53 @@
+// ThreadGovernor: run → baseline window (chosen team) → probe window (the other team) → decide.
+#include "sim/thread_governor.h"
+
+#include <algorithm>
+
+namespace quarry::sim {
+
+ThreadGovernor::ThreadGovernor(int requested, Options options)
+    : requested_(std::max(1, requested)), options_(options), current_(requested_), chosen_(requested_),
+      period_seconds_(options.first_period_seconds) {
+  start_phase(Phase::baseline);
+}
+
+void ThreadGovernor::start_phase(Phase phase) {
+  phase_ = phase;
+  phase_seconds_ = 0.0;
+  phase_steps_ = 0;
+  const int other = chosen_ == 1 ? requested_ : 1;
+  current_ = phase == Phase::probe ? other : chosen_;
+}
+
+void ThreadGovernor::step_took(double seconds) {
+  (current_ == 1 ? steps_with_one_ : steps_with_all_) += 1;
+  if (requested_ < 2 || !options_.enabled) return;
+  phase_seconds_ += seconds;
+  phase_steps_ += 1;
+  const bool window_full = phase_steps_ >= options_.min_window_steps && phase_seconds_ >= options_.window_seconds;
+  switch (phase_) {
+    case Phase::run:
+      if (phase_seconds_ >= period_seconds_) start_phase(Phase::baseline);
+      break;
+    case Phase::baseline:
+      if (!window_full) break;
+      baseline_per_step_ = phase_seconds_ / static_cast<double>(phase_steps_);
+      start_phase(Phase::probe);
+      break;
+    case Phase::probe: {
+      if (!window_full) break;
+      const double probe_per_step = phase_seconds_ / static_cast<double>(phase_steps_);
+      if (probe_per_step < (1.0 - options_.switch_margin) * baseline_per_step_) {
+        chosen_ = current_;  // the other team is faster now: take it, and look again soon
+        ++switches_;
+        period_seconds_ = options_.first_period_seconds;
+      } else {
+        period_seconds_ = std::min(2.0 * period_seconds_, options_.max_period_seconds);
+      }
+      start_phase(Phase::run);
+      break;
+    }
+  }
+}
+
+}  // namespace quarry::sim

@@ -1,0 +1,69 @@
+// ThreadGovernor on synthetic step times: it keeps the faster team, follows a change of the
+// machine's load, and probes a steady choice ever less often.
+#include "sim/thread_governor.h"
+
+#include <gtest/gtest.h>
+
+namespace quarry::sim {
+namespace {
+
+// Feeds `steps` steps whose wall time depends on the team the governor picks.
+template <class Cost>
+void feed(ThreadGovernor& governor, int steps, Cost cost) {
+  for (int n = 0; n < steps; ++n) governor.step_took(cost(governor.threads()));
+}
+
+TEST(ThreadGovernor, OneRequestedThreadNeverChanges) {
+  ThreadGovernor governor(1);
+  feed(governor, 10000, [](int) { return 1e-3; });
+  EXPECT_EQ(governor.threads(), 1);
+  EXPECT_EQ(governor.switches(), 0);
+}
+
+// A busy machine: two threads take twice as long per step as one (measured on the hopper with
+// one busy process beside it). The governor ends on one thread and spends few steps on two.
+TEST(ThreadGovernor, TakesOneThreadWhenItIsFaster) {
+  ThreadGovernor governor(2);
+  feed(governor, 100000, [](int team) { return team == 1 ? 1e-3 : 2e-3; });  // 100 s
+  EXPECT_EQ(governor.threads(), 1);
+  EXPECT_EQ(governor.switches(), 1);
+  // The probes of two threads: windows of 0.1 s after 2, 4, … 60 s periods.
+  EXPECT_LT(static_cast<double>(governor.steps_with_all()) / 100000.0, 0.05);
+}
+
+// The other process ends: two threads become faster again and the governor returns to them.
+TEST(ThreadGovernor, ReturnsToAllThreadsWhenTheMachineIsQuietAgain) {
+  ThreadGovernor governor(2);
+  feed(governor, 20000, [](int team) { return team == 1 ? 1e-3 : 2e-3; });
+  ASSERT_EQ(governor.threads(), 1);
+  feed(governor, 200000, [](int team) { return team == 1 ? 1e-3 : 0.55e-3; });
+  EXPECT_EQ(governor.threads(), 2);
+  EXPECT_EQ(governor.switches(), 2);
+}
+
+// A quiet machine where two threads are 1.8x faster: the choice stays, and the probes of one
+// thread (0.1 s windows, then periods of 2, 4, 8, … up to 60 s) cost a small share of the run.
+TEST(ThreadGovernor, ProbesASteadyChoiceLessAndLessOften) {
+  ThreadGovernor governor(2);
+  const double slow = 1e-3, fast = slow / 1.8;
+  double wall = 0.0;
+  for (int n = 0; n < 1000000; ++n) {
+    const double t = governor.threads() == 1 ? slow : fast;
+    wall += t;
+    governor.step_took(t);
+  }
+  EXPECT_EQ(governor.threads(), 2);
+  EXPECT_EQ(governor.switches(), 0);
+  EXPECT_LT(wall / (1000000 * fast), 1.01);  // under 1 % lost to probing over ~9 min
+}
+
+// Differences within the margin do not make it switch back and forth.
+TEST(ThreadGovernor, KeepsItsChoiceWhenTheTeamsAreAlike) {
+  ThreadGovernor governor(2);
+  feed(governor, 100000, [](int team) { return team == 1 ? 1.01e-3 : 1e-3; });
+  EXPECT_EQ(governor.threads(), 2);
+  EXPECT_EQ(governor.switches(), 0);
+}
+
+}  // namespace
+}  // namespace quarry::sim
