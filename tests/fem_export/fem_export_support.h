@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "core/vec3.h"
 #include "geometry/surface.h"
 #include "io/atomic_file.h"
+#include "sim/world.h"
 
 namespace quarry::fem_export_testing {
 
@@ -52,6 +54,58 @@ inline void write_ascii_stl(const Surface& surface, const std::filesystem::path&
     out << "endloop\nendfacet\n";
   }
   out << "endsolid plate\n";
+}
+
+// The deck of the settled-layer plate tests: spheres of ore (radius 9.5 mm) on a square steel
+// plate of side `side` (m) read from `stl`, inside frictionless glass walls that carry no weight,
+// output to `output`; `export_section` (the deck's `export:` map) is appended.
+inline std::string settled_layer_deck(const std::filesystem::path& stl, const std::filesystem::path& output,
+                                      double side, const std::string& export_section) {
+  std::ostringstream deck;
+  deck << R"(simulation:
+  end_time: 0.5
+  time_step: {rayleigh_fraction: 0.2}
+  impact_speed: 0.5
+  gravity: [0, 0, -9.81]
+  domain: {min: [-0.05, -0.05, -0.1], max: [)" << side + 0.05 << ", " << side + 0.05 << R"(, 0.3]}
+materials:
+  - {name: ore, density: 2500, youngs_modulus: 5.0e6, poisson_ratio: 0.25}
+  - {name: steel, density: 7850, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
+  - {name: glass, density: 2500, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
+interactions:
+  - {materials: [ore, ore], restitution: 0.3, static_friction: 0.5, rolling_friction: 0.1}
+  - {materials: [ore, steel], restitution: 0.3, static_friction: 0.5, rolling_friction: 0.1}
+  - {materials: [ore, glass], restitution: 0.3, static_friction: 0.0}
+particle_types:
+  - {name: grain, material: ore, size: {distribution: fixed, radius: 0.0095}}
+surfaces:
+  - {name: plate, type: stl, file: ")" << stl.string() << R"(", material: steel, export: true}
+  - {name: walls, type: box, min: [0, 0, -0.05], max: [)" << side << ", " << side << R"(, 0.2], material: glass}
+output:
+  directory: ")" << output.string() << R"("
+  interval: 0
+  plots: false
+)" << export_section;
+  return deck.str();
+}
+
+// Two layers of spheres of `radius` (m) and `density` (kg/m³): cells² on the square lattice of
+// `pitch` p (one above the centre of each p² cell), 0.5 mm above resting on the plate, and
+// (cells − 1)² in its hollows, which hold an upper sphere √(4r² − p²/2) above the lower ones,
+// 1 mm above that. Ids from 1; the neighbour lists are rebuilt at the next step.
+inline void add_two_layers(World& world, int cells, double pitch, double radius, double density) {
+  const double upper_rise = std::sqrt(4.0 * radius * radius - 0.5 * pitch * pitch);  // m
+  ParticleId id = 1;
+  for (int i = 0; i < cells; ++i)
+    for (int j = 0; j < cells; ++j)
+      world.particles.add(id++, 0, 0, {pitch * (i + 0.5), pitch * (j + 0.5), radius + 5e-4}, {}, radius,
+                          density, 0.0);
+  for (int i = 1; i < cells; ++i)
+    for (int j = 1; j < cells; ++j)
+      world.particles.add(id++, 0, 0, {pitch * i, pitch * j, radius + upper_rise + 1e-3}, {}, radius, density,
+                          0.0);
+  world.next_id = id;
+  world.lists_stale = true;
 }
 
 inline bool program_available(const std::string& name) {

@@ -35,31 +35,7 @@ constexpr double kRadius = 0.0095;  // m
 constexpr double kPitch = 0.02;     // m
 
 std::string plate_deck(const fs::path& stl, const fs::path& output) {
-  std::ostringstream deck;
-  deck << R"(simulation:
-  end_time: 0.5
-  time_step: {rayleigh_fraction: 0.2}
-  impact_speed: 0.5
-  gravity: [0, 0, -9.81]
-  domain: {min: [-0.05, -0.05, -0.1], max: [0.45, 0.45, 0.3]}
-materials:
-  - {name: ore, density: 2500, youngs_modulus: 5.0e6, poisson_ratio: 0.25}
-  - {name: steel, density: 7850, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
-  - {name: glass, density: 2500, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
-interactions:
-  - {materials: [ore, ore], restitution: 0.3, static_friction: 0.5, rolling_friction: 0.1}
-  - {materials: [ore, steel], restitution: 0.3, static_friction: 0.5, rolling_friction: 0.1}
-  - {materials: [ore, glass], restitution: 0.3, static_friction: 0.0}
-particle_types:
-  - {name: grain, material: ore, size: {distribution: fixed, radius: 0.0095}}
-surfaces:
-  - {name: plate, type: stl, file: ")" << stl.string() << R"(", material: steel, export: true}
-  - {name: walls, type: box, min: [0, 0, -0.05], max: [0.4, 0.4, 0.2], material: glass}
-output:
-  directory: ")" << output.string() << R"("
-  interval: 0
-  plots: false
-export:
+  return settled_layer_deck(stl, output, kSide, R"(export:
   interval: 0.1
   calculix:
     thickness: 0.008
@@ -70,8 +46,7 @@ export:
       - {name: east, box: {min: [0.399, -0.001, -0.001], max: [0.401, 0.401, 0.001]}}
       - {name: south, box: {min: [0.0004, -0.001, -0.001], max: [0.3996, 0.001, 0.001]}}
       - {name: north, box: {min: [0.0004, 0.399, -0.001], max: [0.3996, 0.401, 0.001]}}
-)";
-  return deck.str();
+)");
 }
 
 struct PlateRun {
@@ -88,21 +63,7 @@ PlateRun run_plate(const std::string& name, int threads) {
       parse_deck_string(plate_deck(folder / "plate.stl", folder / "out"), "plate.yaml");
   World world = build_world(spec);
   world.threading = Threading{threads, 0};  // both threads work even in this small scene
-  // The two layers, 0.5 mm above their resting heights (the hollow of four spheres of radius r
-  // at pitch p holds the upper sphere sqrt(4r² − p²/2) above them).
-  const double density = 2500.0;  // kg/m³
-  const double upper_rise = std::sqrt(4.0 * kRadius * kRadius - 0.5 * kPitch * kPitch);  // m
-  ParticleId id = 1;
-  for (int i = 0; i < kDivisions; ++i)
-    for (int j = 0; j < kDivisions; ++j)
-      world.particles.add(id++, 0, 0, {kPitch * (i + 0.5), kPitch * (j + 0.5), kRadius + 5e-4}, {},
-                          kRadius, density, 0.0);
-  for (int i = 1; i < kDivisions; ++i)
-    for (int j = 1; j < kDivisions; ++j)
-      world.particles.add(id++, 0, 0, {kPitch * i, kPitch * j, kRadius + upper_rise + 1e-3}, {},
-                          kRadius, density, 0.0);
-  world.next_id = id;
-  world.lists_stale = true;
+  add_two_layers(world, kDivisions, kPitch, kRadius, 2500.0);
   sim::RunOptions options;
   options.quiet = true;
   std::ostringstream log;

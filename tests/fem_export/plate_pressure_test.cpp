@@ -33,37 +33,10 @@ constexpr double kDensity = 2500.0;        // kg/m³
 constexpr double kGravity = 9.81;          // m/s²
 
 std::string deck(const fs::path& stl, const fs::path& output) {
-  std::ostringstream text;
-  text << R"(simulation:
-  end_time: 0.5
-  time_step: {rayleigh_fraction: 0.2}
-  impact_speed: 0.5
-  gravity: [0, 0, -9.81]
-  domain: {min: [-0.05, -0.05, -0.1], max: [0.25, 0.25, 0.3]}
-materials:
-  - {name: ore, density: 2500, youngs_modulus: 5.0e6, poisson_ratio: 0.25}
-  - {name: steel, density: 7850, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
-  - {name: glass, density: 2500, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
-interactions:
-  - {materials: [ore, ore], restitution: 0.3, static_friction: 0.5, rolling_friction: 0.1}
-  - {materials: [ore, steel], restitution: 0.3, static_friction: 0.5, rolling_friction: 0.1}
-  - {materials: [ore, glass], restitution: 0.3, static_friction: 0.0}
-particle_types:
-  - {name: grain, material: ore, size: {distribution: fixed, radius: 0.0095}}
-surfaces:
-  - {name: plate, type: stl, file: ")"
-       << stl.string() << R"(", material: steel, export: true}
-  - {name: walls, type: box, min: [0, 0, -0.05], max: [0.2, 0.2, 0.2], material: glass}
-output:
-  directory: ")"
-       << output.string() << R"("
-  interval: 0
-  plots: false
-export:
+  return settled_layer_deck(stl, output, kSide, R"(export:
   interval: 0.1
   formats: [med, vtu]
-)";
-  return text.str();
+)");
 }
 
 struct Stats {
@@ -95,20 +68,9 @@ TEST(PlatePressure, SmoothedPressureOfASettledLayerIsItsWeightPerArea) {
   write_ascii_stl(plate, folder / "plate.stl");
   World world =
       build_world(parse_deck_string(deck(folder / "plate.stl", folder / "out"), "plate.yaml"));
-  // A lower layer on the square lattice (one sphere per p² cell) and an upper one in its
-  // hollows, 0.5 mm and 1 mm above their resting heights (as in plate_export_test.cpp).
-  const double upper_rise = std::sqrt(4.0 * kRadius * kRadius - 0.5 * kPitch * kPitch);  // m
-  ParticleId id = 1;
-  for (int i = 0; i < kCells; ++i)
-    for (int j = 0; j < kCells; ++j)
-      world.particles.add(id++, 0, 0, {kPitch * (i + 0.5), kPitch * (j + 0.5), kRadius + 5e-4}, {},
-                          kRadius, kDensity, 0.0);
-  for (int i = 1; i < kCells; ++i)
-    for (int j = 1; j < kCells; ++j)
-      world.particles.add(id++, 0, 0, {kPitch * i, kPitch * j, kRadius + upper_rise + 1e-3}, {},
-                          kRadius, kDensity, 0.0);
-  world.next_id = id;
-  world.lists_stale = true;
+  // A lower layer on the square lattice and an upper one in its hollows (as in
+  // plate_export_test.cpp).
+  add_two_layers(world, kCells, kPitch, kRadius, kDensity);
   sim::RunOptions options;
   options.quiet = true;
   std::ostringstream log;
@@ -120,6 +82,7 @@ TEST(PlatePressure, SmoothedPressureOfASettledLayerIsItsWeightPerArea) {
   // is h = 2R + upper_rise thick, so ρ_bulk = 2 m / (p² h) (measured from the packing) and the
   // plate carries ρ_bulk g h = 2 m g / p² (frictionless side walls take none of the weight).
   const double mass = kDensity * 4.0 / 3.0 * std::numbers::pi * std::pow(kRadius, 3);  // kg
+  const double upper_rise = std::sqrt(4.0 * kRadius * kRadius - 0.5 * kPitch * kPitch);  // m
   const double height = 2.0 * kRadius + upper_rise;                                    // m
   const double bulk_density = 2.0 * mass / (kPitch * kPitch * height);                 // kg/m³
   const double expected = bulk_density * kGravity * height;                            // Pa
