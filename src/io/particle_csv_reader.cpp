@@ -1,6 +1,7 @@
 // The CSV particle table of the deck's `particles:` section (particle_file_reader.h): a header
 // naming the columns, then one particle per line; every problem located at line:col.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <array>
 #include <charconv>
@@ -82,12 +83,6 @@ std::optional<std::uint64_t> parse_id(std::string_view text) {
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (error != std::errc{} || end != text.data() + text.size() || text.empty()) return std::nullopt;
   return value;
-}
-
-std::string quoted_list(const std::vector<std::string>& names) {
-  std::string list;
-  for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
-  return list;
 }
 
 }  // namespace
@@ -202,7 +197,7 @@ std::vector<InitialParticle> read_particle_csv(const std::string& path,
       const std::string guess = closest_match(std::string(type_field.text), type_names);
       reading.error(
           number, type_field.column, fmt::format("unknown particle type \"{}\"", type_field.text),
-          guess.empty() ? fmt::format("the deck's particle types are: {}", quoted_list(type_names))
+          guess.empty() ? fmt::format("the deck's particle types are: {}", fmt::join(type_names, ", "))
                         : fmt::format("did you mean \"{}\"?", guess));
       valid = false;
     }

@@ -10,12 +10,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <string_view>
 #include <unordered_map>
 
+#include "io/atomic_file.h"
 #include "io/particle_file_reader.h"
 
 namespace quarry {
@@ -87,15 +86,13 @@ std::vector<InitialParticle> read_particle_vtu(const std::string& path,
                                                const std::vector<std::string>& type_names,
                                                std::uint32_t source, Diagnostics& problems) {
   std::vector<InitialParticle> particles;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  const std::optional<std::string> file = read_file(path);
+  if (!file) {
     problems.error({path, 0, 0}, "cannot open the particle file",
                    "check the path and its permissions");
     return particles;
   }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  const std::string& text = *file;
   FrameReading reading(path, text, problems);
 
   const std::size_t data_tag = text.find("<AppendedData");
