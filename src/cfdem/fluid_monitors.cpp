@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "io/png_plot.h"
+#include "sim/monitors.h"
 #include "sim/output.h"
 
 namespace quarry::cfdem {
@@ -193,25 +194,16 @@ void FluidMonitors::finish(World& world) {
   table_->flush();
   if (!world.spec.output.plots.value) return;
   const std::vector<std::string>& names = table_->columns();
-  const auto series = [&](std::size_t column, std::string label) {
-    PlotSeries s;
-    s.label = std::move(label);
-    for (const auto& r : table_->rows()) {
-      s.x.push_back(r[0]);
-      s.y.push_back(r[column]);
-    }
-    return s;
-  };
-  const auto ends_with = [](const std::string& s, const std::string& tail) {
-    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+  const auto series = [&](std::size_t column, const std::string& label) {
+    return sim::column_series(table_->rows(), column, label);
   };
   PlotSpec drop{"Fluid pressure drop (less the hydrostatic head)", "time (s)", "pressure drop (Pa)", {}};
   PlotSpec flow{"Superficial fluid velocity", "time (s)", "U (m/s)", {}};
   PlotSpec slip{"Mean slip velocity u - v", "time (s)", "slip (m/s)", {}};
   for (std::size_t k = 1; k < names.size(); ++k) {
     const std::string& c = names[k];
-    if (ends_with(c, "_dp_dynamic_Pa")) drop.series.push_back(series(k, c.substr(0, c.size() - 14)));
-    if (ends_with(c, "_U_m_s")) flow.series.push_back(series(k, c.substr(0, c.size() - 6)));
+    if (c.ends_with("_dp_dynamic_Pa")) drop.series.push_back(series(k, c.substr(0, c.size() - 14)));
+    if (c.ends_with("_U_m_s")) flow.series.push_back(series(k, c.substr(0, c.size() - 6)));
     if (c.find("_slip_") != std::string::npos) slip.series.push_back(series(k, c.substr(0, c.size() - 4)));
   }
   const std::pair<const char*, const PlotSpec*> plots[] = {

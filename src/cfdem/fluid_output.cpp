@@ -42,9 +42,11 @@ std::string fluid_image_text(const FluidCoupling& coupling) {
   return text;
 }
 
+std::string fluid_frame_name(std::size_t frame) { return fmt::format("fluid_{:06d}.vti", frame); }
+
 void write_fluid_frame(const FluidCoupling& coupling, const std::filesystem::path& directory,
                        std::size_t frame, double time, PvdSeries& series) {
-  const std::string name = fmt::format("fluid_{:06d}.vti", frame);
+  const std::string name = fluid_frame_name(frame);
   write_file_atomically(directory / name, fluid_image_text(coupling));
   series.add(time, name);
 }
@@ -79,7 +81,7 @@ void attach_fluid_output(World& world, std::shared_ptr<FluidCoupling> coupling) 
       frames->series = std::make_unique<PvdSeries>(directory / "fluid.pvd");
       w.output->wrote("fluid.pvd");  // in the manifest, so that --overwrite removes the series
     }
-    w.output->wrote(fmt::format("fluid_{:06d}.vti", frames->frame));
+    w.output->wrote(fluid_frame_name(frames->frame));  // listed before it is written, as the particles' frames
     write_fluid_frame(*frames->coupling, directory, frames->frame++, w.time, *frames->series);
     frames->next_time += interval;
     while (frames->next_time <= w.time + 0.5 * w.dt) frames->next_time += interval;

@@ -16,7 +16,10 @@ namespace quarry::cfdem {
 // with round-trip precision. Cost: O(cells).
 std::string fluid_image_text(const FluidCoupling& coupling);
 
-// Writes fluid_NNNNNN.vti into `directory` and adds it at `time` (s) to `series` (directory/
+// The file name of fluid frame `frame`: fluid_NNNNNN.vti.
+std::string fluid_frame_name(std::size_t frame);
+
+// Writes fluid_frame_name(frame) into `directory` and adds it at `time` (s) to `series` (directory/
 // fluid.pvd), both atomically. Throws std::runtime_error if a file cannot be written.
 void write_fluid_frame(const FluidCoupling& coupling, const std::filesystem::path& directory,
                        std::size_t frame, double time, PvdSeries& series);

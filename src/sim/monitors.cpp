@@ -102,7 +102,6 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
   return row;
 }
 
-namespace {
 PlotSeries column_series(const std::vector<std::vector<double>>& rows, std::size_t k,
                          const std::string& label) {
   PlotSeries s;
@@ -113,11 +112,6 @@ PlotSeries column_series(const std::vector<std::vector<double>>& rows, std::size
   }
   return s;
 }
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-}  // namespace
 
 std::vector<double> outflow_rate(const std::vector<double>& t, const std::vector<double>& m, std::size_t half_window) {
   const std::size_t n = std::min(t.size(), m.size());
@@ -145,13 +139,13 @@ std::vector<std::string> write_monitor_plots(const std::string& directory, const
   };
   PlotSpec forces{"Force on each surface", "time (s)", "|F| (N)", {}};
   for (std::size_t k = 0; k < columns.size(); ++k)
-    if (ends_with(columns[k], "_F_N"))
+    if (columns[k].ends_with("_F_N"))
       forces.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 4)));
   // The reference: a bed at rest carries the weight of what lies in it (m g of the monitor
   // region that holds the bed's load); impacts rise above it, arching and walls below it.
   if (!forces.series.empty())
     for (std::size_t k = 0; k < columns.size(); ++k)
-      if (ends_with(columns[k], "_mass_kg")) {
+      if (columns[k].ends_with("_mass_kg")) {
         PlotSeries weight = column_series(rows, k, "weight m g in " + columns[k].substr(0, columns[k].size() - 8));
         for (double& y : weight.y) y *= gravity;
         forces.series.push_back(weight);
@@ -160,7 +154,7 @@ std::vector<std::string> write_monitor_plots(const std::string& directory, const
 
   PlotSpec torques{"Torque on each rotating surface about its rotation axis", "time (s)", "torque (N m)", {}};
   for (std::size_t k = 0; k < columns.size(); ++k)
-    if (ends_with(columns[k], "_T_axis_Nm"))
+    if (columns[k].ends_with("_T_axis_Nm"))
       torques.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 10) + " about its axis"));
   if (!torques.series.empty()) plot("surface_torques.png", torques);
 
@@ -178,7 +172,7 @@ std::vector<std::string> write_monitor_plots(const std::string& directory, const
 
   PlotSpec masses{"Mass in monitor regions", "time (s)", "mass (kg)", {}};
   for (std::size_t k = 0; k < columns.size(); ++k)
-    if (ends_with(columns[k], "_mass_kg"))
+    if (columns[k].ends_with("_mass_kg"))
       masses.series.push_back(column_series(rows, k, columns[k].substr(0, columns[k].size() - 8)));
   if (!masses.series.empty()) plot("region_mass.png", masses);
 

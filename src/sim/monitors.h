@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "io/png_plot.h"
 #include "sim/world.h"
 
 namespace quarry::sim {
@@ -24,6 +25,10 @@ double torque_about_axis(const Vec3& torque_about_origin, const Vec3& force, con
 // one per monitor interval. Cost: O(particles + contacts).
 std::vector<std::string> monitor_columns(const World& world, std::size_t surface_count);
 std::vector<double> monitor_row(World& world, std::size_t surface_count);
+// Column k of a monitor table against its first column (time), labelled `label`: a series of
+// the plots below, or of another monitor table's (the fluid's).
+PlotSeries column_series(const std::vector<std::vector<double>>& rows, std::size_t k, const std::string& label);
+
 // PNG plots next to the CSV: force on each surface with the weight m g of the material in each
 // monitor region as a reference (`gravity`: |g|, m/s²), the torque on each rotating surface
 // about its axis, mean particle speed, particle count, kinetic energy, the mass in each monitor
