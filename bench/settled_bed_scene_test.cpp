@@ -65,8 +65,9 @@ double translational_energy_per_particle(const World& world) {
 
 // Static equilibrium (Newton's second law with zero acceleration): once the bed is at rest the
 // pair forces cancel in pairs (Newton's third law), so the six walls together carry Σ m g.
-// Tolerance 0.5 %: the residual motion of a bed with translational kinetic energy < 1e-12 J
-// per particle. Spin is not counted: a sphere spinning about its contact normal feels no
+// Tolerance 0.5 %: the residual motion of a bed with translational kinetic energy < 1e-13 J
+// per particle (at 1e-12 J the settling is not over: particles still rearrange, and the walls
+// were measured carrying 99.5–102 % of the weight at such moments). Spin is not counted: a sphere spinning about its contact normal feels no
 // torque without rolling or twisting resistance, so a spin left by the settling survives it
 // and pushes on nothing (measured: 2.3e-12 J per particle of rotation, one particle with
 // 8e-11 J, while the translation was down to 2e-14 J; how much spin is left depends on the
@@ -74,9 +75,9 @@ double translational_energy_per_particle(const World& world) {
 TEST(SettledBedScene, SettledBedRestsOnItsWalls) {
   World world = make_lattice_world(small_bed());
   prepare_first_step(world);
-  for (int s = 0; s < 100000 && (s < 5000 || translational_energy_per_particle(world) > 1e-12); ++s)
+  for (int s = 0; s < 100000 && (s < 5000 || translational_energy_per_particle(world) > 1e-13); ++s)
     sim::step(world);
-  EXPECT_LT(translational_energy_per_particle(world), 1e-12);
+  EXPECT_LT(translational_energy_per_particle(world), 1e-13);
   const BedState bed = measure_bed(world);
   EXPECT_NEAR(bed.all_walls_force_z, bed.weight, 5e-3 * bed.weight);
   // The floor carries most of the weight; the side walls' friction (either sign, it depends on

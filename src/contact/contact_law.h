@@ -7,6 +7,7 @@
 
 #include "contact/cohesion_jkr.h"
 #include "contact/cohesion_sjkr.h"
+#include "contact/dashpot_window.h"
 #include "contact/effective_properties.h"
 #include "contact/normal_hertz.h"
 #include "contact/normal_linear.h"
@@ -65,6 +66,9 @@ struct ContactKinematics {
   // (without it e = 0.1 came out 0.091 at the default step). Zero for symplectic Euler and walls.
   Vec3 velocity_lead_i, velocity_lead_j;                  // m/s
   Vec3 angular_velocity_lead_i, angular_velocity_lead_j;  // rad/s
+  // h (s): the time the leads span (dt/2 for velocity Verlet, 0 for symplectic Euler and for
+  // readers of a frame); the dashpot's implicit velocity uses it (contact/dashpot_window.h).
+  double lead_time = 0.0;
 };
 
 // Per-contact state carried from step to step (kept by the contact list, keyed by pair).
@@ -74,6 +78,9 @@ struct ContactHistory {
   // JKR only: the pair adheres (it touched, δ > 0, and has not been pulled past δ_c < 0
   // since): the hysteresis of the JKR contact, which holds at negative overlap.
   bool jkr_attached = false;
+  // N: this contact's normal force of the last step (ContactResult::normal_force), which the
+  // velocity leads contain; the dashpot replaces it by the new one (dashpot_window.h).
+  double normal_force = 0.0;
 };
 
 struct ContactResult {
@@ -82,6 +89,51 @@ struct ContactResult {
   double normal_force = 0.0;  // N, signed component of force_i along normal (+ = repulsive),
                               // cohesion included
 };
+
+// True if the dashpots of this law take the window's mean and the implicit velocity
+// (dashpot_window.h): Hertz–Mindlin without JKR, whose dashpot grows continuously from zero
+// at first touch. A linear or JKR contact's force jumps at first touch; across that jump the
+// implicit velocity is only first order (linear, t_c/200: e = 0.1 → 0.1006–0.1023 over the
+// phases against 0.10001 explicit), so they keep the explicit lead of the centre.
+inline bool hertz_dashpot_window(const InteractionParameters& parameters) {
+  return parameters.normal_model == NormalModel::hertz_mindlin && !(parameters.surface_energy > 0.0);
+}
+
+// A pair short of contact (δ ≤ 0, no JKR adhesion): the dashpot alone if the step's window
+// reaches contact (δ + s > 0, s = |u| dt/2 with u the normal velocity at the force's time),
+// else nothing. Either way the springs are released. Part of evaluate_contact.
+[[gnu::always_inline]] inline ContactResult window_contact(const InteractionParameters& parameters,
+                                                           const ContactKinematics& kinematics,
+                                                           ContactHistory& history, double dt) {
+  const double previous_force = history.normal_force;  // N
+  history = ContactHistory{};
+  if (!(dt > 0.0) || !hertz_dashpot_window(parameters)) return ContactResult{};
+  const Vec3& normal = kinematics.normal;
+  // ω × r is normal to n for spheres: only the centres' velocities have a normal part (m/s).
+  const double lead_normal_velocity =
+      dot((kinematics.velocity_i + kinematics.velocity_lead_i) -
+              (kinematics.velocity_j + kinematics.velocity_lead_j),
+          normal);
+  const double half_path = 0.5 * dt * std::fabs(lead_normal_velocity);  // m, s
+  const double overlap = kinematics.overlap;                             // m, ≤ 0
+  if (!(overlap + half_path > 0.0)) return ContactResult{};
+  const double inverse_sum = kinematics.inv_mass_i + kinematics.inv_mass_j;  // 1/kg
+  const double effective_mass = inverse_sum > 0.0 ? 1.0 / inverse_sum : 0.0;  // kg
+  const double effective_radius =
+      contact::effective_radius(kinematics.radius_i, kinematics.radius_j);  // m
+  const double damping = parameters.hertz_normal_damping *
+                         std::sqrt(std::sqrt(effective_radius) * effective_mass) *
+                         contact::hertz_window_quarter_power(overlap, half_path);  // N·s/m, mean
+  const double velocity = contact::implicit_normal_velocity(
+      lead_normal_velocity, 0.0, previous_force, damping, kinematics.lead_time * inverse_sum);
+  double force = -damping * velocity;  // N, + repulsive
+  if (parameters.clip_attraction && force < 0.0) force = 0.0;
+  history.normal_force = force;
+  ContactResult result;
+  result.normal_force = force;
+  result.force_i = force * normal;  // along the line of centres: no torque
+  return result;
+}
 
 // Evaluates the contact law for one pair and updates its history. No allocation, inline.
 // Conventions (DESIGN §4): R*, m* from effective_radius/effective_mass (wall: Ri, mi).
@@ -98,16 +150,20 @@ struct ContactResult {
 // stiffnesses of the dashpots and the tangential spring are Hertz's at that a (2E*a, 8G*a), and
 // the Coulomb and rolling limits use the Hertz load of a, 4E*a³/(3R*), plus the dashpot (the
 // load the contact circle carries, as SJKR's limits use the force before cohesion).
+// Dashpots (dashpot_window.h): their coefficient is the mean over the step's window along the
+// straight overlap path (Hertz: of δ^{1/4}; linear: the share of the window in contact) where
+// the window's half path s = |u| dt/2 is more than a tenth of δ, and they take the normal
+// velocity at the force's time implicitly with this contact's new force. A pair short of
+// contact whose window reaches it (δ ≤ 0 < δ + s) feels the dashpot alone.
 // Precondition: dt ≥ 0 (0: the force of the stored history, no increment: how sim/frame_contacts
 // reads a frame's contact forces). If overlap <= 0 the pair is not touching (unless JKR holds
-// it): the result is zero and the history is cleared (the spring is released when contact is lost).
+// it or the window reaches contact): the result is zero and the history is cleared (the spring
+// is released when contact is lost).
 [[gnu::always_inline]] inline ContactResult evaluate_contact(const InteractionParameters& parameters,
                                       const ContactKinematics& kinematics, ContactHistory& history,
                                       double dt) {
-  if (!(kinematics.overlap > 0.0) && !history.jkr_attached) {
-    history = ContactHistory{};
-    return ContactResult{};
-  }
+  if (!(kinematics.overlap > 0.0) && !history.jkr_attached)
+    return window_contact(parameters, kinematics, history, dt);
   const Vec3& normal = kinematics.normal;
   const double overlap = kinematics.overlap;  // m
   const bool against_wall = !(kinematics.radius_j > 0.0);
@@ -139,6 +195,7 @@ struct ContactResult {
                            cross(lead_spin, normal));                  // m/s
   const double normal_velocity = dot(damped_velocity, normal);        // m/s, < 0 closing
   const Vec3 damped_tangential_velocity = damped_velocity - normal_velocity * normal;  // m/s
+  const double half_path = 0.5 * dt * std::fabs(normal_velocity);    // m, the window's s
 
   contact::NormalSpring normal_spring;
   double normal_damping = 0.0;        // N·s/m
@@ -163,8 +220,7 @@ struct ContactResult {
     normal_damping = parameters.hertz_normal_damping * root;
     tangential_damping = parameters.hertz_tangential_damping * root;
     friction_load = 4.0 / 3.0 * parameters.effective_youngs_modulus * contact_radius *
-                        contact_radius * contact_radius / effective_radius -
-                    normal_damping * normal_velocity;
+                    contact_radius * contact_radius / effective_radius;  // the dashpot below
   } else if (parameters.normal_model == NormalModel::hertz_mindlin) {
     normal_spring = contact::hertz_normal_spring(parameters.effective_youngs_modulus,
                                                  effective_radius, overlap);
@@ -172,7 +228,12 @@ struct ContactResult {
                                                                  effective_radius, overlap);
     // hertz_mindlin_damping_coefficient with its constant part precomputed: sqrt(k m*) with
     // k ∝ a = sqrt(R* δ) (the helpers' square root; the compiler computes it once).
-    const double root = std::sqrt(std::sqrt(effective_radius * overlap) * effective_mass);  // sqrt(m·kg)
+    // Where the window matters, the mean of δ^{1/4} over it instead (dashpot_window.h).
+    const double root =
+        contact::window_matters(overlap, half_path) && dt > 0.0
+            ? std::sqrt(std::sqrt(effective_radius) * effective_mass) *
+                  contact::hertz_window_quarter_power(overlap, half_path)
+            : std::sqrt(std::sqrt(effective_radius * overlap) * effective_mass);  // sqrt(m·kg)
     normal_damping = parameters.hertz_normal_damping * root;
     tangential_damping = parameters.hertz_tangential_damping * root;
   } else {
@@ -184,17 +245,6 @@ struct ContactResult {
         parameters.damping_ratio_beta, tangential_stiffness, effective_mass);
   }
 
-  double contact_normal_force =
-      normal_spring.elastic_force - normal_damping * normal_velocity;  // N
-  if (parameters.clip_attraction && contact_normal_force < 0.0) contact_normal_force = 0.0;
-  if (!(parameters.surface_energy > 0.0)) friction_load = contact_normal_force;
-  const double normal_force_magnitude = std::fabs(friction_load);  // N, |Fn|
-
-  const Vec3 tangential_force = contact::tangential_spring_force(
-      history.tangential_displacement, normal, tangential_velocity, damped_tangential_velocity,
-      tangential_stiffness, tangential_damping, parameters.static_friction * normal_force_magnitude,
-      dt);
-
   double cohesion_force = 0.0;  // N, attractive magnitude
   if (parameters.cohesion_energy_density > 0.0) {
     const double contact_area =
@@ -203,9 +253,28 @@ struct ContactResult {
                                                            overlap);  // m²
     cohesion_force = contact::sjkr_cohesion_force(parameters.cohesion_energy_density, contact_area);
   }
+  // The dashpot's velocity at the force's time, with this contact's new force (implicit).
+  const double damped_normal_velocity = contact::implicit_normal_velocity(
+      normal_velocity, normal_spring.elastic_force - cohesion_force, history.normal_force,
+      normal_damping,
+      hertz_dashpot_window(parameters) ? kinematics.lead_time * inverse_sum : 0.0);  // m/s
+  double contact_normal_force =
+      normal_spring.elastic_force - normal_damping * damped_normal_velocity;  // N
+  if (parameters.clip_attraction && contact_normal_force < 0.0) contact_normal_force = 0.0;
+  if (!(parameters.surface_energy > 0.0))
+    friction_load = contact_normal_force;
+  else
+    friction_load -= normal_damping * damped_normal_velocity;
+  const double normal_force_magnitude = std::fabs(friction_load);  // N, |Fn|
+
+  const Vec3 tangential_force = contact::tangential_spring_force(
+      history.tangential_displacement, normal, tangential_velocity, damped_tangential_velocity,
+      tangential_stiffness, tangential_damping, parameters.static_friction * normal_force_magnitude,
+      dt);
 
   ContactResult result;
   result.normal_force = contact_normal_force - cohesion_force;
+  history.normal_force = result.normal_force;
   result.force_i = result.normal_force * normal + tangential_force;
   // Both bodies feel the tangential force at the same point: τi = (−lever_i n) × Ft,
   // τj = (lever_j n) × (−Ft).

@@ -202,24 +202,31 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
   auto batch = std::make_unique<HertzMindlinBatch>();
   std::vector<ContactKinematics> cases;
   std::vector<Vec3> starts;
-  int sliding = 0;
+  std::vector<double> previous_forces;
+  int sliding = 0, touching = 0, vector_lanes = 0, scalar_lanes = 0;
   for (int round = 0; round < 10; ++round) {
     batch->count = 0;
     cases.clear();
     starts.clear();
+    previous_forces.clear();
     for (int m = 0; m < 203; ++m) {
       ContactKinematics k;
       k.normal = normalized(random_vec(1.0));
       k.radius_i = 1e-3 * (1.5 + unit(random));  // m
       k.radius_j = 1e-3 * (1.5 + unit(random));
-      k.overlap = 1e-6 * (1.01 + unit(random));  // m
+      // m; every 11th short of contact, where only a dashpot window can act.
+      k.overlap = m % 11 == 0 ? -0.3e-6 * (1.01 + unit(random)) : 1e-6 * (1.01 + unit(random));
       k.inv_mass_i = 1.0 / (1e-5 * (1.5 + unit(random)));  // 1/kg
       k.inv_mass_j = 1.0 / (1e-5 * (1.5 + unit(random)));
       // Fixed particles (particle_types[].fixed: 1/m = 0) on one side or, m = 0 mod 35, both.
       if (m % 5 == 0) k.inv_mass_i = 0.0;
       if (m % 7 == 0) k.inv_mass_j = 0.0;
-      k.velocity_i = random_vec(0.1);
-      k.velocity_j = random_vec(0.1);
+      // Slow pairs take the kernel's vector path; fast ones (a half path s = |u| dt/2 above a
+      // tenth of δ: impacts) and those short of contact its scalar finish.
+      const double speed = m % 4 == 0 ? 1e-3 : 0.1;  // m/s
+      k.velocity_i = random_vec(speed);
+      k.velocity_j = random_vec(speed);
+      k.lead_time = 0.5e-5;  // s, dt/2
       k.angular_velocity_i = random_vec(50.0);
       k.angular_velocity_j = random_vec(50.0);
       k.velocity_lead_i = random_vec(0.01);
@@ -241,6 +248,9 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
       batch->lwix[m] = li.x, batch->lwiy[m] = li.y, batch->lwiz[m] = li.z;
       batch->lwjx[m] = lj.x, batch->lwjy[m] = lj.y, batch->lwjz[m] = lj.z;
       batch->hx[m] = start.x, batch->hy[m] = start.y, batch->hz[m] = start.z;
+      const double previous = 1e-3 * unit(random);  // N, the contact's last normal force
+      batch->fn[m] = previous;
+      previous_forces.push_back(previous);
       ++batch->count;
       // The kernel derives n and δ from x_i − x_j: give the law the same (rounded) values.
       const double distance = std::sqrt(norm2(d));
@@ -251,9 +261,10 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
     }
     // The overlap guard: these overlaps (at most 2.01e-6 m on radii of at least 0.5e-3 m) stay
     // below 0.41 % of the smaller radius.
-    EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.005));
+    EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.5e-5, 0.005));
     for (int m = 0; m < batch->count; ++m) {
-      ContactHistory history{starts[m], Vec3{}};
+      ContactHistory history{starts[m], Vec3{}, false, previous_forces[m]};
+      (batch->scalar_lane[m] != 0.0 ? scalar_lanes : vector_lanes) += 1;
       const ContactResult expected = evaluate_contact(parameters, cases[m], history, 1e-5);
       const auto close = [](const Vec3& a, const Vec3& b, double scale) { return norm(a - b) <= 1e-12 * scale; };
       const double force_scale = norm(expected.force_i);  // N
@@ -263,12 +274,17 @@ TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
       EXPECT_TRUE(close({batch->tjx[m], batch->tjy[m], batch->tjz[m]}, expected.torque_j, lever * force_scale)) << m;
       EXPECT_TRUE(close({batch->hx[m], batch->hy[m], batch->hz[m]}, history.tangential_displacement,
                         norm(history.tangential_displacement) + 1e-30)) << m;
+      EXPECT_NEAR(batch->fn[m], history.normal_force, 1e-12 * force_scale) << m;
+      if (!(cases[m].overlap > 0.0)) continue;  // a dashpot window alone: no tangential force
+      ++touching;
       const Vec3 shear = expected.force_i - expected.normal_force * cases[m].normal;
       sliding += norm(shear) >= (1.0 - 1e-9) * 0.5 * std::fabs(expected.normal_force);
     }
   }
   EXPECT_GT(sliding, 100);   // both regimes were exercised
-  EXPECT_LT(sliding, 1900);
+  EXPECT_LT(sliding, touching - 20);
+  EXPECT_GT(vector_lanes, 300);  // and both paths of the kernel
+  EXPECT_GT(scalar_lanes, 300);
 }
 
 // The batched kernel's overlap guard flags δ > limit·min(Ri, Rj) exactly as the run's report
@@ -294,13 +310,13 @@ TEST(EvaluateContact, BatchKernelOverlapGuardFlagsTheContactPastTheLimitAndNotTh
   // 1e-6 m on a smaller radius of 1e-3 m: 0.1 %. The padding lanes (δ = 0.5 of R = 0.75)
   // would pass a 10 % limit if they were counted.
   one_contact(1e-6, 1e-3, 2e-3);
-  EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.1));
+  EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0, 0.1));
   one_contact(1e-6, 1e-3, 2e-3);
-  EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0011));
+  EXPECT_FALSE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0, 0.0011));
   one_contact(1e-6, 1e-3, 2e-3);
-  EXPECT_TRUE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0009));
+  EXPECT_TRUE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0, 0.0009));
   one_contact(1e-6, 2e-3, 1e-3);  // the smaller radius is j's
-  EXPECT_TRUE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0009));
+  EXPECT_TRUE(evaluate_hertz_mindlin_batch(parameters, *batch, 1e-5, 0.0, 0.0009));
 }
 
 }  // namespace

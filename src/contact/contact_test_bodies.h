@@ -61,7 +61,8 @@ inline ContactKinematics kinematics_on_floor(const Sphere& i) {
 }
 
 // The leads of the engine's step (sim::set_velocity_leads): the half kick still to come from
-// the previous forces, which carries the drift velocities to the force's time for the dashpots.
+// the previous forces, which carries the drift velocities to the force's time for the dashpots
+// (ContactKinematics::lead_time = dt/2 with them).
 inline Vec3 velocity_lead(const Sphere& sphere, const Vec3& gravity, double dt) {
   return (0.5 * dt / sphere.mass) * sphere.force + (0.5 * dt) * gravity;
 }
@@ -86,6 +87,7 @@ inline ContactResult step_on_floor(const InteractionParameters& parameters, Sphe
   ContactKinematics kinematics = kinematics_on_floor(sphere);
   kinematics.velocity_lead_i = velocity_lead(sphere, gravity, dt);
   kinematics.angular_velocity_lead_i = angular_velocity_lead(sphere, dt);
+  kinematics.lead_time = 0.5 * dt;
   const ContactResult result = evaluate_contact(parameters, kinematics, history, dt);
   sphere.force = result.force_i;
   sphere.torque = result.torque_i;
@@ -111,6 +113,19 @@ inline CollisionRecord collide(const InteractionParameters& parameters, Sphere& 
   CollisionRecord record;
   ContactHistory history;
   double previous_overlap = 0.0;  // m
+  // The forces of the first configuration, as the engine's sim::initialize takes them (the
+  // velocities are those of that configuration: no leads). At first touch only a dashpot
+  // window can act there: the half of it after the touch.
+  {
+    const ContactResult result = evaluate_contact(
+        parameters, j ? kinematics_between(i, *j) : kinematics_on_floor(i), history, dt);
+    i.force = result.force_i;
+    i.torque = result.torque_i;
+    if (j) {
+      j->force = -result.force_i;
+      j->torque = result.torque_j;
+    }
+  }
   for (int step = 0; step < max_steps; ++step) {
     half_kick(i, no_gravity, dt);
     if (j) half_kick(*j, no_gravity, dt);
@@ -119,6 +134,7 @@ inline CollisionRecord collide(const InteractionParameters& parameters, Sphere& 
     ContactKinematics kinematics = j ? kinematics_between(i, *j) : kinematics_on_floor(i);
     kinematics.velocity_lead_i = velocity_lead(i, no_gravity, dt);
     kinematics.angular_velocity_lead_i = angular_velocity_lead(i, dt);
+    kinematics.lead_time = 0.5 * dt;
     if (j) {
       kinematics.velocity_lead_j = velocity_lead(*j, no_gravity, dt);
       kinematics.angular_velocity_lead_j = angular_velocity_lead(*j, dt);

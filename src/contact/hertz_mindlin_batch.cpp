@@ -5,10 +5,43 @@
 
 namespace quarry {
 
+namespace {
+
+// Contact m of the batch by the scalar law (evaluate_contact), from the lane's inputs: the
+// velocities are differences (v_i − v_j as v_i, 0 as v_j), which is all the law uses.
+void finish_by_scalar_law(const InteractionParameters& parameters, HertzMindlinBatch& b, int m,
+                          double dt, double lead_time) {
+  const double distance = std::sqrt(b.distance2[m]);  // m
+  ContactKinematics kin;
+  kin.normal = Vec3{b.dx[m], b.dy[m], b.dz[m]} * (1.0 / distance);
+  kin.overlap = (b.radius_i[m] + b.radius_j[m]) - distance;
+  kin.radius_i = b.radius_i[m], kin.radius_j = b.radius_j[m];
+  kin.inv_mass_i = b.inv_mass_i[m], kin.inv_mass_j = b.inv_mass_j[m];
+  kin.velocity_i = {b.vx[m], b.vy[m], b.vz[m]};
+  kin.angular_velocity_i = {b.wix[m], b.wiy[m], b.wiz[m]};
+  kin.angular_velocity_j = {b.wjx[m], b.wjy[m], b.wjz[m]};
+  kin.velocity_lead_i = {b.lvx[m], b.lvy[m], b.lvz[m]};
+  kin.angular_velocity_lead_i = {b.lwix[m], b.lwiy[m], b.lwiz[m]};
+  kin.angular_velocity_lead_j = {b.lwjx[m], b.lwjy[m], b.lwjz[m]};
+  kin.lead_time = lead_time;
+  ContactHistory history;
+  history.tangential_displacement = {b.hx[m], b.hy[m], b.hz[m]};
+  history.normal_force = b.fn[m];
+  const ContactResult r = evaluate_contact(parameters, kin, history, dt);
+  b.hx[m] = history.tangential_displacement.x, b.hy[m] = history.tangential_displacement.y,
+  b.hz[m] = history.tangential_displacement.z;
+  b.fn[m] = history.normal_force;
+  b.fx[m] = r.force_i.x, b.fy[m] = r.force_i.y, b.fz[m] = r.force_i.z;
+  b.tix[m] = r.torque_i.x, b.tiy[m] = r.torque_i.y, b.tiz[m] = r.torque_i.z;
+  b.tjx[m] = r.torque_j.x, b.tjy[m] = r.torque_j.y, b.tjz[m] = r.torque_j.z;
+}
+
+}  // namespace
+
 // GCC function multiversioning: one clone per target, chosen once at load time (ifunc).
 __attribute__((target_clones("arch=x86-64-v4", "default")))
 bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, HertzMindlinBatch& b,
-                                  double dt, double overlap_limit) {
+                                  double dt, double lead_time, double overlap_limit) {
   // Pad to whole vectors with a resting contact of unit size: finite, and never read back.
   const int padded = (b.count + HertzMindlinBatch::kLanes - 1) / HertzMindlinBatch::kLanes *
                      HertzMindlinBatch::kLanes;
@@ -21,6 +54,7 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     b.lvx[m] = b.lvy[m] = b.lvz[m] = 0.0;
     b.lwix[m] = b.lwiy[m] = b.lwiz[m] = b.lwjx[m] = b.lwjy[m] = b.lwjz[m] = 0.0;
     b.hx[m] = b.hy[m] = b.hz[m] = 0.0;
+    b.fn[m] = 0.0;
   }
   const double youngs = parameters.effective_youngs_modulus;      // Pa, E*
   const double shear = parameters.effective_shear_modulus;        // Pa, G*
@@ -63,12 +97,23 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double normal_velocity = qx * nx + qy * ny + qz * nz;  // m/s
     const double dtx = qx - normal_velocity * nx, dty = qy - normal_velocity * ny,
                  dtz = qz - normal_velocity * nz;  // m/s, tangential velocity (dashpot)
+    // A contact whose step window matters (or a pair short of contact) is the scalar law's:
+    // its lane computes on a harmless overlap and keeps its history for that law.
+    const double half_path = 0.5 * dt * std::fabs(normal_velocity);  // m
+    const bool scalar = contact::window_matters(overlap, half_path);
+    b.scalar_lane[m] = scalar ? 1.0 : 0.0;
+    const double lane_overlap = scalar ? 1.0e-6 * ri : overlap;  // m
     // Hertz normal spring, Mindlin tangential stiffness, EDEM dashpots (contact_law.h).
-    const double contact_radius = std::sqrt(effective_radius * overlap);  // m, a
-    const double elastic_force = 4.0 / 3.0 * youngs * contact_radius * overlap;  // N
+    const double contact_radius = std::sqrt(effective_radius * lane_overlap);  // m, a
+    const double elastic_force = 4.0 / 3.0 * youngs * contact_radius * lane_overlap;  // N
     const double tangential_stiffness = 8.0 * shear * contact_radius;     // N/m
     const double root = std::sqrt(contact_radius * effective_mass);
-    const double normal_force = elastic_force - normal_damping_factor * root * normal_velocity;  // N
+    const double normal_damping = normal_damping_factor * root;  // N·s/m
+    // The dashpot's velocity at the force's time, implicit in this contact's force.
+    const double damped_normal_velocity = contact::implicit_normal_velocity(
+        normal_velocity, elastic_force, b.fn[m], normal_damping, lead_time * inverse_sum);
+    const double normal_force = elastic_force - normal_damping * damped_normal_velocity;  // N
+    b.fn[m] = scalar ? b.fn[m] : normal_force;
     const double tangential_damping = tangential_damping_factor * root;  // N·s/m
     const double friction_limit = friction * std::fabs(normal_force);    // N
     // δt rotated into the tangent plane with its length kept, plus vt dt.
@@ -94,9 +139,9 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double fx = gx * cap, fy = gy * cap, fz = gz * cap;
     const double positive = tangential_stiffness > 0.0;
     const double inverse_stiffness = positive / (positive > 0.0 ? tangential_stiffness : 1.0);
-    b.hx[m] = sliding ? -(fx - ddx) * inverse_stiffness : ux;
-    b.hy[m] = sliding ? -(fy - ddy) * inverse_stiffness : uy;
-    b.hz[m] = sliding ? -(fz - ddz) * inverse_stiffness : uz;
+    b.hx[m] = scalar ? hx : sliding ? -(fx - ddx) * inverse_stiffness : ux;
+    b.hy[m] = scalar ? hy : sliding ? -(fy - ddy) * inverse_stiffness : uy;
+    b.hz[m] = scalar ? hz : sliding ? -(fz - ddz) * inverse_stiffness : uz;
     b.fx[m] = normal_force * nx + fx;
     b.fy[m] = normal_force * ny + fy;
     b.fz[m] = normal_force * nz + fz;
@@ -105,6 +150,8 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     b.tix[m] = -lever_i * cx, b.tiy[m] = -lever_i * cy, b.tiz[m] = -lever_i * cz;
     b.tjx[m] = -lever_j * cx, b.tjy[m] = -lever_j * cy, b.tjz[m] = -lever_j * cz;
   }
+  for (int m = 0; m < count; ++m)
+    if (b.scalar_lane[m] != 0.0) finish_by_scalar_law(parameters, b, m, dt, lead_time);
   return excessive != 0;
 }
 

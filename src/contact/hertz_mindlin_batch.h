@@ -39,15 +39,21 @@ struct HertzMindlinBatch {
   alignas(64) double lwix[kStride], lwiy[kStride], lwiz[kStride];
   alignas(64) double lwjx[kStride], lwjy[kStride], lwjz[kStride];
   alignas(64) double hx[kStride], hy[kStride], hz[kStride];  // in: old δt, out: new δt
+  alignas(64) double fn[kStride];  // in: the last step's normal force (N), out: this step's
   // Outputs: force on i (N; j gets −force), torques about i's and j's centres (N·m).
   alignas(64) double fx[kStride], fy[kStride], fz[kStride];
   alignas(64) double tix[kStride], tiy[kStride], tiz[kStride];
   alignas(64) double tjx[kStride], tjy[kStride], tjz[kStride];
+  // Scratch: 1 where the scalar law finishes the contact (its window matters), else 0.
+  alignas(64) double scalar_lane[kStride];
 
   bool full() const { return count == kCapacity; }
 };
 
-// Evaluates contacts [0, batch.count) (each touching: distance2 < (radius_i + radius_j)²).
+// Evaluates contacts [0, batch.count): touching pairs, and pairs short of contact whose step
+// window may reach it (contact/dashpot_window.h). Those and the contacts whose window matters
+// (a sizeable half path: impacts) are finished by the scalar law after the vector loop, which
+// computes the settled contacts' common case. lead_time: ContactKinematics::lead_time (s).
 // Returns true if some contact overlaps by more than overlap_limit × the smaller radius (the
 // run's guard, simulation.max_overlap_fraction): checked here, in vector form, rather than
 // per pair while the batch is collected.
@@ -55,6 +61,6 @@ struct HertzMindlinBatch {
 // AVX-512 and for the release target; the loader picks the one the processor runs (both give
 // the same bits: IEEE operations, no contraction, correctly rounded sqrt and division).
 bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, HertzMindlinBatch& batch,
-                                  double dt, double overlap_limit);
+                                  double dt, double lead_time, double overlap_limit);
 
 }  // namespace quarry

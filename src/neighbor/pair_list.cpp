@@ -142,8 +142,8 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   const bool rolling = !list.rolling_torque.empty();
   const bool jkr = !list.jkr_attached.empty();
   const auto has_history = [&](std::uint32_t k) {
-    return list.tangential_displacement[k] != Vec3{} || (rolling && list.rolling_torque[k] != Vec3{}) ||
-           (jkr && list.jkr_attached[k] != 0);
+    return list.tangential_displacement[k] != Vec3{} || list.normal_force[k] != 0.0 ||
+           (rolling && list.rolling_torque[k] != Vec3{}) || (jkr && list.jkr_attached[k] != 0);
   };
   w.previous_offsets.assign(previous_count + 1, 0);
 #pragma omp parallel for schedule(static) if (previous_count > kParallelMinParticles)
@@ -156,6 +156,7 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   const std::size_t kept = w.previous_offsets[previous_count];
   w.previous_partner.size_for_overwrite(kept);
   w.previous_tangential_displacement.size_for_overwrite(kept);
+  w.previous_normal_force.size_for_overwrite(kept);
   w.previous_rolling_torque.size_for_overwrite(rolling ? kept : 0);
   w.previous_jkr_attached.size_for_overwrite(jkr ? kept : 0);
 #pragma omp parallel for schedule(static) if (previous_count > kParallelMinParticles)
@@ -165,6 +166,7 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
       if (!has_history(k)) continue;
       w.previous_partner[out] = list.partner[k];
       w.previous_tangential_displacement[out] = list.tangential_displacement[k];
+      w.previous_normal_force[out] = list.normal_force[k];
       if (rolling) w.previous_rolling_torque[out] = list.rolling_torque[k];
       if (jkr) w.previous_jkr_attached[out] = list.jkr_attached[k];
       ++out;
@@ -175,10 +177,13 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
 // History of pair (i, j) from the previous contacts if both particles and the contact existed
 // there; zero otherwise. History vectors are stored as seen from the lower index (i); both are
 // antisymmetric in the pair (δt of i relative to j; rolling torque on i), so when the rebuild
-// swaps which particle of the pair comes first they change sign. The JKR flag is symmetric.
+// swaps which particle of the pair comes first they change sign. The JKR flag and the normal
+// force (+ repulsive) are symmetric.
 void carry_history(std::uint32_t old_i, std::uint32_t old_j, const PairListWorkspace& previous,
-                   Vec3& tangential_displacement, Vec3* rolling_torque, std::uint8_t* jkr_attached) {
+                   Vec3& tangential_displacement, double& normal_force, Vec3* rolling_torque,
+                   std::uint8_t* jkr_attached) {
   tangential_displacement = Vec3{};
+  normal_force = 0.0;
   if (rolling_torque) *rolling_torque = Vec3{};
   if (jkr_attached) *jkr_attached = 0;
   if (old_i == kNoIndex || old_j == kNoIndex) return;
@@ -190,6 +195,7 @@ void carry_history(std::uint32_t old_i, std::uint32_t old_j, const PairListWorks
     if (old_partner == high) {
       const double orientation = old_i < old_j ? 1.0 : -1.0;
       tangential_displacement = orientation * previous.previous_tangential_displacement[q];
+      normal_force = previous.previous_normal_force[q];
       if (rolling_torque && !previous.previous_rolling_torque.empty())
         *rolling_torque = orientation * previous.previous_rolling_torque[q];
       if (jkr_attached && !previous.previous_jkr_attached.empty())
@@ -250,11 +256,13 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   list.offsets = std::move(offsets);
   resize_for_refill(list.partner, pair_count);
   resize_for_refill(list.tangential_displacement, pair_count);
+  resize_for_refill(list.normal_force, pair_count);
   resize_for_refill(list.rolling_torque, list.keep_rolling_history ? pair_count : 0);
   resize_for_refill(list.jkr_attached, list.keep_jkr_history ? pair_count : 0);
   const std::uint32_t* const row = list.offsets.data();
   std::uint32_t* const partner = list.partner.data();
   Vec3* const tangential = list.tangential_displacement.data();
+  double* const normal_force = list.normal_force.data();
   Vec3* const rolling = list.rolling_torque.empty() ? nullptr : list.rolling_torque.data();
   std::uint8_t* const attached = list.jkr_attached.empty() ? nullptr : list.jkr_attached.data();
 
@@ -277,14 +285,15 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
     for (std::uint32_t k = begin; k < stop; ++k) {
       const std::uint32_t j = partner[k];
       const std::uint32_t old_j = old_index_of ? old_index_of[j] : (same_particles ? j : kNoIndex);
-      carry_history(old_i, old_j, workspace, tangential[k], rolling ? rolling + k : nullptr,
-                    attached ? attached + k : nullptr);
+      carry_history(old_i, old_j, workspace, tangential[k], normal_force[k],
+                    rolling ? rolling + k : nullptr, attached ? attached + k : nullptr);
     }
   }
 
   release(workspace.previous_offsets);
   release(workspace.previous_partner);
   release(workspace.previous_tangential_displacement);
+  release(workspace.previous_normal_force);
   release(workspace.previous_rolling_torque);
   release(workspace.previous_jkr_attached);
   release(workspace.previous_ids);

@@ -29,6 +29,7 @@ struct PairListWorkspace {
   // Written in parallel before they are read: no serial zeroing pass (core/scratch_array.h).
   ScratchArray<std::uint32_t> previous_partner;
   ScratchArray<Vec3> previous_tangential_displacement;  // m
+  ScratchArray<double> previous_normal_force;           // N
   ScratchArray<Vec3> previous_rolling_torque;           // N·m (empty unless rolling history)
   ScratchArray<std::uint8_t> previous_jkr_attached;     // 0/1 (empty unless JKR history)
   std::vector<ParticleId> previous_ids;
@@ -39,6 +40,8 @@ struct PairList {
   std::vector<std::uint32_t> partner;   // j > i (index), ascending within each i
   // Contact history aligned with `partner` (carried across rebuilds by particle-id pair):
   std::vector<Vec3> tangential_displacement;   // m
+  // N: the contact's normal force of the last step, + repulsive (ContactHistory::normal_force).
+  std::vector<double> normal_force;
   std::vector<Vec3> rolling_torque;            // N·m; empty unless keep_rolling_history
   // 1 while a JKR contact adheres (ContactHistory::jkr_attached), which it does beyond touching
   // down to δ_c < 0; empty unless keep_jkr_history. Symmetric in the pair.

@@ -31,7 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::uint64_t kMagic = 0x34304B4359525551ull;  // "QURYCK04"
-constexpr std::uint32_t kFormat = 4;  // 4: JKR adhesion in the contact history, mass-flow sensor sides
+constexpr std::uint32_t kFormat = 5;  // 5: the contacts' last normal force (implicit dashpots)
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 4 + 4;
 
 struct Header {
@@ -156,6 +156,7 @@ void transfer_state(auto& io, World& world, std::uint64_t& frame_index) {
   PairList& l = world.pairs;
   for (auto* v : {&l.tangential_displacement, &l.rolling_torque, &l.reference_positions}) io.vector(*v);
   io.vector(l.jkr_attached);
+  io.vector(l.normal_force);
   io.vector(l.offsets);
   io.vector(l.partner);
   io.vector(l.ids_at_build);
@@ -313,6 +314,8 @@ void validate(const World& world) {
   for (const std::uint8_t flag : l.jkr_attached)
     if (flag > 1) bad("a pair's JKR adhesion flag holds a value other than 0 or 1");
   expect_finite(l.tangential_displacement, "the pairs' tangential history");
+  expect_size(l.normal_force, l.partner.size(), "the pairs' normal forces");
+  expect_finite(l.normal_force, "the pairs' normal forces");
   const std::size_t surfaces = world.surfaces.size();
   const SurfaceCandidates& c = world.candidates;
   expect_size(c.offsets, c.particles.size() + 1, "the surface candidates' offsets");

@@ -64,15 +64,26 @@ struct PairView {
   Vec3* tangential;
   Vec3* rolling;  // null without rolling history
   std::uint8_t* jkr_attached;  // null without JKR history
+  double* normal_force;        // N, each contact's last (ContactHistory::normal_force)
   const MaterialTable* materials;
   double dt;            // s
+  double lead_time;     // s, ContactKinematics::lead_time
   double overlap_limit;  // fraction of the smaller radius
 };
 
+// Half the relative displacement of a pair over a step at its velocities with their leads (m):
+// at least the half path of its dashpot window (contact/dashpot_window.h), whose normal part it
+// bounds (sum of the components' magnitudes: no square root).
+[[gnu::always_inline]] inline double window_reach(const Vec3& relative_velocity, double dt) {
+  return 0.5 * dt *
+         (std::fabs(relative_velocity.x) + std::fabs(relative_velocity.y) +
+          std::fabs(relative_velocity.z));
+}
+
 // The contact of pair k = (i, j) by the scalar law. False if the spheres do not touch (and no
-// JKR adhesion holds them): the pair's history is then released (the spring lets go when
-// contact is lost). Otherwise sets `excessive` if the overlap passes the guard's limit
-// (check_overlaps reports it after the step).
+// JKR adhesion holds them, and the step's dashpot window cannot reach contact): the pair's
+// history is then released (the spring lets go when contact is lost). Otherwise sets
+// `excessive` if the overlap passes the guard's limit (check_overlaps reports it after the step).
 [[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
                                                 std::uint32_t k, CrossingPair& out, int& excessive) {
   const Vec3 d = v.position[i] - v.position[j];
@@ -80,9 +91,16 @@ struct PairView {
   const double distance2 = norm2(d);               // m²
   const bool attached = v.jkr_attached && v.jkr_attached[k];
   if (distance2 >= touch * touch && !attached) {
-    v.tangential[k] = {};
-    if (v.rolling) v.rolling[k] = {};
-    return false;
+    const double reach =
+        touch + window_reach((v.velocity[i] + v.velocity_lead[i]) -
+                                 (v.velocity[j] + v.velocity_lead[j]),
+                             v.dt);  // m
+    if (!(distance2 < reach * reach)) {
+      v.tangential[k] = {};
+      if (v.rolling) v.rolling[k] = {};
+      v.normal_force[k] = 0.0;
+      return false;
+    }
   }
   const double distance = std::sqrt(distance2);  // m
   ContactKinematics kin;
@@ -101,10 +119,13 @@ struct PairView {
   kin.velocity_lead_j = v.velocity_lead[j];
   kin.angular_velocity_lead_i = v.angular_velocity_lead[i];
   kin.angular_velocity_lead_j = v.angular_velocity_lead[j];
-  ContactHistory history{v.tangential[k], v.rolling ? v.rolling[k] : Vec3{}, attached};
+  kin.lead_time = v.lead_time;
+  ContactHistory history{v.tangential[k], v.rolling ? v.rolling[k] : Vec3{}, attached,
+                         v.normal_force[k]};
   const ContactResult r =
       evaluate_contact(v.materials->between(v.material[i], v.material[j]), kin, history, v.dt);
   v.tangential[k] = history.tangential_displacement;
+  v.normal_force[k] = history.normal_force;
   if (v.rolling) v.rolling[k] = history.rolling_torque;
   if (v.jkr_attached) v.jkr_attached[k] = history.jkr_attached;
   out.force = r.force_i;
@@ -234,20 +255,22 @@ struct RowParticle {
                                                 std::uint32_t k, HertzMindlinBatch& b) {
   const Vec3 d = pi.position - v.position[j];
   const double rj = v.radius[j];        // m
-  const double touch = pi.radius + rj;  // m
-  const double distance2 = norm2(d);    // m²
-  const bool touches = !(distance2 >= touch * touch);
+  const Vec3 dv = pi.velocity - v.velocity[j];
+  const Vec3 dl = pi.velocity_lead - v.velocity_lead[j];
+  // Touching, or short of it by less than the step's dashpot window may reach (the kernel
+  // decides; contact/dashpot_window.h).
+  const double reach = (pi.radius + rj) + window_reach(dv + dl, v.dt);  // m
+  const double distance2 = norm2(d);                                   // m²
+  const bool touches = distance2 < reach * reach;
   const int m = b.count;
   b.pair[m] = k, b.slot[m] = j;
   b.dx[m] = d.x, b.dy[m] = d.y, b.dz[m] = d.z, b.distance2[m] = distance2;
   b.radius_i[m] = pi.radius, b.radius_j[m] = rj;
   b.inv_mass_i[m] = pi.inv_mass, b.inv_mass_j[m] = v.inv_mass[j];
-  const Vec3 dv = pi.velocity - v.velocity[j];
   b.vx[m] = dv.x, b.vy[m] = dv.y, b.vz[m] = dv.z;
   const Vec3 wj = v.angular_velocity[j];
   b.wix[m] = pi.angular_velocity.x, b.wiy[m] = pi.angular_velocity.y, b.wiz[m] = pi.angular_velocity.z;
   b.wjx[m] = wj.x, b.wjy[m] = wj.y, b.wjz[m] = wj.z;
-  const Vec3 dl = pi.velocity_lead - v.velocity_lead[j];
   b.lvx[m] = dl.x, b.lvy[m] = dl.y, b.lvz[m] = dl.z;
   const Vec3 lj = v.angular_velocity_lead[j];
   b.lwix[m] = pi.angular_velocity_lead.x, b.lwiy[m] = pi.angular_velocity_lead.y,
@@ -256,6 +279,8 @@ struct RowParticle {
   const Vec3 h = v.tangential[k];
   b.hx[m] = h.x, b.hy[m] = h.y, b.hz[m] = h.z;
   v.tangential[k] = {};
+  b.fn[m] = v.normal_force[k];
+  v.normal_force[k] = 0.0;
   b.count = m + touches;
 }
 
@@ -271,6 +296,7 @@ struct RowParticle {
 [[gnu::always_inline]] inline void take_lane(const PairView& v, const HertzMindlinBatch& b, int m,
                                              CrossingPair& out) {
   v.tangential[b.pair[m]] = {b.hx[m], b.hy[m], b.hz[m]};
+  v.normal_force[b.pair[m]] = b.fn[m];
   out.force = {b.fx[m], b.fy[m], b.fz[m]};
   out.torque_i = {b.tix[m], b.tiy[m], b.tiz[m]};
   out.torque_j = {b.tjx[m], b.tjy[m], b.tjz[m]};
@@ -293,8 +319,9 @@ void pair_forces(World& world, int& excessive) {
              p.inv_mass.data(), p.material.data(), list.partner.data(),
              list.tangential_displacement.data(),
              list.rolling_torque.empty() ? nullptr : list.rolling_torque.data(),
-             list.jkr_attached.empty() ? nullptr : list.jkr_attached.data(), &world.materials,
-             world.dt, world.spec.simulation.max_overlap_fraction.value};
+             list.jkr_attached.empty() ? nullptr : list.jkr_attached.data(),
+             list.normal_force.data(), &world.materials, world.dt,
+             world.force_workspace.lead_time, world.spec.simulation.max_overlap_fraction.value};
   const std::uint32_t* const offsets = list.offsets.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
@@ -324,7 +351,7 @@ void pair_forces(World& world, int& excessive) {
     HertzMindlinBatch* const batch = kBatched ? &ws.batches[t] : nullptr;
     const auto flush = [&] {
       if (!kBatched || batch->count == 0) return;
-      excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
+      excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.lead_time, v.overlap_limit);
       for (int m = 0; m < batch->count; ++m) take_lane(v, *batch, m, ws.crossing[batch->slot[m]]);
       batch->count = 0;
     };
@@ -439,7 +466,7 @@ void pair_forces(World& world, int& excessive) {
         tail[stop - block] = k;
         ++stop;
       }
-      if (batch->count > 0) excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.overlap_limit);
+      if (batch->count > 0) excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.lead_time, v.overlap_limit);
       int lane = 0;
       for (std::uint32_t i = block; i < stop; ++i) {
         if (!batched_row(i)) {
@@ -451,6 +478,7 @@ void pair_forces(World& world, int& excessive) {
           const HertzMindlinBatch& b = *batch;
           const std::uint32_t j = b.slot[lane];
           v.tangential[b.pair[lane]] = {b.hx[lane], b.hy[lane], b.hz[lane]};
+          v.normal_force[b.pair[lane]] = b.fn[lane];
           const Vec3 f{b.fx[lane], b.fy[lane], b.fz[lane]};
           force_i += f;
           torque_i += Vec3{b.tix[lane], b.tiy[lane], b.tiz[lane]};
@@ -493,6 +521,7 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
                       ForceWorkspace::WallSum& sum, int& excessive) {
   const ParticleStore& p = world.particles;
   const SurfaceCandidates& cand = world.candidates;
+  const ForceWorkspace& ws = world.force_workspace;
   const double overlap_limit = world.spec.simulation.max_overlap_fraction.value;  // of radius
   const std::size_t first_new = out.size();
   std::uint64_t used = 0;  // bit q: previous contact q was taken over
@@ -507,11 +536,13 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
     const InteractionParameters& law = world.materials.between(p.material[i], surface.material);
     // A JKR contact holds down to the overlap δ_c < 0 (R* = Ri against a wall): search that
     // much farther, and keep a contact found there only if it still adheres.
-    const double reach = law.surface_energy > 0.0
-                             ? -contact::jkr_scales(law.surface_energy, law.effective_youngs_modulus,
-                                                    p.radius[i])
-                                    .break_overlap
-                             : 0.0;  // m
+    // A dashpot window may reach contact from as far as half the step's relative displacement
+    // (contact/dashpot_window.h): search that much farther too.
+    const double reach =
+        law.surface_energy > 0.0
+            ? -contact::jkr_scales(law.surface_energy, law.effective_youngs_modulus, p.radius[i])
+                   .break_overlap
+            : 0.5 * world.dt * (norm(p.velocity[i] + ws.velocity_lead[i]) + ws.surface_speed[s]);
     find_surface_contacts(surface, world.surfaces[s].topology, p.position[i], p.radius[i] + reach,
                           std::span<const std::uint32_t>(cand.triangle.data() + a, b - a), found);
     a = b;
@@ -533,11 +564,6 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
         const double alignment = dot(q->normal, c.normal);
         if (alignment > best_alignment) best_alignment = alignment, best = slot;
       }
-      if (!(overlap > 0.0) && !(best >= 0 && previous_begin[best].history.jkr_attached)) continue;
-      if (best >= 0) {
-        used |= std::uint64_t{1} << best;
-        contact.history = previous_begin[best].history;
-      }
       ContactKinematics kin;
       kin.normal = c.normal;
       kin.overlap = overlap;
@@ -548,10 +574,17 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
       kin.velocity_i = p.velocity[i];
       kin.velocity_j = surface_velocity(surface, c);
       kin.angular_velocity_i = p.angular_velocity[i];
-      kin.velocity_lead_i = world.force_workspace.velocity_lead[i];
-      kin.angular_velocity_lead_i = world.force_workspace.angular_velocity_lead[i];
+      kin.velocity_lead_i = ws.velocity_lead[i];
+      kin.angular_velocity_lead_i = ws.angular_velocity_lead[i];
+      kin.lead_time = ws.lead_time;
+      if (best >= 0) {
+        used |= std::uint64_t{1} << best;
+        contact.history = previous_begin[best].history;
+      }
       const ContactResult r = evaluate_contact(law, kin, contact.history, world.dt);
-      if (!(overlap > 0.0) && !contact.history.jkr_attached) continue;  // pulled off: released
+      // Short of contact, kept only while JKR adhesion holds it or its dashpot window acts.
+      if (!(overlap > 0.0) && !contact.history.jkr_attached && contact.history.normal_force == 0.0)
+        continue;  // pulled off, or the window does not reach contact: released
       contact.force_on_particle = r.force_i;
       excessive |= overlap > overlap_limit * p.radius[i];
       force += r.force_i;
@@ -590,7 +623,15 @@ void prepare_wall_contacts(World& world) {
   ws.chunk_taken.assign(ws.wall_chunks.size(), 0);
   ws.reactions_next = 0;
   ws.reactions_busy = 0;
-  for (auto& surface : world.surfaces) surface.mesh.clear_step_loads();
+  ws.surface_speed.assign(world.surfaces.size(), 0.0);
+  for (std::size_t s = 0; s < world.surfaces.size(); ++s) {
+    Surface& surface = world.surfaces[s].mesh;
+    surface.clear_step_loads();
+    double fastest = 0.0;  // m/s
+    if (world.surfaces[s].moving())
+      for (const Vec3& v : surface.vertex_velocities) fastest = std::max(fastest, norm(v));
+    ws.surface_speed[s] = fastest + norm(surface.conveyor_velocity);
+  }
 }
 
 // Adds the reactions of the chunks that are found, in chunk order from the first not added,
@@ -752,6 +793,7 @@ void set_velocity_leads(World& world, double h) {
   ws.angular_velocity_lead.resize(n);
   Vec3* const lead = ws.velocity_lead.data();
   Vec3* const spin_lead = ws.angular_velocity_lead.data();
+  ws.lead_time = h;
 #pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
   for (std::size_t i = 0; i < n; ++i) {
     lead[i] = p.force[i] * (h * p.inv_mass[i]);

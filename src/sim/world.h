@@ -149,6 +149,10 @@ struct ForceWorkspace {
   // h τ/I of the previous forces (m/s, rad/s; set_velocity_leads). Derived each step from the
   // state, so not checkpointed.
   std::vector<Vec3> velocity_lead, angular_velocity_lead;
+  double lead_time = 0.0;  // s, the h of those leads (ContactKinematics::lead_time)
+  // Per surface: the fastest point's speed this step (m/s, vertices and belt), which bounds the
+  // reach of a dashpot window against it (contact/dashpot_window.h).
+  std::vector<double> surface_speed;
   // Surface contacts are found in chunks of candidates that any thread may take (the filler
   // that evens out the threads' pair ranges): each chunk's contacts, then gathered in order.
   std::vector<std::vector<WallContact>> wall_chunks;
