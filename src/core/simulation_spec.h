@@ -31,6 +31,9 @@ struct SimulationSettings {
   std::optional<Located<double>> impact_speed;
   Located<Vec3> gravity{Vec3{0.0, 0.0, -9.81}};  // m/s²
   Located<Aabb> domain;                       // m; particles leaving it are removed and counted
+  // Axes x, y, z along which the domain is periodic (issue #20): its min/max there are the
+  // period; particles leaving through such a face re-enter at the other (core/periodic_box.h).
+  Located<std::array<bool, 3>> periodic{std::array<bool, 3>{false, false, false}};
   Located<Integrator> integrator{Integrator::velocity_verlet};
   Located<int> threads{0};                    // 0 = OpenMP default
   Located<double> skin{-1.0};                 // m; < 0 = 0.1 × smallest diameter

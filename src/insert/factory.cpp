@@ -116,22 +116,34 @@ InsertionReport Factory::insert_due(double time, ParticleStore& particles, Parti
   const double largest_new_radius =
       *std::max_element(waiting_radii_.begin(), waiting_radii_.end());  // m
   const Aabb bounds = region_.bounds();
-  std::vector<std::size_t> nearby;
+  // On periodic axes a sphere also reaches in through the opposite face: its images shifted by
+  // ±L are tested (and entered in the grid) like spheres of their own.
+  const auto for_each_image = [this](const Vec3& x, auto&& visit) {
+    const PeriodicBox& box = periodic_;
+    for (int sz = box.wraps[2] ? -1 : 0; sz <= (box.wraps[2] ? 1 : 0); ++sz)
+      for (int sy = box.wraps[1] ? -1 : 0; sy <= (box.wraps[1] ? 1 : 0); ++sy)
+        for (int sx = box.wraps[0] ? -1 : 0; sx <= (box.wraps[0] ? 1 : 0); ++sx)
+          visit(x + Vec3{sx * box.period.x, sy * box.period.y, sz * box.period.z});
+  };
+  std::vector<Vec3> nearby;            // m, centres (and images) that reach into the region
+  std::vector<double> nearby_radius;   // m
   double largest_nearby_radius = 0.0;  // m
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const double reach = particles.radius[i] + largest_new_radius;  // m
-    const Vec3& x = particles.position[i];
-    if (x.x < bounds.lo.x - reach || x.x > bounds.hi.x + reach || x.y < bounds.lo.y - reach ||
-        x.y > bounds.hi.y + reach || x.z < bounds.lo.z - reach || x.z > bounds.hi.z + reach)
-      continue;
-    nearby.push_back(i);
-    largest_nearby_radius = std::max(largest_nearby_radius, particles.radius[i]);
+    for_each_image(particles.position[i], [&](const Vec3& x) {
+      if (x.x < bounds.lo.x - reach || x.x > bounds.hi.x + reach || x.y < bounds.lo.y - reach ||
+          x.y > bounds.hi.y + reach || x.z < bounds.lo.z - reach || x.z > bounds.hi.z + reach)
+        return;
+      nearby.push_back(x);
+      nearby_radius.push_back(particles.radius[i]);
+      largest_nearby_radius = std::max(largest_nearby_radius, particles.radius[i]);
+    });
   }
   // Any overlapping pair is closer than the sum of its radii, which is at most this cell size.
   const double cell_size =
       largest_new_radius + std::max(largest_new_radius, largest_nearby_radius);  // m
   PlacementGrid grid(cell_size, nearby.size() + waiting_radii_.size());
-  for (std::size_t i : nearby) grid.insert(particles.position[i], particles.radius[i]);
+  for (std::size_t k = 0; k < nearby.size(); ++k) grid.insert(nearby[k], nearby_radius[k]);
 
   std::vector<double> still_waiting;
   const int attempts = spec_.max_attempts.value;
@@ -152,7 +164,7 @@ InsertionReport Factory::insert_due(double time, ParticleStore& particles, Parti
                                               spec_.initial_velocity.value, radius, type_.density, time);
       particles.angular_velocity[index] = spec_.initial_angular_velocity.value;
       if (type_.fixed) particles.make_fixed(index);
-      grid.insert(centre, radius);
+      for_each_image(centre, [&](const Vec3& x) { grid.insert(x, radius); });
       const double mass = particle_mass(radius);  // kg
       inserted_count_ += 1;
       inserted_mass_ += mass;

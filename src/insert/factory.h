@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/particle_store.h"
+#include "core/periodic_box.h"
 #include "core/simulation_spec.h"
 #include "insert/random.h"
 #include "insert/region.h"
@@ -77,6 +78,9 @@ class Factory {
   std::int64_t waiting_count() const { return static_cast<std::int64_t>(waiting_radii_.size()); }
   const FactorySpec& spec() const { return spec_; }
   const Region& region() const { return region_; }
+  // The domain's periodic axes (issue #20): a new particle must not overlap an existing one
+  // through a periodic face either. Default: none.
+  void set_periodic(const PeriodicBox& periodic) { periodic_ = periodic; }
 
   // Checkpoint: all mutable state (generator, sampler, counters, waiting radii) as 64-bit
   // words (doubles bit-cast). load_state on a factory built from the same spec and type
@@ -94,6 +98,7 @@ class Factory {
   FactorySpec spec_;
   ParticleTypeInfo type_;
   Region region_;
+  PeriodicBox periodic_;
   SizeSampler sampler_;
   Random random_;
   double mean_particle_mass_ = 0.0;  // kg

@@ -13,6 +13,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/periodic_box.h"
+#include "insert/size_distribution.h"
 #include "io/deck_sections.h"
 
 namespace quarry {
@@ -135,6 +137,70 @@ void check_interactions(DeckContext& context, const SimulationSpec& spec,
   }
 }
 
+// Periodic axes (issue #20) against what else the deck holds: a period long enough for the
+// neighbour search (core/periodic_box.h, shortest_period), no fluid grid (the coupling's
+// particle-to-cell kernel does not wrap), and mass-flow planes either along a periodic axis or
+// perpendicular to it (a tilted plane would meet its own periodic images).
+void check_periodic_axes(DeckContext& context, const SimulationSpec& spec) {
+  const auto& periodic = spec.simulation.periodic;
+  if (!(periodic.value[0] || periodic.value[1] || periodic.value[2])) return;
+  const char* const axis_names[3] = {"x", "y", "z"};
+  // Largest and smallest radius any particle can have (m), as build_world sizes the grid and
+  // the default skin; a size distribution with errors of its own is reported already.
+  double max_radius = 0.0, min_radius = std::numeric_limits<double>::infinity();
+  try {
+    for (const ParticleTypeSpec& type : spec.particle_types) {
+      const SizeSampler sampler(type.size);
+      max_radius = std::max(max_radius, sampler.max_radius());
+      min_radius = std::min(min_radius, sampler.min_radius());
+    }
+  } catch (const UserError&) {
+    max_radius = 0.0;
+  }
+  if (max_radius > 0.0) {
+    const double skin =
+        spec.simulation.skin.value >= 0.0 ? spec.simulation.skin.value : 0.2 * min_radius;  // m
+    const double shortest = shortest_period(max_radius, skin);                              // m
+    const Aabb& domain = spec.simulation.domain.value;
+    for (int a = 0; a < 3; ++a) {
+      if (!periodic.value[a] || domain.empty()) continue;
+      const double period = domain.hi[a] - domain.lo[a];  // m
+      if (period >= shortest) continue;
+      context.error(
+          periodic.where,
+          fmt::format("the period along {} ({:.4g} m) is shorter than the neighbour search needs: "
+                      "3 × (2 R_max + skin) = 3 × (2 × {:.4g} + {:.4g}) = {:.4g} m",
+                      axis_names[a], period, max_radius, skin, shortest),
+          fmt::format(
+              "make the domain at least {:.4g} m long along {}, or leave {} out of periodic",
+              shortest, axis_names[a], axis_names[a]));
+    }
+  }
+  if (spec.fluid)
+    context.error(
+        periodic.where, "periodic axes cannot be combined with a fluid: section",
+        "the particle-fluid coupling does not wrap particles across the domain's faces; "
+        "remove periodic (the fluid grid's own boundaries: periodic is a separate setting)");
+  for (const MonitorSpec& monitor : spec.monitors) {
+    if (monitor.kind.value != MonitorKind::mass_flow) continue;
+    const Vec3 normal = monitor.normal.value;
+    for (int a = 0; a < 3; ++a) {
+      const bool along_axis = normal[(a + 1) % 3] == 0.0 && normal[(a + 2) % 3] == 0.0;
+      if (!periodic.value[a] || normal[a] == 0.0 || along_axis) continue;
+      context.error(
+          monitor.normal.where,
+          fmt::format("the plane of mass-flow monitor \"{}\" is tilted across the periodic axis {}",
+                      monitor.name.value, axis_names[a]),
+          fmt::format("a plane across a periodic axis must be perpendicular to it (normal: [{}]) "
+                      "or contain it (a normal with no {} component)",
+                      a == 0   ? "1, 0, 0"
+                      : a == 1 ? "0, 1, 0"
+                               : "0, 0, 1",
+                      axis_names[a]));
+    }
+  }
+}
+
 void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
   check_unique_names(context, "material", names_of(spec.materials));
   check_unique_names(context, "particle type", names_of(spec.particle_types));
@@ -252,6 +318,7 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
     deck_detail::read_structures_section(top, options, spec, spec.structures);
     deck_detail::read_fluid_section(top, options, spec.fluid);
     check_cross_references(context, spec);
+    check_periodic_axes(context, spec);
   }
   if (context.diagnostics.has_errors()) throw UserError(in_file_order(context.diagnostics, display_name));
   return spec;

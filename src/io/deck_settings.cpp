@@ -4,7 +4,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 
 #include "io/deck_enums.h"
 #include "io/deck_sections.h"
@@ -43,14 +45,50 @@ void read_time_step(MapReader& simulation, SimulationSettings& settings) {
   if (simulation.read("time_step", fixed, kTimeStepRange, "s")) settings.fixed_time_step = fixed;
 }
 
-void read_domain(MapReader& simulation, Located<Aabb>& domain) {
+// `periodic: [x, y]`: the periodic axes, each named once.
+void read_periodic_axes(MapReader& box, Located<std::array<bool, 3>>& periodic) {
+  if (!box.has("periodic")) return;
+  DeckContext& context = box.context();
+  const std::vector<std::string> axis_names = {"x", "y", "z"};
+  std::array<bool, 3> axes{false, false, false};
+  bool valid = true;
+  for (const YAML::Node& element : read_list(box, "periodic")) {
+    const std::optional<std::string> word =
+        read_string(context, element, *box.find_key("periodic"), "periodic");
+    if (!word) {
+      valid = false;
+      continue;
+    }
+    const auto named = std::find(axis_names.begin(), axis_names.end(), *word);
+    if (named == axis_names.end()) {
+      context.error(context.where(element, *box.find_key("periodic")),
+                    fmt::format("unknown axis \"{}\" in periodic", *word),
+                    suggestion_hint(*word, axis_names, "periodic lists axes among: "));
+      valid = false;
+      continue;
+    }
+    const auto axis = static_cast<std::size_t>(named - axis_names.begin());
+    if (axes[axis]) {
+      context.error(context.where(element, *box.find_key("periodic")),
+                    fmt::format("axis \"{}\" is listed twice in periodic", *word),
+                    "name each periodic axis once, e.g. periodic: [x, y]");
+      valid = false;
+    }
+    axes[axis] = true;
+  }
+  if (valid) periodic = Located<std::array<bool, 3>>(axes, box.where_value("periodic"));
+}
+
+void read_domain(MapReader& simulation, Located<Aabb>& domain,
+                 Located<std::array<bool, 3>>& periodic) {
   const YAML::Node* value = simulation.find("domain");
   if (!value) {
     simulation.require("domain");
     return;
   }
   MapReader box(simulation.context(), *value, *simulation.find_key("domain"), "domain");
-  box.reject_unknown_keys({"min", "max"});
+  box.reject_unknown_keys({"min", "max", "periodic"});
+  read_periodic_axes(box, periodic);
   Located<Vec3> lower, upper;
   const bool has_lower = box.read("min", lower, Presence::required);
   const bool has_upper = box.read("max", upper, Presence::required);
@@ -319,7 +357,7 @@ void read_simulation_section(MapReader& root, SimulationSettings& settings) {
   if (map.read("impact_speed", impact_speed, positive(), "m/s"))
     settings.impact_speed = impact_speed;
   map.read("gravity", settings.gravity);
-  read_domain(map, settings.domain);
+  read_domain(map, settings.domain, settings.periodic);
   map.read("integrator", settings.integrator, kIntegrators);
   map.read("threads", settings.threads, non_negative());
   map.read("skin", settings.skin, non_negative(), "m");

@@ -171,8 +171,13 @@ void write_simulation(DeckText& deck, const SimulationSettings& settings) {
     deck.line(2, "time_step: {{rayleigh_fraction: {}}}", number(settings.rayleigh_fraction));
   if (settings.impact_speed) deck.line(2, "impact_speed: {}", number(*settings.impact_speed));
   deck.line(2, "gravity: {}", vector_text(settings.gravity));
-  deck.line(2, "domain: {{min: {}, max: {}}}", vector_text(settings.domain.value.lo),
-            vector_text(settings.domain.value.hi));
+  std::string periodic;  // ", periodic: [x, y]" when some axis is periodic
+  for (int a = 0; a < 3; ++a)
+    if (settings.periodic.value[a])
+      periodic += std::string(periodic.empty() ? "" : ", ") + "xyz"[a];
+  if (!periodic.empty()) periodic = ", periodic: [" + periodic + "]";
+  deck.line(2, "domain: {{min: {}, max: {}{}}}", vector_text(settings.domain.value.lo),
+            vector_text(settings.domain.value.hi), periodic);
   deck.line(2, "integrator: {}", spelling(settings.integrator));
   deck.line(2, "threads: {}", settings.threads.value);
   if (settings.skin.value >= 0.0) deck.line(2, "skin: {}", number(settings.skin));

@@ -67,7 +67,7 @@ void expect_same(const Vec3& a, const Vec3& b, const std::string& what) {
 template <class T>
 requires std::is_enum_v<T> || std::is_integral_v<T> || std::is_same_v<T, std::string> ||
     std::is_same_v<T, std::array<std::uint32_t, 3>> ||
-    std::is_same_v<T, std::array<std::uint32_t, 4>>
+    std::is_same_v<T, std::array<std::uint32_t, 4>> || std::is_same_v<T, std::array<bool, 3>>
 void expect_same(const T& a, const T& b, const std::string& what) {
   EXPECT_TRUE(a == b) << what;
 }
@@ -105,6 +105,7 @@ void expect_same(const SimulationSettings& a, const SimulationSettings& b,
   EXPECT_SAME_FIELD(impact_speed);
   EXPECT_SAME_FIELD(gravity);
   EXPECT_SAME_FIELD(domain);
+  EXPECT_SAME_FIELD(periodic);
   EXPECT_SAME_FIELD(integrator);
   EXPECT_SAME_FIELD(threads);
   EXPECT_SAME_FIELD(skin);
@@ -346,7 +347,7 @@ const char* const kEveryKeyDeck = R"(simulation:
   time_step: 1.0e-5
   impact_speed: 3.0
   gravity: [0.1, -9.81, 0]
-  domain: {min: [-3, -3, -3], max: [3, 3, 3]}
+  domain: {min: [-3, -3, -3], max: [3, 3, 3], periodic: [y, x]}
   integrator: symplectic_euler
   threads: 2
   skin: 0.0002
@@ -529,6 +530,7 @@ TEST_F(DeckWriterFiles, EveryKeyDeckRoundTrips) {
   EXPECT_NE(written.find("    quads:\n      - [0, 1, 2, 3]\n"), std::string::npos) << written;
   EXPECT_NE(written.find("    coupled: true\n"), std::string::npos) << written;
   EXPECT_NE(written.find("  time_step: 1e-05\n"), std::string::npos) << written;
+  EXPECT_NE(written.find(", periodic: [x, y]}\n"), std::string::npos) << written;
 }
 
 TEST_F(DeckWriterFiles, VariantDecksRoundTrip) {

@@ -24,7 +24,8 @@ constexpr double kCellSizeMargin = 1e-5;
 }  // namespace
 
 void size_cell_grid(const Aabb& bounds, double min_cell_size, std::size_t max_cells,
-                    std::uint32_t max_cells_per_axis, CellGrid& grid) {
+                    std::uint32_t max_cells_per_axis, CellGrid& grid,
+                    std::array<bool, 3> periodic) {
   assert(!bounds.empty() && min_cell_size > 0.0 && max_cells >= 1 && max_cells_per_axis >= 1);
   const Vec3 extent = bounds.hi - bounds.lo;  // m
   const double largest_extent = std::max({extent.x, extent.y, extent.z});
@@ -35,7 +36,9 @@ void size_cell_grid(const Aabb& bounds, double min_cell_size, std::size_t max_ce
     std::array<std::uint32_t, 3> cells{};
     double total = 1.0;
     for (int axis = 0; axis < 3; ++axis) {
-      const double count = std::floor(extent[axis] / edge) + 1.0;
+      // A periodic axis: whole cells within the period (the last one takes the remainder).
+      const double count = periodic[axis] ? std::max(1.0, std::floor(extent[axis] / edge))
+                                          : std::floor(extent[axis] / edge) + 1.0;
       cells[axis] = static_cast<std::uint32_t>(std::min(count, static_cast<double>(max_cells_per_axis)));
       total *= static_cast<double>(cells[axis]);
     }
@@ -44,6 +47,7 @@ void size_cell_grid(const Aabb& bounds, double min_cell_size, std::size_t max_ce
       grid.cell_size = edge;
       grid.inverse_cell_size = 1.0 / edge;
       grid.cells_per_axis = cells;
+      grid.wraps = periodic;
       return;
     }
     edge *= 1.26;  // ≈ 2^(1/3): halves the cell count per step
@@ -81,20 +85,25 @@ Aabb finite_bounds(std::span<const Vec3> positions, std::span<const ParticleId> 
 }
 
 void build_cell_grid(std::span<const Vec3> positions, double min_cell_size, CellGrid& grid,
-                     std::span<const ParticleId> ids) {
+                     std::span<const ParticleId> ids, const PeriodicBox* periodic) {
   const std::size_t n = positions.size();
   assert(n < std::numeric_limits<std::uint32_t>::max());
   Aabb bounds = finite_bounds(positions, ids);
   if (n == 0) bounds = Aabb{{0, 0, 0}, {0, 0, 0}};
+  const bool wrapping = periodic && periodic->any();
+  if (wrapping)
+    for (int a = 0; a < 3; ++a)
+      if (periodic->wraps[a])
+        bounds.lo[a] = periodic->lower[a], bounds.hi[a] = periodic->lower[a] + periodic->period[a];
   // Cell indices are 32-bit: at most 2^31 cells however many particles.
   const std::size_t max_cells = std::clamp<std::size_t>(8 * n, 4096, std::size_t{1} << 31);
   size_cell_grid(bounds, min_cell_size, max_cells, std::numeric_limits<std::uint32_t>::max() / 2,
-                 grid);
+                 grid, wrapping ? periodic->wraps : std::array<bool, 3>{false, false, false});
   grid.particle_cell.resize(n);
   std::uint32_t* const cell_of = grid.particle_cell.data();
 #pragma omp parallel for schedule(static) if (n > 50000)
   for (std::size_t i = 0; i < n; ++i) {
-    const auto c = grid.coordinates_of(positions[i]);
+    const auto c = grid.coordinates_of(wrapping ? periodic->wrapped(positions[i]) : positions[i]);
     cell_of[i] = grid.cell_index(c[0], c[1], c[2]);
   }
   stable_counting_sort(grid.particle_cell, static_cast<std::uint32_t>(grid.cell_count()),

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/particle_store.h"
+#include "core/periodic_box.h"
 #include "core/vec3.h"
 #include "neighbor/counting_sort.h"
 
@@ -20,6 +21,9 @@ struct CellGrid {
   double cell_size = 0.0;      // m, edge of a cubic cell
   double inverse_cell_size = 0.0;  // 1/m
   std::array<std::uint32_t, 3> cells_per_axis{0, 0, 0};
+  // Periodic axes: the cells span the period exactly (origin at the domain's min, the last cell
+  // wider than the others up to the period's end), and cell n−1 neighbours cell 0.
+  std::array<bool, 3> wraps{false, false, false};
   // Particles of cell c are sorted_particles[cell_start[c] .. cell_start[c+1]), ascending.
   // Cells are numbered x fastest: c = cx + nx·(cy + ny·cz), so the cells cx−1..cx+1 of one
   // (cy, cz) row are one contiguous range of sorted_particles.
@@ -61,8 +65,11 @@ struct CellGrid {
 // max_cells cells and at most max_cells_per_axis per axis, so that one far-flung particle
 // cannot exhaust memory. Any two points closer than min_cell_size lie in the same or in
 // adjacent cells. Pre: bounds not empty and finite, min_cell_size > 0.
+// On an axis flagged in `periodic`, bounds.lo..hi is the period: floor(L / edge) cells (at
+// least one), so that no cell crosses the period's end.
 void size_cell_grid(const Aabb& bounds, double min_cell_size, std::size_t max_cells,
-                    std::uint32_t max_cells_per_axis, CellGrid& grid);
+                    std::uint32_t max_cells_per_axis, CellGrid& grid,
+                    std::array<bool, 3> periodic = {false, false, false});
 
 // Bounding box of the points (m). Throws PhysicsError naming the first particle whose position
 // is not finite (a diverged simulation), by id when `ids` is given (else by index), since no
@@ -74,7 +81,9 @@ Aabb finite_bounds(std::span<const Vec3> positions, std::span<const ParticleId> 
 // Post: every particle is in exactly one cell; indices ascend within each cell; the result is
 // the same for any number of OpenMP threads. Cost: O(n + cells). Pre: n < 2^32.
 // `ids` (optional) only name a particle in the error for a non-finite position.
+// With `periodic` (some axis periodic), the grid spans the period on those axes and each
+// particle is bucketed by its position wrapped into the period (the positions are not changed).
 void build_cell_grid(std::span<const Vec3> positions, double min_cell_size, CellGrid& grid,
-                     std::span<const ParticleId> ids = {});
+                     std::span<const ParticleId> ids = {}, const PeriodicBox* periodic = nullptr);
 
 }  // namespace quarry

@@ -133,6 +133,57 @@ inline void for_each_partner(std::uint32_t i, const Vec3* position, const double
     }
 }
 
+// The cells along one axis that the search around cell c scans, into `cells`; returns how
+// many. Non-periodic: c−1..c+1 clipped to the grid. Periodic: c−1, c, c+1 wrapped around the
+// period, or every cell of the axis if it has fewer than three (each cell once: no pair twice).
+inline int cells_around(const CellGrid& grid, int axis, std::uint32_t c, std::uint32_t* cells) {
+  const std::uint32_t n = grid.cells_per_axis[axis];
+  int count = 0;
+  if (!grid.wraps[axis]) {
+    for (std::uint32_t k = c > 0 ? c - 1 : 0; k <= c + 1 && k < n; ++k) cells[count++] = k;
+  } else if (n < 3) {
+    for (std::uint32_t k = 0; k < n; ++k) cells[count++] = k;
+  } else {
+    cells[count++] = c > 0 ? c - 1 : n - 1;
+    cells[count++] = c;
+    cells[count++] = c + 1 < n ? c + 1 : 0;
+  }
+  return count;
+}
+
+// for_each_partner across periodic faces: the cells around i's cell wrap on periodic axes, and
+// the separation is the minimum image. A separate function, chosen once per build, so that the
+// search without periodic axes keeps its contiguous row ranges and plain differences.
+template <class Visit>
+inline void for_each_periodic_partner(std::uint32_t i, const Vec3* position, const double* radius,
+                                      double skin, const CellGrid& grid, const PeriodicBox& box,
+                                      Visit&& visit) {
+  const std::uint32_t* const particle_of = grid.sorted_particles.data();
+  const std::uint32_t* const cell_start = grid.cell_start.data();
+  const std::uint32_t nx = grid.cells_per_axis[0], ny = grid.cells_per_axis[1];
+  const auto [cx, cy, cz] = grid.cell_coordinates(grid.particle_cell[i]);
+  std::uint32_t xs[3], ys[3], zs[3];
+  const int x_count = cells_around(grid, 0, cx, xs);
+  const int y_count = cells_around(grid, 1, cy, ys);
+  const int z_count = cells_around(grid, 2, cz, zs);
+  const Vec3 xi = position[i];
+  const double ri = radius[i];
+  for (int c = 0; c < z_count; ++c)
+    for (int b = 0; b < y_count; ++b) {
+      const std::uint32_t row = nx * (ys[b] + ny * zs[c]);
+      for (int a = 0; a < x_count; ++a) {
+        const std::uint32_t cell = row + xs[a];
+        for (std::uint32_t k = cell_start[cell]; k < cell_start[cell + 1]; ++k) {
+          const std::uint32_t j = particle_of[k];
+          if (j <= i) continue;
+          const Vec3 d = box.minimum_image(position[j] - xi);  // m
+          const double reach = (ri + radius[j]) + skin;        // m
+          if (d.x * d.x + d.y * d.y + d.z * d.z < reach * reach) visit(j);
+        }
+      }
+    }
+}
+
 // Copies of the list being replaced the pairs that carry history (the contacts) into
 // workspace.previous_*: about two thirds of the pairs in a settled bed. The list's own arrays
 // are then refilled with the new list (resize_for_refill), so the build holds one list and
@@ -220,7 +271,9 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   // Any pair within reach is closer than 2·Rmax + skin; a positive edge is needed even if that is 0.
   const double cell_edge = std::max(2.0 * largest_radius + skin, std::numeric_limits<double>::min());
   // First: a non-finite position throws here and leaves the list untouched.
-  build_cell_grid(particles.position, cell_edge, workspace.grid, particles.id);
+  const bool periodic = list.periodic.any();
+  build_cell_grid(particles.position, cell_edge, workspace.grid, particles.id,
+                  periodic ? &list.periodic : nullptr);
   const CellGrid& grid = workspace.grid;
   const Vec3* const position = particles.position.data();
   // Refilled at the end; not needed meanwhile (a lower peak while the contacts are kept).
@@ -241,8 +294,12 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
 #pragma omp parallel for schedule(dynamic, 1024) if (n > kParallelMinParticles)
   for (std::size_t i = 0; i < n; ++i) {
     std::uint32_t count = 0;
-    for_each_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid,
-                     [&count](std::uint32_t) { ++count; });
+    const auto counted = [&count](std::uint32_t) { ++count; };
+    if (periodic)
+      for_each_periodic_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid,
+                                list.periodic, counted);
+    else
+      for_each_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid, counted);
     offsets[i + 1] = count;
   }
   for (std::size_t i = 0; i < n; ++i) {
@@ -271,8 +328,12 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t begin = row[i], stop = row[i + 1];
     std::uint32_t out = begin;
-    for_each_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid,
-                     [&](std::uint32_t j) { partner[out++] = j; });
+    const auto listed = [&](std::uint32_t j) { partner[out++] = j; };
+    if (periodic)
+      for_each_periodic_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid,
+                                list.periodic, listed);
+    else
+      for_each_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid, listed);
     // A handful of partners: insertion sort.
     for (std::uint32_t k = begin + 1; k < stop; ++k) {
       const std::uint32_t value = partner[k];

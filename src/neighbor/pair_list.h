@@ -55,6 +55,11 @@ struct PairList {
   bool keep_rolling_history = true;
   // Only JKR interactions adhere (World sets this from the material table).
   bool keep_jkr_history = false;
+  // Periodic axes of the domain (World sets this from the spec): pairs are found across the
+  // periodic faces and their separation is the minimum image (core/periodic_box.h). Each pair
+  // is listed once, for its nearest image: the period must be at least
+  // shortest_period(R_max, skin) so that no second image is within reach.
+  PeriodicBox periodic;
   PairListWorkspace workspace;
 
   std::size_t size() const { return partner.size(); }
@@ -64,7 +69,8 @@ struct PairList {
 };
 
 // Rebuilds the list: pairs i < j with |xj − xi|² < ((Ri + Rj) + skin)² (evaluated in exactly
-// this order in double precision, so a brute-force check with the same expression agrees).
+// this order in double precision, so a brute-force check with the same expression agrees;
+// xj − xi is the minimum image list.periodic.minimum_image(xj − xi) when some axis is periodic).
 // History of pairs present at the last build is carried over, matched by ParticleStore::id,
 // so it survives re-sorting, removal and insertion between builds; new pairs start with zero
 // history. History is stored as seen from the lower index i (δt of i relative

@@ -6,6 +6,8 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <random>
 #include <set>
 #include <string>
@@ -126,6 +128,78 @@ TEST(PairList, SamePairsAsBruteForceWithAFarAwayParticleAndOnLatticeBed) {
   // Cubic lattice, spacing 2.1 mm, reach ≈ 2.2 mm: only the ~3 axial neighbours per particle.
   EXPECT_GT(list.size(), 2 * bed.size());
   EXPECT_LT(list.size(), 3 * bed.size());
+}
+
+// The same definition across periodic faces: |d|² < ((Ri + Rj) + skin)² with d the minimum
+// image of xj − xi (Allen & Tildesley 2017, §1.6.3).
+std::set<IndexPair> brute_force_periodic_pairs(const ParticleStore& particles, double skin,
+                                               const PeriodicBox& box) {
+  std::set<IndexPair> pairs;
+  for (std::uint32_t i = 0; i < particles.size(); ++i)
+    for (std::uint32_t j = i + 1; j < particles.size(); ++j) {
+      const double reach = (particles.radius[i] + particles.radius[j]) + skin;  // m
+      if (norm2(box.minimum_image(particles.position[j] - particles.position[i])) < reach * reach)
+        pairs.insert({i, j});
+    }
+  return pairs;
+}
+
+// Periodic axes (issue #20): the cells wrap, so pairs across the faces are found once each, on
+// one, two or three periodic axes, with a period of exactly three cells (the shortest the
+// search allows), many cells, and with particles a little outside the period (they drift up to
+// skin/2 past a face between rebuilds).
+TEST(PairList, SamePairsAsBruteForceAcrossPeriodicFaces) {
+  const double edge = 0.02, skin = 0.2e-3;  // m
+  ParticleStore cloud = test_scenes::random_cloud(2000, edge, 0.3e-3, 1e-3, 31);
+  // A few particles just outside the faces, as between rebuilds.
+  cloud.position[0] = {-0.05e-3, 0.5 * edge, 0.5 * edge};
+  cloud.position[1] = {edge + 0.05e-3, 0.5 * edge, 0.5 * edge + 1e-3};
+  const Aabb domain{{0, 0, 0}, {edge, edge, edge}};
+  std::size_t across = 0;
+  for (const std::array<bool, 3> axes :
+       {std::array<bool, 3>{true, false, false}, std::array<bool, 3>{true, true, false},
+        std::array<bool, 3>{true, true, true}}) {
+    PairList list;
+    list.periodic = PeriodicBox::of(domain, axes);
+    build_pair_list(cloud, skin, list);
+    expect_csr_invariants(list, cloud.size());
+    const auto expected = brute_force_periodic_pairs(cloud, skin, list.periodic);
+    EXPECT_EQ(listed_pairs(list), expected);
+    across += expected.size() - brute_force_pairs(cloud, skin).size();
+  }
+  EXPECT_GT(across, 100u);  // the faces were crossed
+  // The shortest period: three cells of 2 R_max + skin on the periodic axis (and one cell wider
+  // than the rest when L is not a whole number of cells).
+  for (double period : {shortest_period(1e-3, skin), 1.1 * shortest_period(1e-3, skin)}) {
+    ParticleStore narrow = test_scenes::random_cloud(400, 0.02, 0.3e-3, 1e-3, 32);
+    for (Vec3& x : narrow.position) x.x *= period / 0.02;
+    PairList list;
+    list.periodic = PeriodicBox::of(Aabb{{0, 0, 0}, {period, 0.02, 0.02}}, {true, false, false});
+    build_pair_list(narrow, skin, list);
+    EXPECT_EQ(list.workspace.grid.cells_per_axis[0], 3u);
+    EXPECT_EQ(listed_pairs(list), brute_force_periodic_pairs(narrow, skin, list.periodic));
+  }
+}
+
+TEST(PeriodicBox, MinimumImageAndWrapLeaveOtherAxesAndInsidePointsUnchanged) {
+  const PeriodicBox box = PeriodicBox::of(Aabb{{-1, 0, 0}, {2, 1, 1}}, {true, false, true});
+  const Vec3 d{2.9, 0.123456789, -0.6};
+  const Vec3 image = box.minimum_image(d);
+  EXPECT_NEAR(image.x, -0.1, 1e-15);
+  EXPECT_EQ(image.y, d.y);  // bit for bit
+  EXPECT_NEAR(image.z, 0.4, 1e-15);
+  const Vec3 inside{1.999, 0.3, 0.0};
+  EXPECT_EQ(box.wrapped(inside), inside);
+  const Vec3 wrapped = box.wrapped({2.25, 7.0, -0.25});
+  EXPECT_NEAR(wrapped.x, -0.75, 1e-15);
+  EXPECT_EQ(wrapped.y, 7.0);  // not periodic: left alone
+  EXPECT_NEAR(wrapped.z, 0.75, 1e-15);
+  EXPECT_EQ(box.wrapped({0, 0, 2.0}).z, 0.0);
+  // A hair below min: x + L rounds to max itself, which is min again.
+  EXPECT_EQ(box.wrapped({0, 0, -1e-300}).z, 0.0);
+  const double below = std::nextafter(-1.0, -2.0);
+  EXPECT_GE(box.wrapped({below, 0, 0}).x, -1.0);
+  EXPECT_LT(box.wrapped({below, 0, 0}).x, 2.0);
 }
 
 TEST(PairList, EmptyAndSingleParticleAndZeroRadius) {

@@ -223,7 +223,10 @@ void transfer_state(auto& io, World& world, std::uint64_t& frame_index) {
     if constexpr (loading) {
       if (c.side_by_id.size() > world.next_id) bad("a mass-flow monitor's state names particle ids never given");
       for (std::int8_t side : c.side_by_id)
-        if (side < -1 || side > 1) bad("a mass-flow monitor's state holds a side other than -1, 0, 1");
+        // ±1, or ±2 for a plane across a periodic axis (the quarter of the period:
+        // monitor_sensors.cpp).
+        if (side < -2 || side > 2)
+          bad("a mass-flow monitor's state holds a side other than -2 to 2");
       if (!std::isfinite(c.last_time) || !std::isfinite(c.crossed_mass)) bad("a mass-flow monitor's state is not finite");
     }
   }

@@ -69,6 +69,7 @@ struct PairView {
   double dt;            // s
   double lead_time;     // s, ContactKinematics::lead_time
   double overlap_limit;  // fraction of the smaller radius
+  PeriodicBox periodic;  // the domain's periodic axes (read only on the kPeriodic paths)
 };
 
 // Half the relative displacement of a pair over a step at its velocities with their leads (m):
@@ -80,13 +81,24 @@ struct PairView {
           std::fabs(relative_velocity.z));
 }
 
+// Separation x_i − x_j of a pair (m): the minimum image across the periodic faces when
+// kPeriodic. Chosen at compile time (the whole stage is instantiated for it), so the loop
+// without periodic axes has no test per pair and its arithmetic is unchanged.
+template <bool kPeriodic>
+[[gnu::always_inline]] inline Vec3 separation(const PairView& v, const Vec3& xi, const Vec3& xj) {
+  if constexpr (kPeriodic) return v.periodic.minimum_image(xi - xj);
+  return xi - xj;
+}
+
 // The contact of pair k = (i, j) by the scalar law. False if the spheres do not touch (and no
 // JKR adhesion holds them, and the step's dashpot window cannot reach contact): the pair's
 // history is then released (the spring lets go when contact is lost). Otherwise sets
 // `excessive` if the overlap passes the guard's limit (check_overlaps reports it after the step).
+template <bool kPeriodic>
 [[gnu::always_inline]] inline bool pair_contact(const PairView& v, std::uint32_t i, std::uint32_t j,
-                                                std::uint32_t k, CrossingPair& out, int& excessive) {
-  const Vec3 d = v.position[i] - v.position[j];
+                                                std::uint32_t k, CrossingPair& out,
+                                                int& excessive) {
+  const Vec3 d = separation<kPeriodic>(v, v.position[i], v.position[j]);
   const double touch = v.radius[i] + v.radius[j];  // m
   const double distance2 = norm2(d);               // m²
   const bool attached = v.jkr_attached && v.jkr_attached[k];
@@ -251,9 +263,11 @@ struct RowParticle {
 // `pair_contact`, the history of a pair not touching is released (a touching pair's is rewritten
 // with the kernel's result); the kernel applies the overlap guard. There is no rolling
 // history on this path (compute_forces).
-[[gnu::always_inline]] inline void collect_pair(const PairView& v, const RowParticle& pi, std::uint32_t j,
-                                                std::uint32_t k, HertzMindlinBatch& b) {
-  const Vec3 d = pi.position - v.position[j];
+template <bool kPeriodic>
+[[gnu::always_inline]] inline void collect_pair(const PairView& v, const RowParticle& pi,
+                                                std::uint32_t j, std::uint32_t k,
+                                                HertzMindlinBatch& b) {
+  const Vec3 d = separation<kPeriodic>(v, pi.position, v.position[j]);
   const double rj = v.radius[j];        // m
   const Vec3 dv = pi.velocity - v.velocity[j];
   const Vec3 dl = pi.velocity_lead - v.velocity_lead[j];
@@ -285,10 +299,12 @@ struct RowParticle {
 }
 
 // Batched path (phase 1): appends pair k = (i, j) to the batch if the spheres touch.
-[[gnu::always_inline]] inline bool add_if_touching(const PairView& v, std::uint32_t i, std::uint32_t j,
-                                                   std::uint32_t k, HertzMindlinBatch& b) {
+template <bool kPeriodic>
+[[gnu::always_inline]] inline bool add_if_touching(const PairView& v, std::uint32_t i,
+                                                   std::uint32_t j, std::uint32_t k,
+                                                   HertzMindlinBatch& b) {
   const int before = b.count;
-  collect_pair(v, row_particle(v, i), j, k, b);
+  collect_pair<kPeriodic>(v, row_particle(v, i), j, k, b);
   return b.count > before;
 }
 
@@ -307,21 +323,31 @@ struct RowParticle {
 // kBatched: one material pair, plain Hertz–Mindlin — contacts are evaluated in batches by the
 // vector kernel (contact/hertz_mindlin_batch.h), except the pairs of a row too long for a
 // batch (a large particle among many small ones), which take the scalar law in every thread
-// layout alike. Otherwise every contact takes the scalar law (pair_contact).
-template <bool kBatched>
+// layout alike. Otherwise every contact takes the scalar law (pair_contact). kPeriodic:
+// separations are minimum images (some axis of the domain is periodic).
+template <bool kBatched, bool kPeriodic>
 void pair_forces(World& world, int& excessive) {
   ParticleStore& p = world.particles;
   PairList& list = world.pairs;
   const std::size_t n = p.size();
-  PairView v{p.position.data(), p.velocity.data(), p.angular_velocity.data(),
+  PairView v{p.position.data(),
+             p.velocity.data(),
+             p.angular_velocity.data(),
              world.force_workspace.velocity_lead.data(),
-             world.force_workspace.angular_velocity_lead.data(), p.radius.data(),
-             p.inv_mass.data(), p.material.data(), list.partner.data(),
+             world.force_workspace.angular_velocity_lead.data(),
+             p.radius.data(),
+             p.inv_mass.data(),
+             p.material.data(),
+             list.partner.data(),
              list.tangential_displacement.data(),
              list.rolling_torque.empty() ? nullptr : list.rolling_torque.data(),
              list.jkr_attached.empty() ? nullptr : list.jkr_attached.data(),
-             list.normal_force.data(), &world.materials, world.dt,
-             world.force_workspace.lead_time, world.spec.simulation.max_overlap_fraction.value};
+             list.normal_force.data(),
+             &world.materials,
+             world.dt,
+             world.force_workspace.lead_time,
+             world.spec.simulation.max_overlap_fraction.value,
+             list.periodic};
   const std::uint32_t* const offsets = list.offsets.data();
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
@@ -370,7 +396,7 @@ void pair_forces(World& world, int& excessive) {
       c.partner = j;
       if constexpr (kBatched) {
         if (batched_row(i)) {
-          if (!add_if_touching(v, i, j, k, *batch)) {
+          if (!add_if_touching<kPeriodic>(v, i, j, k, *batch)) {
             c.partner = kNotTouching;
             continue;
           }
@@ -379,7 +405,7 @@ void pair_forces(World& world, int& excessive) {
           continue;
         }
       }
-      if (!pair_contact(v, i, j, k, c, excessive)) c.partner = kNotTouching;
+      if (!pair_contact<kPeriodic>(v, i, j, k, c, excessive)) c.partner = kNotTouching;
     }
     flush();
   }
@@ -419,7 +445,7 @@ void pair_forces(World& world, int& excessive) {
         continue;
       }
       CrossingPair c;
-      if (!pair_contact(v, i, j, k, c, excessive)) continue;
+      if (!pair_contact<kPeriodic>(v, i, j, k, c, excessive)) continue;
       force_i += c.force;
       torque_i += c.torque_i;
       force[j] -= c.force;
@@ -460,7 +486,7 @@ void pair_forces(World& world, int& excessive) {
           }
           const std::uint32_t j = v.partner[k];
           if (j >= end) break;  // the crossing tail
-          collect_pair(v, pi, j, k, *batch);
+          collect_pair<kPeriodic>(v, pi, j, k, *batch);
         }
         lanes_end[stop - block] = static_cast<std::uint16_t>(batch->count);
         tail[stop - block] = k;
@@ -756,7 +782,7 @@ void finish_contacts(World& world) {
 // One team for the whole stage: pair sums (phase 1, barrier, phase 2), surface contacts in
 // chunks as threads come free (their reactions onto the surfaces added in chunk order as the
 // chunks are found), a barrier, then finish_contacts: the kept sums added, the contacts gathered.
-template <bool kBatched>
+template <bool kBatched, bool kPeriodic>
 void contact_forces(World& world) {
   const std::size_t n = world.particles.size();
   ForceWorkspace& ws = world.force_workspace;
@@ -770,7 +796,7 @@ void contact_forces(World& world) {
   int excessive = 0;
 #pragma omp parallel num_threads(thread_count) reduction(| : excessive)
   {
-    pair_forces<kBatched>(world, excessive);
+    pair_forces<kBatched, kPeriodic>(world, excessive);
     if (omp_get_thread_num() == 0) pairs_done = omp_get_wtime();
     find_wall_contacts(world, ws, excessive);
 #pragma omp barrier
@@ -806,10 +832,13 @@ void compute_contact_forces(World& world) {
   if (world.force_workspace.velocity_lead.size() != world.particles.size()) set_velocity_leads(world, 0.0);
   const auto& pairs = world.materials.pairs;
   // The batched path keeps no rolling history (there is none with plain Hertz–Mindlin).
-  if (pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty())
-    contact_forces<true>(world);
+  const bool batched =
+      pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty();
+  const bool periodic = world.pairs.periodic.any();
+  if (batched)
+    periodic ? contact_forces<true, true>(world) : contact_forces<true, false>(world);
   else
-    contact_forces<false>(world);
+    periodic ? contact_forces<false, true>(world) : contact_forces<false, false>(world);
 }
 
 }  // namespace quarry::sim

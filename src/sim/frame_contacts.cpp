@@ -17,7 +17,8 @@ std::vector<FrameContact> frame_contacts(const World& world) {
     for (std::uint32_t i = 0; i < n; ++i) {
       for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
         const std::uint32_t j = list.partner[k];
-        const Vec3 d = p.position[i] - p.position[j];  // m
+        // Across a periodic face: the minimum image; the line runs from i to that image of j.
+        const Vec3 d = list.periodic.minimum_image(p.position[i] - p.position[j]);  // m
         const double distance = norm(d);
         const double overlap = p.radius[i] + p.radius[j] - distance;  // m
         if (!(overlap > 0.0) || !(distance > 0.0)) continue;
@@ -39,7 +40,7 @@ std::vector<FrameContact> frame_contacts(const World& world) {
         c.particle = i;
         c.partner = j;
         c.line.from = p.position[i];
-        c.line.to = p.position[j];
+        c.line.to = list.periodic.any() ? p.position[i] - d : p.position[j];
         c.line.normal_force = r.normal_force * kin.normal;
         c.line.tangential_force = r.force_i - c.line.normal_force;
         c.line.overlap = overlap;

@@ -74,8 +74,11 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
 DriftScan kick_drift_scan(World& world, double h, double dt) {
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
-  const Aabb& box = world.spec.simulation.domain.value;
-  const Aabb* const domain = box.empty() ? nullptr : &box;
+  // Periodic axes are unbounded here: a particle leaving through a periodic face is wrapped
+  // at the next list build (rebuild_lists), not removed.
+  const Aabb& deck_box = world.spec.simulation.domain.value;
+  const Aabb box = world.pairs.periodic.removal_bounds(deck_box);
+  const Aabb* const domain = deck_box.empty() ? nullptr : &box;
   const PairList& list = world.pairs;
   const bool compare = list.built_for(n);
   const Vec3* const reference = compare ? list.reference_positions.data() : nullptr;  // m
@@ -197,12 +200,12 @@ void check_overlaps(const World& world) {
     for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
       // Positions are those of the force stage (the closing half kick changes velocities only).
       const std::uint32_t j = list.partner[k];
-      const double overlap =
-          (p.radius[i] + p.radius[j]) - norm(p.position[i] - p.position[j]);  // m
+      const Vec3 d = list.periodic.minimum_image(p.position[i] - p.position[j]);  // m
+      const double overlap = (p.radius[i] + p.radius[j]) - norm(d);               // m
       if (overlap <= 0.0) continue;
       const double smaller = std::min(p.radius[i], p.radius[j]);
       if (overlap <= limit * smaller) continue;
-      const Vec3 n = normalized(p.position[i] - p.position[j]);
+      const Vec3 n = normalized(d);
       const OverlapDiagnosis why =
           diagnose_overlap(world, world.materials.between(p.material[i], p.material[j]),
                            1.0 / (p.inv_mass[i] + p.inv_mass[j]),

@@ -124,13 +124,15 @@ void place_initial_particles(World& world) {
   std::size_t overlaps = 0;
   PairList pairs;
   pairs.keep_rolling_history = false;
+  pairs.periodic = world.pairs.periodic;  // pairs across the periodic faces too
   build_pair_list(store, 0.0, pairs);
   for (std::size_t i = 0; i + 1 < pairs.offsets.size(); ++i)
     for (std::uint32_t k = pairs.offsets[i]; k < pairs.offsets[i + 1]; ++k) {
       const std::size_t j = pairs.partner[k];
       if (allows(i) || allows(j)) continue;
       const double overlap =
-          store.radius[i] + store.radius[j] - norm(store.position[i] - store.position[j]);  // m
+          store.radius[i] + store.radius[j] -
+          norm(pairs.periodic.minimum_image(store.position[i] - store.position[j]));  // m
       if (!(overlap > kContactOverlapFraction * std::min(store.radius[i], store.radius[j])))
         continue;
       if (++overlaps > kMaxReported) continue;

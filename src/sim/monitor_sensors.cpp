@@ -67,11 +67,35 @@ void append_mass_flow_values(const World& world, const MonitorSpec& monitor, Pla
   const Vec3 point = monitor.point.value, normal = monitor.normal.value;
   if (state.side_by_id.size() < world.next_id) state.side_by_id.resize(world.next_id, 0);
   double crossed = 0.0;  // kg, net along the normal since the last row
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const std::int8_t side = dot(p.position[i] - point, normal) >= 0.0 ? 1 : -1;
-    std::int8_t& last = state.side_by_id[p.id[i]];
-    if (last != 0 && last != side) crossed += side / p.inv_mass[i];
-    last = side;
+  // A plane perpendicular to a periodic axis (the deck allows no tilted one across it): a
+  // particle that wraps from max to min has not crossed it, one that moves across it has. The
+  // period, seen from the plane, is cut in quarters by the phase φ = frac((x − x_plane)/L);
+  // the quarter is stored as 1, 2 (φ < 1/2) and −2, −1 (φ ≥ 1/2), and only the step from the
+  // last quarter to the first (+) or back (−) is a crossing: wrapping leaves φ unchanged.
+  // Holds while no particle moves more than L/4 between two monitor rows.
+  const PeriodicBox& periodic = world.pairs.periodic;
+  int periodic_axis = -1;
+  for (int a = 0; a < 3; ++a)
+    if (periodic.wraps[a] && normal[a] != 0.0) periodic_axis = a;
+  if (periodic_axis >= 0) {
+    const int a = periodic_axis;
+    const double direction = normal[a] > 0.0 ? 1.0 : -1.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double phase = (p.position[i][a] - point[a]) * periodic.inverse_period[a];  // periods
+      const double quarter = std::floor(4.0 * (phase - std::floor(phase)));  // 0..3 (4: rounding)
+      const std::int8_t side = quarter < 1.0 ? 1 : quarter < 2.0 ? 2 : quarter < 3.0 ? -2 : -1;
+      std::int8_t& last = state.side_by_id[p.id[i]];
+      if (last == -1 && side == 1) crossed += direction / p.inv_mass[i];
+      if (last == 1 && side == -1) crossed -= direction / p.inv_mass[i];
+      last = side;
+    }
+  } else {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const std::int8_t side = dot(p.position[i] - point, normal) >= 0.0 ? 1 : -1;
+      std::int8_t& last = state.side_by_id[p.id[i]];
+      if (last != 0 && last != side) crossed += side / p.inv_mass[i];
+      last = side;
+    }
   }
   const double interval = world.time - state.last_time;  // s
   row.push_back(state.started && interval > 0.0 ? crossed / interval : 0.0);
@@ -84,9 +108,11 @@ void append_mass_flow_values(const World& world, const MonitorSpec& monitor, Pla
 RegionStress region_stress(const World& world, const RegionSpec& box, const std::vector<FrameContact>& contacts) {
   const Region region(box);
   const double volume = box_volume(box);  // m³
+  const PeriodicBox& periodic = world.pairs.periodic;
   RegionStress stress;
   for (const FrameContact& c : contacts) {
-    if (!region.contains(0.5 * (c.line.from + c.line.to))) continue;
+    // A branch across a periodic face has its midpoint a little outside the period: wrapped in.
+    if (!region.contains(periodic.wrapped(0.5 * (c.line.from + c.line.to)))) continue;
     const Vec3 force = c.line.normal_force + c.line.tangential_force;  // N on i
     const Vec3 branch = c.line.from - c.line.to;                        // m, towards i
     for (int k = 0; k < 6; ++k)
@@ -96,13 +122,15 @@ RegionStress region_stress(const World& world, const RegionSpec& box, const std:
   double mass = 0.0;  // kg
   Vec3 momentum;      // kg·m/s
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.fixed(i) || !region.contains(p.position[i])) continue;  // a fixed particle: infinite mass, at rest
+    if (p.fixed(i) || !region.contains(periodic.wrapped(p.position[i])))
+      continue;  // fixed: infinite mass, at rest
     mass += 1.0 / p.inv_mass[i];
     momentum += p.velocity[i] / p.inv_mass[i];
   }
   const Vec3 mean = mass > 0.0 ? momentum / mass : Vec3{};  // m/s
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.fixed(i) || !region.contains(p.position[i])) continue;  // a fixed particle: infinite mass, at rest
+    if (p.fixed(i) || !region.contains(periodic.wrapped(p.position[i])))
+      continue;                                     // fixed: infinite mass, at rest
     const Vec3 fluctuation = p.velocity[i] - mean;  // m/s
     for (int k = 0; k < 6; ++k) stress.kinetic[k] += fluctuation[kRow[k]] * fluctuation[kColumn[k]] / p.inv_mass[i];
   }
@@ -113,6 +141,7 @@ RegionStress region_stress(const World& world, const RegionSpec& box, const std:
 std::vector<VelocityBin> velocity_profile(const World& world, const MonitorSpec& monitor) {
   const RegionSpec& box = *monitor.region;
   const Region region(box);
+  const PeriodicBox& periodic = world.pairs.periodic;
   const int axis = static_cast<int>(monitor.axis.value);
   const auto bins = static_cast<std::size_t>(monitor.bins.value);
   const double lower = box.min.value[axis], width = (box.max.value[axis] - lower) / static_cast<double>(bins);  // m
@@ -121,8 +150,9 @@ std::vector<VelocityBin> velocity_profile(const World& world, const MonitorSpec&
   for (std::size_t b = 0; b < bins; ++b) profile[b].centre = lower + (static_cast<double>(b) + 0.5) * width;
   const ParticleStore& p = world.particles;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (p.fixed(i) || !region.contains(p.position[i])) continue;  // a fixed particle: infinite mass, at rest
-    const double s = std::floor((p.position[i][axis] - lower) / width);
+    if (p.fixed(i) || !region.contains(periodic.wrapped(p.position[i])))
+      continue;  // fixed: infinite mass, at rest
+    const double s = std::floor((periodic.wrapped(p.position[i])[axis] - lower) / width);
     const std::size_t b = s < 0.0 ? 0 : std::min(bins - 1, static_cast<std::size_t>(s));
     profile[b].particles += 1;
     profile[b].mass += 1.0 / p.inv_mass[i];

@@ -76,7 +76,8 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
         const Region region(*m.region);
         double mass = 0.0;  // kg
         for (std::size_t i = 0; i < p.size(); ++i)
-          if (!p.fixed(i) && region.contains(p.position[i])) mass += 1.0 / p.inv_mass[i];  // fixed: infinite
+          if (!p.fixed(i) && region.contains(world.pairs.periodic.wrapped(p.position[i])))
+            mass += 1.0 / p.inv_mass[i];  // fixed: infinite
         row.push_back(mass);
         break;
       }

@@ -138,8 +138,9 @@ std::size_t World::pair_contact_count() const {
     for (std::uint32_t k = pairs.offsets[i]; k < pairs.offsets[i + 1]; ++k) {
       const std::uint32_t j = pairs.partner[k];
       const double touch = particles.radius[i] + particles.radius[j];  // m
-      count += norm2(particles.position[i] - particles.position[j]) < touch * touch ||
-               (jkr && pairs.jkr_attached[k] != 0);
+      const Vec3 d =
+          pairs.periodic.minimum_image(particles.position[i] - particles.position[j]);  // m
+      count += norm2(d) < touch * touch || (jkr && pairs.jkr_attached[k] != 0);
     }
   return count;
 }
@@ -301,6 +302,28 @@ void check_jkr_reach(const World& world) {
   if (problems.has_errors()) throw UserError(problems);
 }
 
+// The periodic axes (issue #20) as the deck parser checks them (io/deck.cpp), again here for a
+// spec made without a deck: a domain to take the period from, and a period the neighbour
+// search can hold (core/periodic_box.h, shortest_period).
+void set_periodic_axes(World& world) {
+  const auto& periodic = world.spec.simulation.periodic;
+  if (!(periodic.value[0] || periodic.value[1] || periodic.value[2])) return;
+  const Aabb& domain = world.spec.simulation.domain.value;
+  if (domain.empty())
+    throw UserError(periodic.where, "periodic axes need a domain: its min and max are the period",
+                    "give simulation.domain: {min: [...], max: [...]}");
+  const double shortest = shortest_period(world.max_radius, world.skin);  // m
+  for (int a = 0; a < 3; ++a)
+    if (periodic.value[a] && domain.hi[a] - domain.lo[a] < shortest)
+      throw UserError(
+          periodic.where,
+          fmt::format("the period along {} ({:.4g} m) is shorter than the neighbour search needs: "
+                      "3 × (2 R_max + skin) = {:.4g} m",
+                      "xyz"[a], domain.hi[a] - domain.lo[a], shortest),
+          "lengthen the domain along that axis, or make it non-periodic");
+  world.pairs.periodic = PeriodicBox::of(domain, periodic.value);
+}
+
 }  // namespace
 
 World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes) {
@@ -348,6 +371,7 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   // Verlet skin: 10 % of the smallest diameter unless the deck says otherwise.
   world.skin = spec.simulation.skin.value >= 0.0 ? spec.simulation.skin.value : 0.2 * min_radius;
   check_jkr_reach(world);
+  set_periodic_axes(world);
 
   world.spec.surfaces.clear();  // add_surface appends each again
   for (std::size_t s = 0; s < spec.surfaces.size(); ++s)
@@ -363,6 +387,7 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
     // Each factory gets its own random stream derived from the deck seed.
     world.factories.emplace_back(fs, world.types[type],
                                  spec.simulation.seed + 0x9E3779B97F4A7C15ull * (f + 1));
+    world.factories.back().set_periodic(world.pairs.periodic);
   }
   // Factories are polled every 2 ms of simulated time (or every step if dt is larger).
   world.insertion_interval_steps = std::max(1, static_cast<int>(std::lround(2e-3 / world.dt)));

@@ -139,7 +139,7 @@ void set_surface_vertices(World& world, std::size_t surface, std::span<const Vec
 
 void insert_and_remove(World& world) {
   const ParticleStore& p = world.particles;
-  const Aabb& domain = world.spec.simulation.domain.value;
+  const Aabb domain = world.pairs.periodic.removal_bounds(world.spec.simulation.domain.value);
   // One parallel pass to see whether anything left (almost never).
   const std::size_t n = p.size();
   bool any = false;
@@ -157,7 +157,8 @@ void insert_and_remove(World& world) {
 void insert_and_remove(World& world, const DriftScan& scan) {
   ParticleStore& p = world.particles;
   // Particles outside the domain are removed and counted (guard 11): flags only if any left.
-  const Aabb& domain = world.spec.simulation.domain.value;
+  // Not along periodic axes: those particles are wrapped at the list build (rebuild_lists).
+  const Aabb domain = world.pairs.periodic.removal_bounds(world.spec.simulation.domain.value);
   if (!domain.empty()) {
     const std::size_t n = p.size();
     if (scan.any_outside) {
@@ -195,8 +196,29 @@ void insert_and_remove(World& world, const DriftScan& scan) {
   }
 }
 
+namespace {
+
+// Periodic axes: every particle that has left [min, max) along one re-enters at the other
+// side. Done here, when the lists are rebuilt, and nowhere else: between builds a particle is
+// at most skin/2 outside, which the minimum-image separations of the pair stages and the
+// unbounded removal test tolerate, and the list's reference positions (the rebuild criterion)
+// are the wrapped ones taken just after. A wrapped position is simply the position, so
+// checkpoints and thread counts see nothing special. Particles inside are not touched.
+void wrap_into_period(World& world) {
+  const PeriodicBox& box = world.pairs.periodic;
+  if (!box.any()) return;
+  ParticleStore& p = world.particles;
+  const std::size_t n = p.size();
+  Vec3* const position = p.position.data();
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
+  for (std::size_t i = 0; i < n; ++i) position[i] = box.wrapped(position[i]);
+}
+
+}  // namespace
+
 void rebuild_lists(World& world) {
   ParticleStore& p = world.particles;
+  wrap_into_period(world);
   const int interval = world.spec.simulation.sort_interval.value;
   if (interval > 0 && world.steps_since_sort >= static_cast<std::uint64_t>(interval)) {
     // Re-sort along a space-filling curve for cache locality; wall contacts follow their particle.
