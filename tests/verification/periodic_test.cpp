@@ -243,6 +243,37 @@ TEST(PeriodicBoundaries, DenseGasConservesMomentumAcrossTheFaces) {
     for (int a = 0; a < 3; ++a) ASSERT_TRUE(x[a] >= 0.0 && x[a] < 0.036) << x[a];
 }
 
+// Factories on a periodic axis: a region at the face x = 0 is filled while a layer of particles
+// sits just inside the opposite face x = L, 0.3 R from it. A new sphere placed within 1.7 R of
+// x = 0 would overlap one of them through the face; the factory must see them there (their
+// images) and place its 200 spheres without any overlap.
+TEST(PeriodicBoundaries, FactoryDoesNotPlaceParticlesOverlappingThroughAFace) {
+  SimulationSpec spec = parse_deck_string(
+      periodic_deck("{min: [0, 0, 0], max: [0.1, 0.1, 0.1], periodic: [x]}", "[0, 0, 0]",
+                    "{distribution: fixed, radius: 0.002}",
+                    "factories:\n"
+                    "  - name: at_the_face\n"
+                    "    particle_type: bead\n"
+                    "    region: {type: box, min: [0, 0, 0], max: [0.006, 0.1, 0.1]}\n"
+                    "    count: 200\n"
+                    "    start_time: 0.001\n"),
+      "factory.yaml");
+  World world = start_world(spec);
+  ASSERT_EQ(world.particles.size(), 0u);
+  std::vector<sim::NewParticle> layer;
+  for (int a = 0; a < 22; ++a)
+    for (int b = 0; b < 22; ++b) {
+      sim::NewParticle q;
+      q.position = {0.1 - 0.0006, 0.0028 + 0.0044 * a, 0.0028 + 0.0044 * b};
+      layer.push_back(q);
+    }
+  sim::add_particles(world, layer);
+  while (world.time < 0.006) sim::step(world);
+  EXPECT_EQ(world.particles.size(), layer.size() + 200);
+  EXPECT_EQ(world.pair_contact_count(), 0u);
+  EXPECT_EQ(world.removed_outside, 0u);
+}
+
 // 4 — Determinism with periodic axes: 1 to 4 threads give the same bits (DESIGN §3), and a
 // checkpoint taken between steps restores a state that goes on to the same bits.
 TEST(PeriodicBoundaries, StateIsBitIdenticalForAnyThreadsAndAcrossACheckpoint) {
