@@ -249,7 +249,7 @@ TEST(OutputVerification, CheckpointWithADamagedMassFlowStateIsRefused) {
   sim::monitor_row(original, 1);
   ASSERT_EQ(original.plane_crossings.size(), 1u);
   const std::vector<std::pair<std::string, std::function<void(World&)>>> cases = {
-      {"a side other than -1, 0, 1", [](World& w) { w.plane_crossings[0].side_by_id[1] = 5; }},
+      {"a side other than -2 to 2", [](World& w) { w.plane_crossings[0].side_by_id[1] = 5; }},
       {"names particle ids never given", [](World& w) { w.plane_crossings[0].side_by_id.resize(w.next_id + 1); }},
       {"more mass-flow monitor states", [](World& w) { w.plane_crossings.resize(2); }},
       {"not finite", [](World& w) { w.plane_crossings[0].crossed_mass = std::nan(""); }},

@@ -274,6 +274,28 @@ TEST(PeriodicBoundaries, FactoryDoesNotPlaceParticlesOverlappingThroughAFace) {
   EXPECT_EQ(world.removed_outside, 0u);
 }
 
+// The deck's particles: two spheres overlapping through the face x = 0 / x = L are reported like
+// two overlapping side by side (1 % of R is the limit); touching through it is accepted.
+TEST(PeriodicBoundaries, InitialParticlesOverlappingThroughAFaceAreReported) {
+  const auto deck = [](double gap) {  // m between the surfaces, through the face
+    return periodic_deck("{min: [0, 0, 0], max: [0.1, 0.1, 0.1], periodic: [x]}", "[0, 0, 0]",
+                         "{distribution: fixed, radius: 0.002}",
+                         fmt::format("particles:\n"
+                                     "  - {{type: bead, position: [0.001, 0.05, 0.05]}}\n"
+                                     "  - {{type: bead, position: [{}, 0.05, 0.05]}}\n",
+                                     0.1 - 0.003 - gap));
+  };
+  try {
+    build_world(parse_deck_string(deck(-0.0002), "overlap.yaml"));  // 10 % of R
+    ADD_FAILURE() << "an overlap through the face was accepted";
+  } catch (const UserError& error) {
+    const std::string text = error.diagnostics().format();
+    EXPECT_NE(text.find("overlap by 0.2 mm"), std::string::npos) << text;
+  }
+  const World touching = build_world(parse_deck_string(deck(0.0), "touching.yaml"));
+  EXPECT_EQ(touching.particles.size(), 2u);
+}
+
 // 4 — Determinism with periodic axes: 1 to 4 threads give the same bits (DESIGN §3), and a
 // checkpoint taken between steps restores a state that goes on to the same bits.
 TEST(PeriodicBoundaries, StateIsBitIdenticalForAnyThreadsAndAcrossACheckpoint) {
