@@ -35,12 +35,21 @@ struct PeriodicBox {
     return box;
   }
 
+  // x rounded to the nearest integer (ties to even), as std::nearbyint in the default rounding
+  // mode, for |x| < 2^51: adding 1.5·2^52 leaves no fraction bits, subtracting it back is exact.
+  // Inline on any x86-64, where std::nearbyint is a library call without SSE4.1 (the build's
+  // baseline); relies on IEEE arithmetic (no -ffast-math, which would fold it to x).
+  [[gnu::always_inline]] static double nearest_integer(double x) {
+    constexpr double kShift = 6755399441055744.0;  // 1.5 × 2^52
+    return (x + kShift) - kShift;
+  }
+
   // Minimum-image separation (m): each periodic component shifted by a whole number of
   // periods into [−L/2, L/2]; the other components unchanged, bit for bit. Branch-free.
   [[gnu::always_inline]] Vec3 minimum_image(Vec3 d) const {
-    d.x -= period.x * std::nearbyint(d.x * inverse_period.x);
-    d.y -= period.y * std::nearbyint(d.y * inverse_period.y);
-    d.z -= period.z * std::nearbyint(d.z * inverse_period.z);
+    d.x -= period.x * nearest_integer(d.x * inverse_period.x);
+    d.y -= period.y * nearest_integer(d.y * inverse_period.y);
+    d.z -= period.z * nearest_integer(d.z * inverse_period.z);
     return d;
   }
 

@@ -306,7 +306,7 @@ TEST(PeriodicBoundaries, StateIsBitIdenticalForAnyThreadsAndAcrossACheckpoint) {
     for (int threads : {1, 2, 3, 4}) {
       World world = start_world(spec, threads);
       stir(world);
-      for (int n = 0; n < 300; ++n) sim::step(world);
+      for (int n = 0; n < 200; ++n) sim::step(world);
       EXPECT_GT(contacts_across_faces(world), 0u);
       hashes[threads - 1] = sim::state_hash(world);
     }
@@ -323,8 +323,8 @@ TEST(PeriodicBoundaries, StateIsBitIdenticalForAnyThreadsAndAcrossACheckpoint) {
   ASSERT_TRUE(restored.world.pairs.periodic.any())
       << "the periodic axes were lost in the checkpoint";
   EXPECT_EQ(sim::state_hash(restored.world), sim::state_hash(world));
-  sim::advance(world, 200);
-  sim::advance(restored.world, 200);
+  sim::advance(world, 150);
+  sim::advance(restored.world, 150);
   EXPECT_EQ(sim::state_hash(restored.world), sim::state_hash(world));
 }
 
