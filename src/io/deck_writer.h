@@ -13,9 +13,10 @@ namespace quarry {
 // Doubles are written in their shortest round-trip form, so that
 // parse_deck_string(write_deck(spec)) gives the same bits and writing that again gives the same
 // text. Left out: optional values that are absent (impact_speed, count/mass, mass_rate, a
-// monitor's region, export: when not enabled, calculix time and density), keys of other
-// variants (a plane's scale, a Hertz-Mindlin interaction's stiffness, the Rayleigh fraction
-// beside a fixed time step), a negative skin (automatic) and stop times of 1e300 (never).
+// monitor's region, export: when not enabled, calculix time and density, the domain's periodic
+// when no axis is), keys of other variants (a plane's scale, a Hertz-Mindlin interaction's
+// stiffness, the Rayleigh fraction beside a fixed time step), a negative skin (automatic) and
+// stop times of 1e300 (never).
 // STL paths are written as stored (the parser stores them absolute). A log-normal size is
 // written as its median radius exp(log_mean), chosen so that its logarithm is log_mean exactly.
 // Locations and deck_path are not written. Cost: linear in the size of the spec.
