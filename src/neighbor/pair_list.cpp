@@ -152,8 +152,9 @@ inline int cells_around(const CellGrid& grid, int axis, std::uint32_t c, std::ui
 }
 
 // for_each_partner across periodic faces: the cells around i's cell wrap on periodic axes, and
-// the separation is the minimum image. A separate function, chosen once per build, so that the
-// search without periodic axes keeps its contiguous row ranges and plain differences.
+// the separation is the minimum image. Needed only for a particle in a cell at a periodic face
+// (at_periodic_face); a separate function, so that every other search keeps its contiguous row
+// ranges and plain differences.
 template <class Visit>
 inline void for_each_periodic_partner(std::uint32_t i, const Vec3* position, const double* radius,
                                       double skin, const CellGrid& grid, const PeriodicBox& box,
@@ -182,6 +183,21 @@ inline void for_each_periodic_partner(std::uint32_t i, const Vec3* position, con
         }
       }
     }
+}
+
+// True if the cells around `cell` wrap around a periodic axis (it is the first or last cell
+// along it, or the axis has fewer than three). A particle in any other cell needs no image:
+// with positions inside the period and at least three cells, a partner within reach (less than
+// a cell edge away) is in an adjacent cell without wrapping, and the plain difference is its
+// minimum image; one across the face is more than a whole cell away (an interior cell is at
+// least one edge from both faces).
+inline bool at_periodic_face(const CellGrid& grid, std::uint32_t cell) {
+  const auto c = grid.cell_coordinates(cell);
+  for (int a = 0; a < 3; ++a)
+    if (grid.wraps[a] &&
+        (grid.cells_per_axis[a] < 3 || c[a] == 0 || c[a] + 1 == grid.cells_per_axis[a]))
+      return true;
+  return false;
 }
 
 // Copies of the list being replaced the pairs that carry history (the contacts) into
@@ -271,11 +287,24 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   // Any pair within reach is closer than 2·Rmax + skin; a positive edge is needed even if that is 0.
   const double cell_edge = std::max(2.0 * largest_radius + skin, std::numeric_limits<double>::min());
   // First: a non-finite position throws here and leaves the list untouched.
+  // With periodic axes the search runs on the positions moved into the period (a particle may
+  // be up to skin/2 outside between the World's wraps, or anywhere for another caller).
   const bool periodic = list.periodic.any();
-  build_cell_grid(particles.position, cell_edge, workspace.grid, particles.id,
+  if (periodic) {
+    workspace.wrapped_positions.resize(n);
+    Vec3* const wrapped = workspace.wrapped_positions.data();
+    const PeriodicBox& box = list.periodic;
+    const Vec3* const given = particles.position.data();
+#pragma omp parallel for schedule(static) if (n > kParallelMinParticles)
+    for (std::size_t i = 0; i < n; ++i) wrapped[i] = box.wrapped(given[i]);
+  }
+  const std::span<const Vec3> search_positions =
+      periodic ? std::span<const Vec3>(workspace.wrapped_positions)
+               : std::span<const Vec3>(particles.position);
+  build_cell_grid(search_positions, cell_edge, workspace.grid, particles.id,
                   periodic ? &list.periodic : nullptr);
   const CellGrid& grid = workspace.grid;
-  const Vec3* const position = particles.position.data();
+  const Vec3* const position = search_positions.data();
   // Refilled at the end; not needed meanwhile (a lower peak while the contacts are kept).
   release(list.reference_positions);
 
@@ -295,7 +324,7 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   for (std::size_t i = 0; i < n; ++i) {
     std::uint32_t count = 0;
     const auto counted = [&count](std::uint32_t) { ++count; };
-    if (periodic)
+    if (periodic && at_periodic_face(grid, grid.particle_cell[i]))
       for_each_periodic_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid,
                                 list.periodic, counted);
     else
@@ -329,7 +358,7 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
     const std::uint32_t begin = row[i], stop = row[i + 1];
     std::uint32_t out = begin;
     const auto listed = [&](std::uint32_t j) { partner[out++] = j; };
-    if (periodic)
+    if (periodic && at_periodic_face(grid, grid.particle_cell[i]))
       for_each_periodic_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid,
                                 list.periodic, listed);
     else

@@ -21,6 +21,7 @@ namespace quarry {
 // history) and a few integers per particle.
 struct PairListWorkspace {
   CellGrid grid;
+  std::vector<Vec3> wrapped_positions;         // m, moved into the period (periodic axes only)
   std::vector<std::uint32_t> old_index_of;     // per new particle: index at the last build
   std::vector<std::uint32_t> id_table;         // id → index at the last build (~0u: none);
   std::vector<ParticleId> id_table_keys;       //   dense by id when ids are compact, else hashed
