@@ -93,8 +93,9 @@ struct ContactResult {
 // True if the dashpots of this law take the window's mean and the implicit velocity
 // (dashpot_window.h): Hertz–Mindlin without JKR, whose dashpot grows continuously from zero
 // at first touch. A linear or JKR contact's force jumps at first touch; across that jump the
-// implicit velocity is only first order (linear, t_c/200: e = 0.1 → 0.1006–0.1023 over the
-// phases against 0.10001 explicit), so they keep the explicit lead of the centre.
+// implicit velocity is only first order (a one-dimensional model of the step, linear law at
+// t_c/200, e = 0.1: 0.9998–1.023 e over the phases against 1.0001 e with the explicit lead),
+// so they keep the explicit lead of the centre.
 inline bool hertz_dashpot_window(const InteractionParameters& parameters) {
   return parameters.normal_model == NormalModel::hertz_mindlin && !(parameters.surface_energy > 0.0);
 }
