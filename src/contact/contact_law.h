@@ -103,7 +103,7 @@ inline bool hertz_dashpot_window(const InteractionParameters& parameters) {
 // A pair short of contact (δ ≤ 0, no JKR adhesion): the dashpot alone if the step's window
 // reaches contact (δ + s > 0, s = |u| dt/2 with u the normal velocity at the force's time),
 // else nothing. Either way the springs are released. Part of evaluate_contact.
-[[gnu::always_inline]] inline ContactResult window_contact(const InteractionParameters& parameters,
+[[gnu::noinline]] inline ContactResult window_contact(const InteractionParameters& parameters,
                                                            const ContactKinematics& kinematics,
                                                            ContactHistory& history, double dt) {
   const double previous_force = history.normal_force;  // N

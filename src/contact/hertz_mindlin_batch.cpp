@@ -9,7 +9,7 @@ namespace {
 
 // Contact m of the batch by the scalar law (evaluate_contact), from the lane's inputs: the
 // velocities are differences (v_i − v_j as v_i, 0 as v_j), which is all the law uses.
-void finish_by_scalar_law(const InteractionParameters& parameters, HertzMindlinBatch& b, int m,
+[[gnu::noinline]] void finish_by_scalar_law(const InteractionParameters& parameters, HertzMindlinBatch& b, int m,
                           double dt, double lead_time) {
   const double distance = std::sqrt(b.distance2[m]);  // m
   ContactKinematics kin;
