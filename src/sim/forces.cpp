@@ -308,11 +308,17 @@ template <bool kPeriodic>
   return b.count > before;
 }
 
+// Batched path: lane m's new history (tangential spring, last normal force) stored with its pair.
+[[gnu::always_inline]] inline void store_lane_history(const PairView& v, const HertzMindlinBatch& b,
+                                                      int m) {
+  v.tangential[b.pair[m]] = {b.hx[m], b.hy[m], b.hz[m]};
+  v.normal_force[b.pair[m]] = b.fn[m];
+}
+
 // Batched path: lane m's result, and its new history stored with the pair.
 [[gnu::always_inline]] inline void take_lane(const PairView& v, const HertzMindlinBatch& b, int m,
                                              CrossingPair& out) {
-  v.tangential[b.pair[m]] = {b.hx[m], b.hy[m], b.hz[m]};
-  v.normal_force[b.pair[m]] = b.fn[m];
+  store_lane_history(v, b, m);
   out.force = {b.fx[m], b.fy[m], b.fz[m]};
   out.torque_i = {b.tix[m], b.tiy[m], b.tiz[m]};
   out.torque_j = {b.tjx[m], b.tjy[m], b.tjz[m]};
@@ -503,8 +509,7 @@ void pair_forces(World& world, int& excessive) {
         for (const int lanes = lanes_end[i - block]; lane < lanes; ++lane) {
           const HertzMindlinBatch& b = *batch;
           const std::uint32_t j = b.slot[lane];
-          v.tangential[b.pair[lane]] = {b.hx[lane], b.hy[lane], b.hz[lane]};
-          v.normal_force[b.pair[lane]] = b.fn[lane];
+          store_lane_history(v, b, lane);
           const Vec3 f{b.fx[lane], b.fy[lane], b.fz[lane]};
           force_i += f;
           torque_i += Vec3{b.tix[lane], b.tiy[lane], b.tiz[lane]};
