@@ -1,12 +1,13 @@
 // Run-time estimate: expected particle count N(t) from the factories' schedules, and a cost per
 // step a + N (b + r c) measured on this machine, plus the output (docs/performance.md, "What
-// quarry estimate measures"). a (what a step costs beyond its particles: surfaces and their
-// search grids, moving geometry, factories, hooks such as a fluid) and r (the fraction of steps
-// that rebuild the lists) come from the deck's own first steps; b (a step without its
-// neighbour stage, per particle) from a stirred bed of the smallest particle type confined in a
-// box under gravity, with the deck's contact law; c (a rebuild per particle) from the dearer of
-// the two. Issue 20: the free bed alone (no rebuilds of a real run, no surfaces, no output)
-// under-estimated the flagship 3-7x.
+// quarry estimate measures"). From the deck's own first steps, timed stage by stage: a (the
+// stages that are not the particles': hooks such as a fluid or a structure, moving geometry,
+// factories) and r (the fraction of steps that rebuild the lists). b (the particle stages of a
+// step, per particle) is the dearer of the deck's own and a dense bed's at rest: the smallest
+// particle type packed in a box under gravity with the deck's contact law, which is what most
+// bulk material becomes however it starts (the hopper's fill falling apart cost 118 ns per
+// particle-step, the packed hopper 266-280 ns, its bed 237-301). c (a rebuild per particle) is
+// the dearer of the two. Issue 20.
 #include "sim/estimate.h"
 
 #include <fmt/format.h>
@@ -63,17 +64,17 @@ double factory_count_at(const FactorySpec& f, double particle_mass, double t) {
   return std::min(target, by_rate);
 }
 
-// Seconds per particle-step on a cubic lattice bed of `count` particles of the given type,
-// lightly compressed so that each particle has its six neighbours in contact, and stirred with
-// random velocities of half the impact speed so that neighbour lists are rebuilt about as often
-// as in a pour (a bed at rest would hide the rebuild cost and under-estimate a filling run).
+// Seconds per particle-step on a cubic lattice bed of `count` particles of the given type at
+// rest, lightly compressed so that each particle has its six neighbours in contact. (It was
+// stirred at half the impact speed while rebuilds were priced from it; the deck's own rebuild
+// rate prices them now, and stirring made the flagship's bed cheaper than its packed load, 215
+// against 270 ns per particle-step, as the stirred lattice loosened.)
 struct BedCalibration {
   double seconds_per_particle_step = 0;     // s: a step without its neighbour stage
   double rebuild_seconds_per_particle = 0;  // s: one rebuild of the pair and surface lists
   double frame_seconds_per_particle = 0;    // s: a frame's VTU text, per particle
 };
-BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index, int count, double speed,
-                             double budget) {
+BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index, int count, double budget) {
   SimulationSpec spec;
   spec.deck_path = deck.deck_path;
   spec.materials = deck.materials;
@@ -82,7 +83,7 @@ BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index,
   spec.simulation = deck.simulation;
   spec.simulation.sort_interval = 0;
   spec.simulation.impact_speed = Located<double>(0.1);
-  // The calibration measures cost, not physics: the stirred lattice must not stop on the deck's
+  // The calibration measures cost, not physics: the packed lattice must not stop on the deck's
   // overlap guard (issue 19: `estimate` exited 3 on decks `check` accepts). An overlap of a whole
   // radius still stops it (the neighbour search is sized for less).
   spec.simulation.max_overlap_fraction = 1.0;
@@ -92,7 +93,7 @@ BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index,
   // ones out of contact (tried on the flagship: 3.2-3.8e-7 s per particle-step, this bed
   // 5.5-6e-7, the flagship's settled bed restored from its checkpoint 7.5e-7).
   const double radius = sampler.min_radius();
-  const int side = std::max(2, static_cast<int>(std::cbrt(static_cast<double>(count))));
+  const int side = std::max(2, static_cast<int>(std::lround(std::cbrt(static_cast<double>(count)))));
   const double spacing = 2.0 * radius * 0.999;  // m, slight overlap
   Aabb domain;
   domain.lo = Vec3{-1, -1, -1} * (side * spacing);
@@ -124,29 +125,31 @@ BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index,
       for (int c = 0; c < side; ++c)
         world.particles.add(id++, 0, static_cast<std::uint16_t>(m), Vec3{double(a), double(b), double(c)} * spacing,
                             Vec3{}, radius, density, 0.0);
-  // Deterministic pseudo-random directions (golden-angle spiral), magnitude `speed` (m/s).
-  for (std::size_t i = 0; i < world.particles.size(); ++i) {
-    const double z = 1.0 - 2.0 * (static_cast<double>(i) + 0.5) / static_cast<double>(world.particles.size());
-    const double phi = 2.39996322972865332 * static_cast<double>(i);  // rad, golden angle
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    world.particles.velocity[i] = Vec3{r * std::cos(phi), r * std::sin(phi), z} * speed;
-  }
   initialize(world);
   for (int k = 0; k < 3; ++k) step(world);  // warm-up: first-touch of the lists and scratch
-  const double neighbor_before = world.timers.seconds(world.timers.stage("neighbor"));
-  const auto start = std::chrono::steady_clock::now();
-  int steps = 0;
-  double elapsed = 0.0;
-  while (steps < 20 || (elapsed < budget && steps < 5000)) {  // at least 20 steps, about `budget` s
-    step(world);
-    ++steps;
-    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-  BedCalibration c;
+  // Timed in five blocks of a fifth of the budget, the median block taken: a block that met a
+  // busy moment of the machine does not move the figure (one timing of the whole moved the
+  // flagship's estimate by 12 % between calls).
+  const int neighbor_stage = world.timers.stage("neighbor");
   const double n = static_cast<double>(world.particles.size());
-  // Without the neighbour stage (rebuilds are priced per rebuild: their rate is the deck's).
-  const double neighbor = world.timers.seconds(world.timers.stage("neighbor")) - neighbor_before;
-  c.seconds_per_particle_step = std::max(0.0, elapsed - neighbor) / (static_cast<double>(steps) * n);
+  std::vector<double> block_seconds;  // s per particle-step, without the neighbour stage
+  for (int block = 0; block < 5; ++block) {
+    const double neighbor_before = world.timers.seconds(neighbor_stage);
+    const auto start = std::chrono::steady_clock::now();
+    int steps = 0;
+    double elapsed = 0.0;
+    while (steps < 4 || (elapsed < budget / 5 && steps < 1000)) {
+      step(world);
+      ++steps;
+      elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    // Without the neighbour stage (rebuilds are priced per rebuild: their rate is the deck's).
+    const double neighbor = world.timers.seconds(neighbor_stage) - neighbor_before;
+    block_seconds.push_back(std::max(0.0, elapsed - neighbor) / (static_cast<double>(steps) * n));
+  }
+  std::nth_element(block_seconds.begin(), block_seconds.begin() + 2, block_seconds.end());
+  BedCalibration c;
+  c.seconds_per_particle_step = block_seconds[2];
   c.rebuild_seconds_per_particle = median_rebuild_seconds(world) / n;
   const auto frame_start = std::chrono::steady_clock::now();
   const std::string text = particles_vtu(world.particles, world.type_names);
@@ -177,6 +180,12 @@ std::filesystem::path scratch_folder(const SimulationSpec& spec) {
 // steps (initialize, a few warm-up steps) are not timed: they fill the lists and scratch memory.
 struct DeckCalibration {
   double steps = 0, particle_steps = 0, seconds = 0, particles_at_start = 0;
+  // Of `seconds`: the particle stages (kicks and drift, forces, guards, loads) and the
+  // neighbour stage; the rest is what a step costs beyond its particles.
+  double particle_seconds = 0, neighbor_seconds = 0;
+  // Of `seconds`: the factories' insertions, and the particles they inserted meanwhile (an
+  // insertion is priced per particle: the drum's factory cost 200 us a step while it filled).
+  double insert_seconds = 0, inserted = 0;
   double rebuild_seconds = 0, particles_at_end = 0;  // one rebuild of the lists at the end
   double rebuild_particle_steps = 0;  // sum of the particle count over the steps that rebuilt
   double frame_seconds = 0, finish_seconds = 0;  // s: a frame (and the monitor rows before it), the end
@@ -200,11 +209,25 @@ DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& 
     options.overwrite = true;
     world.output = std::make_unique<Output>(world, options);
     const int output_stage = world.timers.stage("output");
+    const int neighbor_stage = world.timers.stage("neighbor");
+    const int insert_stage = world.timers.stage("insert/remove");
+    std::vector<int> particle_stages;
+    for (const char* name : {"integrate", "body forces", "pair forces", "surface forces", "guards", "loads"})
+      particle_stages.push_back(world.timers.stage(name));
+    const auto particle_stage_seconds = [&] {
+      double sum = 0.0;
+      for (const int s : particle_stages) sum += world.timers.seconds(s);
+      return sum;
+    };
     initialize(world);  // the first frame: timed into the output stage
     c.frame_seconds = world.timers.seconds(output_stage);
     c.particles_at_start = static_cast<double>(world.particles.size());
     for (int k = 0; k < 3 && running(); ++k) step(world);
     const double output_before = world.timers.seconds(output_stage);
+    const double particle_before = particle_stage_seconds();
+    const double neighbor_before = world.timers.seconds(neighbor_stage);
+    const double insert_before = world.timers.seconds(insert_stage);
+    const double count_before = static_cast<double>(world.particles.size() + world.removed_outside);
     const auto start = Clock::now();
     double elapsed = 0.0;
     while (running() && (c.steps < 20 || elapsed < budget)) {
@@ -217,6 +240,10 @@ DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& 
       // The steps' own cost: without the monitor rows and frames that fell in the calibration
       // (those are priced per frame below). Kept up to date: a physics error may end the loop.
       c.seconds = std::max(0.0, elapsed - (world.timers.seconds(output_stage) - output_before));
+      c.particle_seconds = particle_stage_seconds() - particle_before;
+      c.neighbor_seconds = world.timers.seconds(neighbor_stage) - neighbor_before;
+      c.insert_seconds = world.timers.seconds(insert_stage) - insert_before;
+      c.inserted = static_cast<double>(world.particles.size() + world.removed_outside) - count_before;
     }
     // A frame's cost: the mean over the frames written so far (with the monitor rows between).
     c.frame_seconds = world.timers.seconds(output_stage) / static_cast<double>(std::max<std::uint64_t>(1, world.output->frame_index()));
@@ -277,9 +304,11 @@ Estimate estimate_run(const SimulationSpec& spec, const AttachToWorld& attach) {
   const DeckCalibration deck = e.dt > 0 && e.steps > 0 ? calibrate_deck(spec, attach, kDeckBudget) : DeckCalibration{};
   BedCalibration bed;
   if (!types.empty() && e.dt > 0) {
-    e.calibration_particles = 4096;
-    bed = calibrate_bed(spec, types[smallest_type].type_index, e.calibration_particles, 0.5 * e.impact_speed,
-                        kBedBudget);
+    // A deck that never has more particles than a loop's threading threshold runs each loop
+    // on one thread (core/threading.h), so its bed must too: 12^3 below it, 16^3 above (the
+    // drum's 2,000 beads cost 1.7x per particle what the 4,096 of the bed did on two threads).
+    e.calibration_particles = e.peak_particles > static_cast<double>(Threading{}.threshold) ? 4096 : 1728;
+    bed = calibrate_bed(spec, types[smallest_type].type_index, e.calibration_particles, kBedBudget);
     e.seconds_per_particle_step = bed.seconds_per_particle_step;
   }
   if (e.dt > 0 && e.steps > 0) {
@@ -292,18 +321,23 @@ Estimate estimate_run(const SimulationSpec& spec, const AttachToWorld& attach) {
     e.rebuild_fraction = deck.particle_steps > 0 ? deck.rebuild_particle_steps / deck.particle_steps : 0.0;
     const double rebuild = std::max(bed.rebuild_seconds_per_particle,
                                     deck.particles_at_end > 0 ? deck.rebuild_seconds / deck.particles_at_end : 0.0);
-    e.seconds_per_particle_step = bed.seconds_per_particle_step + e.rebuild_fraction * rebuild;
-    // A step costs at least its fixed part, so a particle cannot cost more than the deck's own
-    // steps cost per particle: with the deck's particles in place from the start (a filled
-    // hopper, a fluidised bed) that is the figure, measured on the deck itself. The stirred
-    // bed, a third of it on walls, cost 1.4x (hopper) to 4x (fluidised bed) more per particle,
-    // and the estimate came out 2-10x the run.
-    if (deck.steps > 0 && deck.particle_steps > 0)
-      e.seconds_per_particle_step =
-          std::min(e.seconds_per_particle_step, deck.seconds / deck.particle_steps);
-    if (deck.steps > 0)  // what the deck's steps cost beyond their particles (never below 0)
+    // The particle stages: the dearer of the dense bed and the deck's own first steps. A deck
+    // starts loose (a fill falling, a bed not yet settled: the hopper's first steps cost 118 ns
+    // per particle, its packed bulk 266-280 ns, the fluidised bed's 41 then 107 ns), and its
+    // particles end dense; impacts and many surface contacts can make the deck's own dearer.
+    const double deck_particle = deck.particle_steps > 0 ? deck.particle_seconds / deck.particle_steps : 0.0;
+    e.seconds_per_particle_step =
+        std::max(bed.seconds_per_particle_step, deck_particle) + e.rebuild_fraction * rebuild;
+    // What the deck's steps cost beyond their particles and rebuilds (a fluid, a structure,
+    // moving geometry, factories, the loop itself), measured directly: the fluidised bed's
+    // fluid is 217 us a step, whatever its beads do.
+    if (deck.steps > 0)
       e.seconds_per_step =
-          std::max(0.0, (deck.seconds - deck.particle_steps * e.seconds_per_particle_step) / deck.steps);
+          std::max(0.0, deck.seconds - deck.particle_seconds - deck.neighbor_seconds - deck.insert_seconds) /
+          deck.steps;
+    // The insertions still to come after the calibration's start, at its cost per particle.
+    if (deck.inserted > 0)
+      e.insert_seconds = deck.insert_seconds / deck.inserted * std::max(0.0, e.peak_particles - deck.particles_at_start);
     // Frames: one at the start, one per output interval, priced as those of the calibration
     // (their fsyncs and files, the monitor rows between) plus the VTU text of the particles
     // expected then.
@@ -318,7 +352,8 @@ Estimate estimate_run(const SimulationSpec& spec, const AttachToWorld& attach) {
       }
     e.output_seconds += fixed_frame + deck.particles_at_start * bed.frame_seconds_per_particle + deck.finish_seconds;
   }
-  e.wall_seconds = e.steps * e.seconds_per_step + e.particle_steps * e.seconds_per_particle_step + e.output_seconds;
+  e.wall_seconds =
+      e.steps * e.seconds_per_step + e.particle_steps * e.seconds_per_particle_step + e.insert_seconds + e.output_seconds;
   return e;
 }
 
@@ -335,9 +370,11 @@ std::string format_estimate(const Estimate& e) {
   s += fmt::format("cost on this machine     {:.3g} s per step + {:.3g} s per particle-step on {} thread{}\n",
                    e.seconds_per_step, e.seconds_per_particle_step, e.threads, e.threads == 1 ? "" : "s");
   s += fmt::format("  measured on              the deck's first {:.0f} steps ({:.2f} s, {:.0f} particle{} on average, "
-                   "lists rebuilt at {:.0f} % of the steps) and {} stirred particles in a box\n",
+                   "lists rebuilt at {:.0f} % of the steps) and {} particles at rest in a box\n",
                    e.deck_steps, e.deck_seconds, e.deck_particles, std::lround(e.deck_particles) == 1 ? "" : "s",
                    100.0 * e.rebuild_fraction, e.calibration_particles);
+  if (e.insert_seconds > 0)
+    s += fmt::format("insertions               {:.3g} s (the factories' particles still to come)\n", e.insert_seconds);
   s += fmt::format("output                   {:.0f} frame{} and the end of the run: {:.3g} s\n", e.frames + 1,
                    e.frames + 1 == 1 ? "" : "s", e.output_seconds);
   const double w = e.wall_seconds;

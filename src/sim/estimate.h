@@ -1,8 +1,9 @@
 // `quarry estimate`: the time step and its limiting particle/material (seed 003), the number of
 // steps, and the wall time, from a cost per step calibrated on this machine by a short run of
-// the deck's own world (its surfaces, factories, neighbour-list rebuild rate, output) and by a
-// short run of a stirred dense bed of its particles (the cost per particle in contact, which the
-// first steps of a deck whose factories have only begun cannot show). Takes about 3 s.
+// the deck's own world timed stage by stage (its hooks, surfaces, factories, neighbour-list
+// rebuild rate, output) and by a short run of a dense bed of its particles at rest (the cost per
+// particle in contact, which the first steps of a deck still filling or falling cannot show).
+// Takes about 3-4 s.
 #pragma once
 
 #include <functional>
@@ -26,6 +27,7 @@ struct Estimate {
   double rebuild_fraction = 0;      // of the deck's calibration steps (weighted by particles)
   double deck_steps = 0, deck_particles = 0, deck_seconds = 0;  // the deck's own calibration run
   int calibration_particles = 0;    // the dense bed's
+  double insert_seconds = 0;        // s: the factories' insertions after the calibration's start
   double frames = 0;                // frames after the first
   double output_seconds = 0;        // s: frames, the end of the run (export decks, plots)
   int threads = 1;                  // OpenMP threads the calibration ran with
