@@ -9,6 +9,32 @@
 
 namespace quarry {
 
+namespace {
+
+using Entry = std::pair<std::uint64_t, std::uint32_t>;  // (cell key < max_cells, triangle)
+
+// Sorts the entries by cell key, keeping the triangles of one cell in the order given
+// (ascending, as they were emitted): two stable counting passes over 12 bits each, since a key
+// is below 2^24 (SurfaceGrid::max_cells). A moving surface is re-gridded at every list rebuild,
+// and std::sort of its entries was 6-8 % of the rotating drum's run.
+void sort_by_cell(std::vector<Entry>& entries, std::vector<Entry>& scratch) {
+  static_assert(SurfaceGrid::max_cells <= (std::uint64_t{1} << 24));
+  constexpr int kBits = 12;
+  constexpr std::size_t kBuckets = std::size_t{1} << kBits;
+  scratch.resize(entries.size());
+  std::vector<std::uint32_t> start(kBuckets + 1);
+  for (int pass = 0; pass < 2; ++pass) {
+    const int shift = pass * kBits;
+    std::fill(start.begin(), start.end(), 0u);
+    for (const Entry& e : entries) ++start[((e.first >> shift) & (kBuckets - 1)) + 1];
+    for (std::size_t b = 0; b < kBuckets; ++b) start[b + 1] += start[b];
+    for (const Entry& e : entries) scratch[start[(e.first >> shift) & (kBuckets - 1)]++] = e;
+    entries.swap(scratch);
+  }
+}
+
+}  // namespace
+
 std::int64_t SurfaceGrid::cell_coordinate(double value, int axis) const {
   // Clamped in floating point first: a far-away (or NaN) value must not overflow the cast.
   const double scaled = std::floor((value - origin_[axis]) / cell_size_);
@@ -23,6 +49,7 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
   cell_keys_.clear();
   cell_offsets_.assign(1, 0);
   cell_triangles_.clear();
+  occupied_bits_.clear();
   triangle_boxes_.resize(surface.triangles.size());
   Aabb all;
   for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
@@ -53,7 +80,7 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
     cell_size_ *= 1.25;  // coarsen until the grid fits; few iterations for any sane mesh
   }
 
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;  // (cell key, triangle)
+  std::vector<Entry> entries;  // (cell key, triangle)
   entries.reserve(2 * surface.triangles.size());
   const double half_cell = 0.5 * cell_size_;
   for (std::uint32_t t = 0; t < surface.triangles.size(); ++t) {
@@ -82,7 +109,10 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
           entries.emplace_back(key(i, j, k), t);
         }
   }
-  std::sort(entries.begin(), entries.end());
+  {
+    std::vector<Entry> scratch;
+    sort_by_cell(entries, scratch);
+  }
   cell_triangles_.resize(entries.size());
   for (std::size_t e = 0; e < entries.size(); ++e) {
     if (e == 0 || entries[e].first != entries[e - 1].first) {
@@ -92,6 +122,10 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
     cell_triangles_[e] = entries[e].second;
   }
   if (!entries.empty()) cell_offsets_.push_back(static_cast<std::uint32_t>(entries.size()));
+  const auto cells = static_cast<std::uint64_t>(dims_[0]) * static_cast<std::uint64_t>(dims_[1]) *
+                     static_cast<std::uint64_t>(dims_[2]);
+  occupied_bits_.assign((cells + 63) / 64, 0);
+  for (const std::uint64_t k : cell_keys_) occupied_bits_[k / 64] |= std::uint64_t{1} << (k % 64);
 }
 
 void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_out) const {
@@ -109,6 +143,10 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
     for (std::int64_t j = j0; j <= j1; ++j) {
       // Cells of one row are consecutive keys: one binary search per row.
       const std::uint64_t row_first = key(i0, j, k), row_last = key(i1, j, k);
+      bool any = false;
+      for (std::uint64_t c = row_first; c <= row_last && !any; ++c)
+        any = (occupied_bits_[c / 64] >> (c % 64)) & 1u;
+      if (!any) continue;
       auto it = std::lower_bound(cell_keys_.begin(), cell_keys_.end(), row_first);
       for (; it != cell_keys_.end() && *it <= row_last; ++it) {
         const std::size_t cell = static_cast<std::size_t>(it - cell_keys_.begin());

@@ -48,6 +48,9 @@ class SurfaceGrid {
   std::vector<std::uint64_t> cell_keys_;        // occupied cells, ascending
   std::vector<std::uint32_t> cell_offsets_;     // cell_keys_.size() + 1
   std::vector<std::uint32_t> cell_triangles_;   // triangles of each occupied cell, ascending
+  // One bit per cell of the grid (at most max_cells: 2 MiB), set where a cell is occupied: a
+  // query skips the binary search of a row with none (most particles are far from a surface).
+  std::vector<std::uint64_t> occupied_bits_;
 };
 
 }  // namespace quarry
