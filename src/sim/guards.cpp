@@ -44,6 +44,15 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
       std::sqrt(normal_speed * normal_speed + 2.0 * elastic / effective_mass);  // m/s
   const double expected = choose_time_step(world.spec).impact_speed;            // m/s
   const double guard = world.spec.simulation.max_overlap_fraction.value;
+  // The stiffening that keeps this pair's peak overlap, all of its energy stored elastically,
+  // at 80 % of the guard: Hertz delta_peak^(5/2) = 15 m* v^2 / (16 E* sqrt(R*)) (Johnson eq.
+  // 11.24), so E scales as delta^(-5/2); linear delta_peak = v sqrt(m*/k), k as delta^(-2).
+  const double target = 0.8 * guard * reference_radius;  // m
+  const double stiffening =
+      p.normal_model == NormalModel::linear
+          ? equivalent * equivalent * effective_mass / p.linear_normal_stiffness / (target * target)
+          : 15.0 * effective_mass * equivalent * equivalent /
+                (16.0 * p.effective_youngs_modulus * std::sqrt(effective_radius) * std::pow(target, 2.5));
   if (equivalent <= 1.25 * expected)
     return {
         fmt::format(
@@ -51,10 +60,12 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
             "this overlap is what contact theory predicts for this material at this speed, not "
             "an instability",
             equivalent, expected),
-        fmt::format("stiffen the material (a {:.2g}-fold Young's modulus at least), raise "
-                    "simulation.max_overlap_fraction (now {:.3g}), or lower the impact speed; "
-                    "`quarry check` compares the Hertz peak overlap with the guard",
-                    std::pow(overlap / (guard * reference_radius), 2.5), guard)};
+        fmt::format("stiffen the material (a {:.2g}-fold {} keeps this pair's peak overlap at 80 % of "
+                    "the limit), raise simulation.max_overlap_fraction (now {:.3g}), or lower the "
+                    "impact speed; `quarry check` compares the Hertz peak overlap with the guard",
+                    stiffening,
+                    p.normal_model == NormalModel::linear ? "normal stiffness" : "Young's modulus",
+                    guard)};
   return {fmt::format("the pair holds the energy of an impact at {:.3g} m/s, far above the "
                       "expected {:.3g} m/s: "
                       "energy was created numerically (the run is going unstable)",
