@@ -1,39 +1,53 @@
-// quarry_bench_report: turns the peer-comparison CSV written by bench/run.sh into the markdown
-// summary (medians, Quarry/peer ratios, memory, settled-bed check) and the throughput PNG.
+// quarry_bench_report: turns a peer-comparison CSV written by bench/run.sh (settled bed) or
+// bench/run_flowing.sh (--pour) into the markdown summary (medians, Quarry/peer ratios,
+// memory, physics check) and the throughput PNG.
 #include <fmt/format.h>
 
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "bench/bench_results.h"
 #include "io/atomic_file.h"
 
 int main(int argc, char** argv) {
+  namespace bench = quarry::bench;
   const std::string usage =
-      "usage: quarry_bench_report --header\n"
-      "       quarry_bench_report RESULTS.csv SUMMARY.md PLOT.png [HEADING]\n";
-  if (argc == 2 && std::string(argv[1]) == "--header") {
-    std::cout << quarry::bench::bench_csv_header() << "\n";
+      "usage: quarry_bench_report [--pour] --header\n"
+      "       quarry_bench_report [--pour] RESULTS.csv SUMMARY.md PLOT.png [HEADING]\n";
+  std::vector<std::string> args(argv + 1, argv + argc);
+  bench::BenchKind kind = bench::BenchKind::settled_bed;
+  if (!args.empty() && args.front() == "--pour") {
+    kind = bench::BenchKind::pour;
+    args.erase(args.begin());
+  }
+  if (args.size() == 1 && args[0] == "--header") {
+    std::cout << bench::bench_csv_header(kind) << "\n";
     return 0;
   }
-  if (argc < 4 || argc > 5) {
+  if (args.size() < 3 || args.size() > 4) {
     std::cerr << usage;
     return 2;
   }
+  const bool pour = kind == bench::BenchKind::pour;
   try {
-    std::ifstream in(argv[1], std::ios::binary);
-    if (!in) throw std::runtime_error(fmt::format("cannot open {}", argv[1]));
+    std::ifstream in(args[0], std::ios::binary);
+    if (!in) throw std::runtime_error(fmt::format("cannot open {}", args[0]));
     std::ostringstream text;
     text << in.rdbuf();
-    const auto runs = quarry::bench::read_bench_csv(text.str());
-    if (runs.empty()) throw std::runtime_error(fmt::format("{} holds no runs", argv[1]));
-    const std::string heading = argc == 5 ? argv[4] : "# Quarry vs. LIGGGHTS and LAMMPS: settled bed";
-    quarry::write_file_atomically(argv[2], quarry::bench::bench_markdown(runs, heading));
-    quarry::write_line_plot_png(argv[3], quarry::bench::throughput_plot(quarry::bench::summarize_runs(runs),
-                                "Settled bed, Hertz-Mindlin with history: throughput against N"));
-    std::cerr << fmt::format("wrote {} and {} ({} runs)\n", argv[2], argv[3], runs.size());
+    const auto runs = bench::read_bench_csv(text.str());
+    if (runs.empty()) throw std::runtime_error(fmt::format("{} holds no runs", args[0]));
+    const std::string heading = args.size() == 4 ? args[3]
+                                : pour          ? "# Quarry vs. LIGGGHTS and LAMMPS: a pour"
+                                                : "# Quarry vs. LIGGGHTS and LAMMPS: settled bed";
+    quarry::write_file_atomically(args[1], bench::bench_markdown(runs, heading, 0.01, kind));
+    quarry::write_line_plot_png(
+        args[2], bench::throughput_plot(bench::summarize_runs(runs),
+                                        pour ? "Pour onto a floor, Hertz-Mindlin with history: throughput against N"
+                                             : "Settled bed, Hertz-Mindlin with history: throughput against N"));
+    std::cerr << fmt::format("wrote {} and {} ({} runs)\n", args[1], args[2], runs.size());
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "quarry_bench_report: " << e.what() << "\n";

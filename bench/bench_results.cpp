@@ -21,6 +21,12 @@ const std::vector<std::string> kColumns = {
     "date", "machine", "size", "n", "code", "threads", "rep", "steps", "loop_s", "pss",
     "coordination", "neigh_pp", "rebuilds", "rss_kib", "zmax", "zmean", "floor_force", "weight",
     "other_load"};
+// The pour's columns (bench/run_flowing.sh), after the settled bed's.
+const std::vector<std::string> kPourColumns = {"skin", "ke_pp", "neigh_share"};
+
+// Skins compare equal when both are unrecorded (NaN) or the same number.
+bool same_skin(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
+double skin_key(double skin) { return std::isnan(skin) ? -1.0 : skin; }
 
 int code_rank(const std::string& code) {
   static const std::vector<std::string> order = {"quarry", "liggghts", "lmp_granular", "lmp_ghh"};
@@ -69,9 +75,11 @@ std::string percent(double fraction) {
 
 }  // namespace
 
-std::string bench_csv_header() {
+std::string bench_csv_header(BenchKind kind) {
   std::string header;
   for (const auto& c : kColumns) header += (header.empty() ? "" : ",") + c;
+  if (kind == BenchKind::pour)
+    for (const auto& c : kPourColumns) header += "," + c;
   return header;
 }
 
@@ -94,6 +102,7 @@ std::vector<BenchRun> read_bench_csv(const std::string& text) {
       throw std::runtime_error(fmt::format("results CSV line {}: {} fields, the header has {}", line_number,
                                            f.size(), header.size()));
     const auto number = [&](const char* name) { return to_number(f[column.at(name)], line_number); };
+    const auto optional = [&](const char* name) { return column.count(name) ? number(name) : kNaN; };
     BenchRun r;
     r.date = f[column.at("date")];
     r.machine = f[column.at("machine")];
@@ -114,6 +123,9 @@ std::vector<BenchRun> read_bench_csv(const std::string& text) {
     r.floor_force = number("floor_force");
     r.weight = number("weight");
     r.other_load = number("other_load");
+    r.skin = optional("skin");
+    r.kinetic_energy = optional("ke_pp");
+    r.neighbor_share = optional("neigh_share");
     runs.push_back(r);
   }
   return runs;
@@ -131,14 +143,15 @@ double median_of(std::vector<double> values) {
 double relative_difference(double a, double b) { return (a - b) / std::abs(b); }
 
 std::vector<BenchGroup> summarize_runs(const std::vector<BenchRun>& runs) {
-  std::map<std::tuple<double, int, int>, std::vector<const BenchRun*>> by_key;
-  for (const auto& r : runs) by_key[{r.particles, code_rank(r.code), r.threads}].push_back(&r);
+  std::map<std::tuple<double, int, int, double>, std::vector<const BenchRun*>> by_key;
+  for (const auto& r : runs) by_key[{r.particles, code_rank(r.code), r.threads, skin_key(r.skin)}].push_back(&r);
   std::vector<BenchGroup> groups;
   for (const auto& [key, members] : by_key) {
     BenchGroup g;
     g.size = members.front()->size;
     g.code = members.front()->code;
     g.threads = members.front()->threads;
+    g.skin = members.front()->skin;
     g.particles = members.front()->particles;
     g.runs = static_cast<int>(members.size());
     const auto collect = [&](double BenchRun::*field) {
@@ -159,6 +172,8 @@ std::vector<BenchGroup> summarize_runs(const std::vector<BenchRun>& runs) {
     g.mean_height = median_of(collect(&BenchRun::mean_height));
     g.floor_force = median_of(collect(&BenchRun::floor_force));
     g.weight = median_of(collect(&BenchRun::weight));
+    g.kinetic_energy = median_of(collect(&BenchRun::kinetic_energy));
+    g.neighbor_share = median_of(collect(&BenchRun::neighbor_share));
     double load = 0;
     for (const BenchRun* r : members) load += std::isfinite(r->other_load) ? r->other_load : 0.0;
     g.other_load = load / static_cast<double>(members.size());
@@ -167,44 +182,142 @@ std::vector<BenchGroup> summarize_runs(const std::vector<BenchRun>& runs) {
   return groups;
 }
 
-std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string& heading, double tolerance) {
-  const std::vector<BenchGroup> groups = summarize_runs(runs);
-  const auto find = [&](double n, const std::string& code, int threads) -> const BenchGroup* {
-    for (const auto& g : groups)
-      if (g.particles == n && g.code == code && g.threads == threads) return &g;
-    return nullptr;
-  };
-  std::string md = heading + "\n\n";
-  md += "Throughput = N × timed steps / wall time of the timed steps (setup, settling and warm-up "
-        "excluded), million particle-steps per second, median over the repeats. Threads = OpenMP "
-        "threads (Quarry) or MPI ranks (LIGGGHTS, LAMMPS). Other load = CPU used by other processes "
-        "during the run (cores, mean).\n\n";
-  md += "| N | code | threads | runs | median | min .. max | ns per particle-step × threads | "
-        "coordination (2·contacts/N) | neighbour pairs / N | list builds | peak RSS MiB | other load |\n";
-  md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& g : groups)
-    md += fmt::format("| {:.0f} | {} | {} | {} | {} | {} .. {} | {:.0f} | {} | {} | {} | {:.0f} | {:.2f} |\n",
-                      g.particles, code_label(g.code), g.threads, g.runs, millions(g.median_rate),
-                      millions(g.min_rate), millions(g.max_rate), g.threads * 1e9 / g.median_rate,
-                      fixed(g.coordination, 2), fixed(g.neighbor_pairs_per_particle, 2), fixed(g.rebuilds, 0),
-                      g.peak_rss_kib / 1024.0, g.other_load);
+namespace {
 
-  md += "\n## Quarry / peer (ratio of medians, same run)\n\n| N | threads | peer | Quarry | peer median | Quarry / peer |\n|---|---|---|---|---|---|\n";
+// The group of `code` at `threads` with the N and skin of `like` (nullptr if none was timed).
+const BenchGroup* group_like(const std::vector<BenchGroup>& groups, const BenchGroup& like, const std::string& code,
+                             int threads) {
+  for (const auto& g : groups)
+    if (g.particles == like.particles && g.code == code && g.threads == threads && same_skin(g.skin, like.skin))
+      return &g;
+  return nullptr;
+}
+
+// Each of Quarry's groups with each peer's timed at the same N, skin and thread count (with
+// `one_thread`, Quarry's 1-thread groups only).
+std::vector<std::pair<const BenchGroup*, const BenchGroup*>> quarry_and_peers(const std::vector<BenchGroup>& groups,
+                                                                                bool one_thread) {
+  std::vector<std::pair<const BenchGroup*, const BenchGroup*>> pairs;
   for (const auto& q : groups) {
-    if (q.code != "quarry") continue;
-    for (const char* peer : {"liggghts", "lmp_granular", "lmp_ghh"}) {
-      const BenchGroup* p = find(q.particles, peer, q.threads);
-      if (!p) continue;
-      md += fmt::format("| {:.0f} | {} | {} | {} | {} | **{:.2f}** |\n", q.particles, q.threads, code_label(peer),
-                        millions(q.median_rate), millions(p->median_rate), q.median_rate / p->median_rate);
-    }
+    if (q.code != "quarry" || (one_thread && q.threads != 1)) continue;
+    for (const char* peer : {"liggghts", "lmp_granular", "lmp_ghh"})
+      if (const BenchGroup* p = group_like(groups, q, peer, q.threads)) pairs.emplace_back(&q, p);
+  }
+  return pairs;
+}
+
+// The pour's physics check: Quarry against each peer at the same skin, 1 thread/rank. The
+// mean height of the centres is the pile's packing and must agree within the tolerance; the
+// kinetic energy left after the impact, the top of the heap and the floor force are reported
+// (they hang on a few particles still moving, and on the friction history at the walls).
+std::string pour_check(const std::vector<BenchGroup>& groups, double tolerance) {
+  std::string md = fmt::format(
+      "\n## Pour: Quarry against each peer (after the timed steps, 1 thread/rank, same skin, medians)\n\n"
+      "Pass = |Quarry − peer| / peer within {:.0f} % for the mean height of the particle centres. "
+      "The kinetic energy left, the top of the heap and the floor force are shown but not judged: "
+      "they hang on the last particles still moving and on the friction history at the walls.\n\n"
+      "| N | skin mm | peer | z mean Quarry / peer (mm) | Δ | z max Quarry / peer (mm) | Δ | "
+      "kinetic energy per particle Quarry / peer (µJ) | Quarry / peer | floor / Σmg Quarry, peer | "
+      "coordination Quarry, peer | pass |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+      100.0 * tolerance);
+  for (const auto& [qp, p] : quarry_and_peers(groups, true)) {
+    const BenchGroup& q = *qp;
+    const double dm = relative_difference(q.mean_height, p->mean_height);
+    const double dz = relative_difference(q.max_height, p->max_height);
+    md += fmt::format("| {:.0f} | {} | {} | {} / {} | {} | {} / {} | {} | {} / {} | {} | {}, {} | {}, {} | {} |\n",
+                      q.particles, fixed(1e3 * q.skin, 2), code_label(p->code), fixed(1e3 * q.mean_height, 3),
+                      fixed(1e3 * p->mean_height, 3), percent(dm), fixed(1e3 * q.max_height, 2),
+                      fixed(1e3 * p->max_height, 2), percent(dz), fixed(1e6 * q.kinetic_energy, 4),
+                      fixed(1e6 * p->kinetic_energy, 4), fixed(q.kinetic_energy / p->kinetic_energy, 2),
+                      fixed(q.floor_force / q.weight, 3), fixed(p->floor_force / p->weight, 3),
+                      fixed(q.coordination, 2), fixed(p->coordination, 2),
+                      std::isfinite(dm) ? (std::abs(dm) <= tolerance ? "yes" : "**no**") : "n/a");
+  }
+  return md;
+}
+
+// Each code's best skin (the highest median throughput over the skins timed) and the ratio of
+// Quarry's best to each peer's best, per N and thread count.
+std::string best_skins(const std::vector<BenchGroup>& groups) {
+  std::map<std::tuple<double, int, int>, const BenchGroup*> best;  // (N, code rank, threads)
+  for (const auto& g : groups) {
+    const BenchGroup*& b = best[{g.particles, code_rank(g.code), g.threads}];
+    if (!b || g.median_rate > b->median_rate) b = &g;
+  }
+  std::string md =
+      "\n## Each code at its best skin (of those timed)\n\n| N | threads | code | best skin mm | median | "
+      "Quarry best / this |\n|---|---|---|---|---|---|\n";
+  for (const auto& [key, g] : best) {
+    const auto q = best.find({std::get<0>(key), code_rank("quarry"), std::get<2>(key)});
+    const std::string ratio =
+        q == best.end() || g->code == "quarry" ? "-" : fmt::format("**{:.2f}**", q->second->median_rate / g->median_rate);
+    md += fmt::format("| {:.0f} | {} | {} | {} | {} | {} |\n", g->particles, g->threads, code_label(g->code),
+                      fixed(1e3 * g->skin, 2), millions(g->median_rate), ratio);
+  }
+  return md;
+}
+
+}  // namespace
+
+std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string& heading, double tolerance,
+                           BenchKind kind) {
+  const std::vector<BenchGroup> groups = summarize_runs(runs);
+  const bool pour = kind == BenchKind::pour;
+  // The memory table takes one skin per code: the smallest timed (memory hardly depends on it).
+  double first_skin = kNaN;
+  for (const auto& g : groups)
+    if (std::isnan(first_skin) || g.skin < first_skin) first_skin = g.skin;
+  std::string md = heading + "\n\n";
+  md += pour ? "Throughput = N × timed steps / wall time of the timed steps (setup excluded; the pour is timed "
+               "from rest), million particle-steps per second, median over the repeats. Threads = OpenMP "
+               "threads (Quarry) or MPI ranks (LIGGGHTS, LAMMPS). Neighbour share = the neighbour stage's "
+               "share of the loop by each code's own timers (LIGGGHTS and LAMMPS: \"Neigh\"). Other load = "
+               "CPU used by other processes during the run (cores, mean).\n\n"
+             : "Throughput = N × timed steps / wall time of the timed steps (setup, settling and warm-up "
+               "excluded), million particle-steps per second, median over the repeats. Threads = OpenMP "
+               "threads (Quarry) or MPI ranks (LIGGGHTS, LAMMPS). Other load = CPU used by other processes "
+               "during the run (cores, mean).\n\n";
+  if (pour) {
+    md += "| N | code | threads | skin mm | runs | median | min .. max | ns per particle-step × threads | "
+          "list builds | neighbour share | coordination (2·contacts/N) | neighbour pairs / N | peak RSS MiB | "
+          "other load |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& g : groups)
+      md += fmt::format("| {:.0f} | {} | {} | {} | {} | {} | {} .. {} | {:.0f} | {} | {} | {} | {} | {:.0f} | {:.2f} |\n",
+                        g.particles, code_label(g.code), g.threads, fixed(1e3 * g.skin, 2), g.runs,
+                        millions(g.median_rate), millions(g.min_rate), millions(g.max_rate),
+                        g.threads * 1e9 / g.median_rate, fixed(g.rebuilds, 0),
+                        std::isfinite(g.neighbor_share) ? fmt::format("{:.1f} %", 100.0 * g.neighbor_share) : "n/a",
+                        fixed(g.coordination, 2), fixed(g.neighbor_pairs_per_particle, 2), g.peak_rss_kib / 1024.0,
+                        g.other_load);
+  } else {
+    md += "| N | code | threads | runs | median | min .. max | ns per particle-step × threads | "
+          "coordination (2·contacts/N) | neighbour pairs / N | list builds | peak RSS MiB | other load |\n";
+    md += "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& g : groups)
+      md += fmt::format("| {:.0f} | {} | {} | {} | {} | {} .. {} | {:.0f} | {} | {} | {} | {:.0f} | {:.2f} |\n",
+                        g.particles, code_label(g.code), g.threads, g.runs, millions(g.median_rate),
+                        millions(g.min_rate), millions(g.max_rate), g.threads * 1e9 / g.median_rate,
+                        fixed(g.coordination, 2), fixed(g.neighbor_pairs_per_particle, 2), fixed(g.rebuilds, 0),
+                        g.peak_rss_kib / 1024.0, g.other_load);
   }
 
-  md += "\n## Speed-up of 2 threads/ranks over 1 (medians)\n\n| N | code | 2 / 1 |\n|---|---|---|\n";
+  md += pour ? "\n## Quarry / peer (ratio of medians, same run, same skin)\n\n| N | threads | skin mm | peer | Quarry | "
+               "peer median | Quarry / peer |\n|---|---|---|---|---|---|---|\n"
+             : "\n## Quarry / peer (ratio of medians, same run)\n\n| N | threads | peer | Quarry | peer median | "
+               "Quarry / peer |\n|---|---|---|---|---|---|\n";
+  for (const auto& [q, p] : quarry_and_peers(groups, false))
+    md += fmt::format("| {:.0f} | {} | {}{} | {} | {} | **{:.2f}** |\n", q->particles, q->threads,
+                      pour ? fixed(1e3 * q->skin, 2) + " | " : "", code_label(p->code), millions(q->median_rate),
+                      millions(p->median_rate), q->median_rate / p->median_rate);
+  if (pour) md += best_skins(groups);
+
+  md += pour ? "\n## Speed-up of 2 threads/ranks over 1 (medians)\n\n| N | code | skin mm | 2 / 1 |\n|---|---|---|---|\n"
+             : "\n## Speed-up of 2 threads/ranks over 1 (medians)\n\n| N | code | 2 / 1 |\n|---|---|---|\n";
   for (const auto& g : groups) {
     if (g.threads != 2) continue;
-    if (const BenchGroup* one = find(g.particles, g.code, 1))
-      md += fmt::format("| {:.0f} | {} | {:.2f} |\n", g.particles, code_label(g.code), g.median_rate / one->median_rate);
+    if (const BenchGroup* one = group_like(groups, g, g.code, 1))
+      md += fmt::format("| {:.0f} | {} | {}{:.2f} |\n", g.particles, code_label(g.code),
+                        pour ? fixed(1e3 * g.skin, 2) + " | " : "", g.median_rate / one->median_rate);
   }
 
   md += "\n## Memory per particle (single thread/rank, whole-process peak RSS)\n\n"
@@ -213,7 +326,7 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
   for (const char* code : {"quarry", "liggghts", "lmp_granular", "lmp_ghh"}) {
     const BenchGroup* previous = nullptr;
     for (const auto& g : groups) {
-      if (g.code != code || g.threads != 1) continue;
+      if (g.code != code || g.threads != 1 || !same_skin(g.skin, first_skin)) continue;
       const double bytes = g.peak_rss_kib * 1024.0;
       const std::string marginal =
           previous ? fmt::format("{:.0f}", (bytes - previous->peak_rss_kib * 1024.0) / (g.particles - previous->particles))
@@ -223,7 +336,7 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
       previous = &g;
     }
   }
-
+  if (pour) return md + pour_check(groups, tolerance);
   md += fmt::format(
       "\n## Settled bed: Quarry against each peer (after the timed steps, 1 thread/rank, medians)\n\n"
       "Pass = |Quarry − peer| / peer within {:.0f} % for the max and mean height of the particle centres "
@@ -233,23 +346,19 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
       "| N | peer | z max Quarry / peer (mm) | Δ | z mean Quarry / peer (mm) | Δ | floor force Quarry / peer (N) | Δ | "
       "floor / Σmg Quarry, peer | coordination Quarry, peer | pass |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
       100.0 * tolerance);
-  for (const auto& q : groups) {
-    if (q.code != "quarry" || q.threads != 1) continue;
-    for (const char* peer : {"liggghts", "lmp_granular", "lmp_ghh"}) {
-      const BenchGroup* p = find(q.particles, peer, 1);
-      if (!p) continue;
-      const double dz = relative_difference(q.max_height, p->max_height);
-      const double dm = relative_difference(q.mean_height, p->mean_height);
-      const double df = relative_difference(q.floor_force, p->floor_force);
-      const bool pass = std::abs(dz) <= tolerance && std::abs(dm) <= tolerance && std::abs(df) <= tolerance;
-      md += fmt::format("| {:.0f} | {} | {} / {} | {} | {} / {} | {} | {} / {} | {} | {}, {} | {}, {} | {} |\n",
-                        q.particles, code_label(peer), fixed(1e3 * q.max_height, 3), fixed(1e3 * p->max_height, 3),
-                        percent(dz), fixed(1e3 * q.mean_height, 3), fixed(1e3 * p->mean_height, 3), percent(dm),
-                        fixed(q.floor_force, 4), fixed(p->floor_force, 4), percent(df),
-                        fixed(q.floor_force / q.weight, 3), fixed(p->floor_force / p->weight, 3),
-                        fixed(q.coordination, 2), fixed(p->coordination, 2),
-                        std::isfinite(dz + dm + df) ? (pass ? "yes" : "**no**") : "n/a");
-    }
+  for (const auto& [qp, p] : quarry_and_peers(groups, true)) {
+    const BenchGroup& q = *qp;
+    const double dz = relative_difference(q.max_height, p->max_height);
+    const double dm = relative_difference(q.mean_height, p->mean_height);
+    const double df = relative_difference(q.floor_force, p->floor_force);
+    const bool pass = std::abs(dz) <= tolerance && std::abs(dm) <= tolerance && std::abs(df) <= tolerance;
+    md += fmt::format("| {:.0f} | {} | {} / {} | {} | {} / {} | {} | {} / {} | {} | {}, {} | {}, {} | {} |\n",
+                      q.particles, code_label(p->code), fixed(1e3 * q.max_height, 3), fixed(1e3 * p->max_height, 3),
+                      percent(dz), fixed(1e3 * q.mean_height, 3), fixed(1e3 * p->mean_height, 3), percent(dm),
+                      fixed(q.floor_force, 4), fixed(p->floor_force, 4), percent(df),
+                      fixed(q.floor_force / q.weight, 3), fixed(p->floor_force / p->weight, 3),
+                      fixed(q.coordination, 2), fixed(p->coordination, 2),
+                      std::isfinite(dz + dm + df) ? (pass ? "yes" : "**no**") : "n/a");
   }
   return md;
 }
@@ -259,11 +368,13 @@ PlotSpec throughput_plot(const std::vector<BenchGroup>& groups, const std::strin
   plot.title = title;
   plot.x_label = "log10 N (particles)";
   plot.y_label = "million particle-steps per second";
-  std::map<std::pair<int, int>, PlotSeries> series;  // (code rank, threads) -> points by N
+  // (code rank, threads, skin) -> points by N; the skin is named where the runs recorded it.
+  std::map<std::tuple<int, int, double>, PlotSeries> series;
   for (const auto& g : groups) {
-    PlotSeries& s = series[{code_rank(g.code), g.threads}];
-    s.label = fmt::format("{}, {} {}", code_label(g.code), g.threads,
-                          g.code == "quarry" ? (g.threads == 1 ? "thread" : "threads") : (g.threads == 1 ? "rank" : "ranks"));
+    PlotSeries& s = series[{code_rank(g.code), g.threads, skin_key(g.skin)}];
+    s.label = fmt::format("{}, {} {}{}", code_label(g.code), g.threads,
+                          g.code == "quarry" ? (g.threads == 1 ? "thread" : "threads") : (g.threads == 1 ? "rank" : "ranks"),
+                          std::isnan(g.skin) ? "" : fmt::format(", skin {:.2f} mm", 1e3 * g.skin));
     s.x.push_back(std::log10(g.particles));
     s.y.push_back(g.median_rate / 1e6);
   }

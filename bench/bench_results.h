@@ -1,6 +1,7 @@
-// Benchmark results of the peer comparison (bench/run.sh): one CSV row per timed run of Quarry,
-// LIGGGHTS or LAMMPS; medians per (size, code, threads), the markdown summary with the ratios
-// and the settled-bed check, and the throughput plot. Not part of the time step.
+// Benchmark results of the peer comparisons (bench/run.sh: settled bed, bench/run_flowing.sh:
+// a pour): one CSV row per timed run of Quarry, LIGGGHTS or LAMMPS; medians per (size, code,
+// threads, skin), the markdown summary with the ratios and the physics check, and the
+// throughput plot. Not part of the time step.
 #pragma once
 
 #include <string>
@@ -9,6 +10,9 @@
 #include "io/png_plot.h"
 
 namespace quarry::bench {
+
+// Which reference problem the runs are of: it decides the physics check of the summary.
+enum class BenchKind { settled_bed, pour };
 
 // One timed run. Numbers absent from a code's log are NaN.
 struct BenchRun {
@@ -28,12 +32,17 @@ struct BenchRun {
   double floor_force = 0;                 // N, vertical force of the particles on the floor
   double weight = 0;                      // N, Σ m g
   double other_load = 0;                  // cores used by other processes during the run
+  // Columns of the flowing benchmarks (NaN when a file has none):
+  double skin = 0;                        // m, neighbour skin
+  double kinetic_energy = 0;              // J per particle, translation + rotation, at the end
+  double neighbor_share = 0;              // neighbour stage / loop time (the code's own timers)
 };
 
-// The CSV header written by run.sh (column order of write_bench_csv_row).
-std::string bench_csv_header();
+// The CSV header the harness writes: the settled bed's columns; the pour adds skin, ke_pp and
+// neigh_share at the end.
+std::string bench_csv_header(BenchKind kind = BenchKind::settled_bed);
 // Parses the CSV text (header line first; columns found by name, so added columns are
-// tolerated). Throws std::runtime_error naming the line of a malformed row.
+// tolerated; the pour's columns may be absent). Throws std::runtime_error naming the line of a malformed row.
 std::vector<BenchRun> read_bench_csv(const std::string& text);
 
 // Median of the values that are finite (NaN if none). Even count: mean of the middle two.
@@ -43,6 +52,7 @@ double median_of(std::vector<double> values);
 struct BenchGroup {
   std::string size, code;
   int threads = 1;
+  double skin = 0;                                       // m (NaN: not recorded)
   double particles = 0;
   int runs = 0;
   double median_rate = 0, min_rate = 0, max_rate = 0;  // particle-steps/s
@@ -50,18 +60,23 @@ struct BenchGroup {
   double peak_rss_kib = 0;                               // largest over the runs (KiB)
   double max_height = 0, mean_height = 0, floor_force = 0, weight = 0;  // m, m, N, N
   double other_load = 0;                                 // mean over the runs (cores)
+  double kinetic_energy = 0, neighbor_share = 0;         // J per particle, 1
 };
-// Groups sorted by N, then code (quarry, liggghts, lmp_granular, lmp_ghh), then threads.
+// Groups sorted by N, then code (quarry, liggghts, lmp_granular, lmp_ghh), then threads, then
+// skin.
 std::vector<BenchGroup> summarize_runs(const std::vector<BenchRun>& runs);
 
 // Relative difference (a − b) / |b|.
 double relative_difference(double a, double b);
 
 // The markdown summary: medians, Quarry/peer ratios, 2-thread speed-up, contacts and memory
-// per particle (total and marginal between sizes), and the settled-bed check (packing height
-// and floor force of Quarry against each peer, within `tolerance`, default 1 %).
+// per particle (total and marginal between sizes), and the physics check of Quarry against
+// each peer within `tolerance` (default 1 %): the settled bed's packing height and floor
+// force, or the pour's mean height (its kinetic energy, top and floor force are reported).
+// The pour's summary also shows the skin, the neighbour stage's share and each code's best
+// skin.
 std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string& heading,
-                           double tolerance = 0.01);
+                           double tolerance = 0.01, BenchKind kind = BenchKind::settled_bed);
 
 // Particle-steps per second (millions) against log10 N, one series per code and thread count.
 PlotSpec throughput_plot(const std::vector<BenchGroup>& groups, const std::string& title);

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 namespace quarry::bench {
 namespace {
 
@@ -59,6 +61,39 @@ TEST(BenchResults, RatiosAreOfMediansAndTheBedCheckUsesTheTolerance) {
   ASSERT_EQ(plot.series.size(), 2u);
   EXPECT_EQ(plot.series[0].x[0], 4.0);  // log10 10000
   EXPECT_EQ(plot.series[0].y[0], 20.0);
+}
+
+// The pour's summary: its columns read (absent ones NaN in a settled-bed file), groups per
+// skin, each code's best skin, and the check judged on the mean height alone.
+TEST(BenchResults, PourGroupsBySkinAndChecksTheMeanHeight) {
+  EXPECT_TRUE(std::isnan(read_bench_csv(bench_csv_header() + "\n" + row("quarry", 1, 1, 2e7, 0.05, 0.9))[0].skin));
+  const auto pour_row = [](const std::string& code, double skin, double pss, double zmean, double ke) {
+    std::string r = row(code, 1, 1, pss, 0.06, 0.9);
+    r.replace(r.find(",0.02,"), 6, fmt::format(",{},", zmean));
+    r.pop_back();  // the newline
+    return r + fmt::format(",{},{},0.19\n", skin, ke);
+  };
+  const std::string csv = bench_csv_header(BenchKind::pour) + "\n" +
+                          pour_row("quarry", 0.0004, 1.5e7, 0.02950, 4e-8) +
+                          pour_row("quarry", 0.0008, 1.2e7, 0.02950, 4e-8) +
+                          pour_row("liggghts", 0.0004, 5e6, 0.02960, 5e-8) +
+                          pour_row("liggghts", 0.0008, 6e6, 0.03000, 5e-8);
+  const auto runs = read_bench_csv(csv);
+  ASSERT_EQ(runs.size(), 4u);
+  EXPECT_EQ(runs[0].skin, 0.0004);
+  EXPECT_EQ(runs[0].kinetic_energy, 4e-8);
+  EXPECT_EQ(runs[0].neighbor_share, 0.19);
+  EXPECT_EQ(summarize_runs(runs).size(), 4u);
+  const std::string md = bench_markdown(runs, "# pour", 0.01, BenchKind::pour);
+  EXPECT_NE(md.find("**3.00**"), std::string::npos) << md;  // same skin 0.4 mm: 1.5e7 / 5e6
+  EXPECT_NE(md.find("**2.50**"), std::string::npos) << md;  // best against best: 1.5e7 / 6e6
+  EXPECT_NE(md.find("19.0 %"), std::string::npos) << md;    // the neighbour share
+  // Mean height 29.50 against 29.60 mm (−0.34 %) passes; against 30.00 mm (−1.67 %) does not.
+  EXPECT_NE(md.find("-0.34 %"), std::string::npos) << md;
+  EXPECT_NE(md.find("-1.67 %"), std::string::npos) << md;
+  EXPECT_NE(md.find("| yes |"), std::string::npos) << md;
+  EXPECT_NE(md.find("**no**"), std::string::npos) << md;
+  EXPECT_EQ(throughput_plot(summarize_runs(runs), "t").series.size(), 4u);
 }
 
 }  // namespace

@@ -418,4 +418,21 @@ LammpsData read_lammps_data(const std::string& path) {
   return data;
 }
 
+std::string lammps_data_text(const LammpsData& data) {
+  // %.17g keeps every double exact, so the reader gives back the very same bits.
+  std::string text = (data.title.empty() ? std::string("LAMMPS data file") : data.title) + "\n\n";
+  text += fmt::format("{} atoms\n{} atom types\n\n", data.atoms.size(), std::max(data.atom_types, 1));
+  for (int d = 0; d < 3; ++d)
+    text += fmt::format("{:.17g} {:.17g} {}lo {}hi\n", data.box_lo[d], data.box_hi[d], "xyz"[d], "xyz"[d]);
+  text += "\nAtoms # sphere\n\n";
+  for (const LammpsAtom& a : data.atoms)
+    text += fmt::format("{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", a.id, a.type, a.diameter, a.density,
+                        a.position.x, a.position.y, a.position.z);
+  text += "\nVelocities\n\n";
+  for (const LammpsAtom& a : data.atoms)
+    text += fmt::format("{} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", a.id, a.velocity.x, a.velocity.y,
+                        a.velocity.z, a.angular_velocity.x, a.angular_velocity.y, a.angular_velocity.z);
+  return text;
+}
+
 }  // namespace quarry::bench

@@ -53,4 +53,9 @@ struct LammpsData {
 // lines, an atom outside the box, a repeated or unknown atom-ID.
 LammpsData read_lammps_data(const std::string& path);
 
+// The text of an atom_style sphere data file of these atoms (Atoms and Velocities sections,
+// every number with 17 significant digits, so that read_lammps_data returns the same bits), as
+// LAMMPS' and LIGGGHTS' read_data take it: the flowing benchmarks' shared starting lattice.
+std::string lammps_data_text(const LammpsData& data);
+
 }  // namespace quarry::bench

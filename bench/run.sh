@@ -23,6 +23,7 @@ set -euo pipefail
 BENCH=$(cd "$(dirname "$0")" && pwd)
 ROOT=$(cd "$BENCH/.." && pwd)
 cd "$ROOT"
+source "$BENCH/lib.sh"
 
 SIZES=${SIZES:-"10k 50k 200k"}
 REPEATS=${REPEATS:-3}
@@ -37,42 +38,20 @@ WORK="$BENCH/_work"
 RUNS="$WORK/runs"
 LOGS="$WORK/logs"
 DATE=$(date +%F)
-cpu_slug() { lscpu | sed -n 's/^Model name: *//p' | head -1 | tr 'A-Z' 'a-z' | sed 's/[^a-z0-9]\+/-/g; s/^-//; s/-$//' | cut -c1-32; }
 MACHINE=${MACHINE:-"$(nproc)cpu-$(cpu_slug)"}
 RESULTS="$BENCH/results/$DATE-$MACHINE"
 # An earlier invocation of the same day and machine keeps its files: this one takes the next free
 # suffix (-b, -c, ...). APPEND=1 adds this invocation's runs to the day's latest file instead
 # (e.g. SIZES="1m" after a run of the smaller sizes, one report for both).
-if [ "${BEDS_ONLY:-0}" != 1 ]; then
-  latest=$RESULTS
-  for suffix in b c d e f g h i j k l m n o p q r s t u v w x y z; do
-    [ -e "$RESULTS.csv" ] || break
-    latest=$RESULTS; RESULTS="$BENCH/results/$DATE-$MACHINE-$suffix"
-  done
-  [ "${APPEND:-0}" = 1 ] && RESULTS=$latest
-  [ -e "$RESULTS.csv" ] && [ "${APPEND:-0}" != 1 ] && { echo "bench/run.sh: no free name for the results of $DATE-$MACHINE; set MACHINE" >&2; exit 2; }
-fi
+[ "${BEDS_ONLY:-0}" != 1 ] && RESULTS=$(results_name "$RESULTS")
 
 # ---- build Quarry (Release) ------------------------------------------------------------------
-if [ "${SKIP_BUILD:-0}" != 1 ]; then
-  if [ "$BUILD_DIR" = build/release ]; then
-    cmake --preset release -DQUARRY_BUILD_BENCH=ON > /dev/null
-  else
-    cmake --preset release -B "$BUILD_DIR" -DQUARRY_BUILD_BENCH=ON > /dev/null
-  fi
-  cmake --build "$BUILD_DIR" --target quarry_settled_bed quarry_bench_report
-fi
+build_bench quarry_settled_bed quarry_bench_report
 QBIN="$ROOT/$BUILD_DIR/bench/quarry_settled_bed"
 QREPORT="$ROOT/$BUILD_DIR/bench/quarry_bench_report"
 
 # ---- install the peers (Debian 12 packages) ----------------------------------------------------
-if [ "${SKIP_INSTALL:-0}" != 1 ]; then
-  if ! command -v lmp >/dev/null || ! command -v liggghts >/dev/null || ! command -v mpirun >/dev/null \
-     || ! env time --version >/dev/null 2>&1; then
-    apt-get update
-    DEBIAN_FRONTEND=noninteractive apt-get install -y liggghts lammps openmpi-bin time
-  fi
-fi
+[ "${SKIP_INSTALL:-0}" != 1 ] && install_peers
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMP_NUM_THREADS=1          # the peers' binaries; Quarry sets its own thread count
 MPIRUN="mpirun -np 2 --bind-to core"
@@ -132,23 +111,6 @@ build_quarry_bed() {   # size
       --threads 2 --steps 0 --bed "$RUNS/quarry_$s.qck" > "$LOGS/settle_${s}_quarry.log" 2>&1
 }
 
-busy() { awk '/^cpu /{print $2+$3+$4+$7+$8+$9}' /proc/stat; }   # jiffies, all cores
-
-# The machine may be shared: before each timed run wait (at most QUIET_WAIT s) until the other
-# processes use < 0.15 cores over 2 s. Measured either way; the CPU used by others during each
-# run is recorded (column other_load).
-wait_quiet() {
-  local t=0 b0 b1 hz; hz=$(getconf CLK_TCK)
-  while [ "$t" -lt "$QUIET_WAIT" ]; do
-    b0=$(busy); sleep 2; b1=$(busy); t=$((t+2))
-    [ $(( (b1-b0)*100 / (2*hz) )) -lt 15 ] && return 0
-  done
-  return 0
-}
-
-# "key value" of GNU time -v output
-time_field() { sed -n "s/^[[:space:]]*$2: //p" "$1" | head -1; }
-
 # ---- one timed run: appends one CSV row ---------------------------------------------------------
 bench_one() {   # size code threads rep
   local s=$1 code=$2 np=$3 rep=$4 nx ny nz steps how
@@ -164,39 +126,11 @@ bench_one() {   # size code threads rep
   esac
   [ "$code" != quarry ] && cmd="$cmd -var nx $nx -var ny $ny -var nz $nz -var nwarm $NWARM -var nsteps $steps -log none"
   wait_quiet
-  local b0 t0 b1 t1 hz; hz=$(getconf CLK_TCK)
-  b0=$(busy); t0=$(date +%s.%N)
-  ( cd "$RUNS" && env time -v -o "$LOGS/$tag.time" $launch $cmd ) > "$log" 2>&1 || echo "  $tag FAILED (see $log)"
-  b1=$(busy); t1=$(date +%s.%N)
-  local user sys rss other
-  user=$(time_field "$LOGS/$tag.time" "User time (seconds)")
-  sys=$(time_field "$LOGS/$tag.time" "System time (seconds)")
-  rss=$(time_field "$LOGS/$tag.time" "Maximum resident set size (kbytes)")
-  other=$(awk -v b=$((b1-b0)) -v hz="$hz" -v u="$user" -v s="$sys" -v t0="$t0" -v t1="$t1" \
-          'BEGIN{o=(b/hz-u-s)/(t1-t0); if(o<0)o=0; printf "%.3f", o}')
-  local n loop pss coord neigh nb zmax zmean floor weight
-  if [ "$code" = quarry ]; then
-    local line; line=$(grep -m1 '^QUARRY_BENCH' "$log" || true)
-    kv() { sed -n "s/.* $1=\([^ ]*\).*/\1/p" <<<"$line"; }
-    n=$(kv n); loop=$(kv loop_s); pss=$(kv pss); coord=$(kv coordination); neigh=$(kv neigh_pp)
-    nb=$(kv rebuilds); zmax=$(kv zmax); zmean=$(kv zmean); floor=$(kv floor_force); weight=$(kv weight)
-  else
-    local timed after lt metrics
-    after=$(sed -n '/BENCH_BEGIN/,$p' "$log")
-    timed=$(sed -n '/BENCH_BEGIN/,/BENCH_END/p' "$log")
-    lt=$(grep -m1 -o 'Loop time of [0-9.e+-]* on [0-9]* procs for [0-9]* steps with [0-9]* atoms' <<<"$after" || true)
-    loop=$(awk '{print $4}' <<<"$lt"); n=$(awk '{print $12}' <<<"$lt")
-    pss=$(awk -v n="$n" -v s="$steps" -v l="$loop" 'BEGIN{if(l>0) printf "%.6g", n*s/l}')
-    nb=$(sed -n 's/.*Neighbor list builds = \([0-9]*\).*/\1/p' <<<"$timed" | head -1)
-    neigh=$(sed -n 's/.*Ave neighs\/atom = \([0-9.]*\).*/\1/p' <<<"$timed" | head -1)
-    coord=$(sed -n 's/^CONTACTS_PER_PARTICLE \([0-9.e+-]*\).*/\1/p' "$log" | head -1)
-    metrics=$(grep -m1 '^BED_METRICS' "$log" || true)
-    zmax=$(awk '{print $2}' <<<"$metrics"); zmean=$(awk '{print $3}' <<<"$metrics"); weight=$(awk '{print $5}' <<<"$metrics")
-    floor=$(awk -v a="$(awk '{print $4}' <<<"$metrics")" -v b="$(sed -n 's/^FZ_NO_FLOOR //p' "$log" | head -1)" \
-            'BEGIN{if(a!="" && b!="") printf "%.7g", a-b}')
-  fi
-  echo "$DATE,$MACHINE,$s,$n,$code,$np,$rep,$steps,$loop,$pss,$coord,$neigh,$nb,$rss,$zmax,$zmean,$floor,$weight,$other" >> "$RESULTS.csv"
-  echo "  $tag: $(awk -v p="$pss" 'BEGIN{printf "%.2f", p/1e6}') M particle-steps/s (loop $loop s, other load $other cores)"
+  # shellcheck disable=SC2086 # $launch and $cmd are word lists
+  timed_run "$tag" "$log" "$RUNS" $launch $cmd
+  parse_run_log "$code" "$log" "$steps"
+  echo "$DATE,$MACHINE,$s,$R_N,$code,$np,$rep,$steps,$R_LOOP,$R_PSS,$R_COORD,$R_NEIGH,$R_NB,$RSS_KIB,$R_ZMAX,$R_ZMEAN,$R_FLOOR,$R_WEIGHT,$OTHER_LOAD" >> "$RESULTS.csv"
+  echo "  $tag: $(awk -v p="$R_PSS" 'BEGIN{printf "%.2f", p/1e6}') M particle-steps/s (loop $R_LOOP s, other load $OTHER_LOAD cores)"
 }
 
 for s in $SIZES; do
@@ -221,12 +155,7 @@ done
   echo
   echo "## Machine and run"
   echo
-  # Hosts of one model name differ (a "AMD EPYC" guest may be Zen 3 or Zen 4): family, model,
-  # widest vector unit and caches say which one the figures are from.
-  cpu_field() { lscpu | sed -n "s/^$1: *//p" | head -1; }
-  vector=AVX2; grep -qw avx512f /proc/cpuinfo && vector=AVX-512
-  grep -qw avx2 /proc/cpuinfo || vector=SSE
-  echo "- CPU: $(cpu_field 'Model name'), family $(cpu_field 'CPU family') model $(cpu_field 'Model'), $vector, L2 $(cpu_field 'L2 cache'), L3 $(cpu_field 'L3 cache'), hypervisor $(cpu_field 'Hypervisor vendor'); $(nproc --all) logical CPUs; memory $(free -g | awk '/^Mem:/{print $2}') GiB"
+  machine_line
   echo "- Invocation: \`SIZES=\"$SIZES\" REPEATS=$REPEATS CODES=\"$CODES\" THREADS=\"$THREADS\" bash bench/run.sh\`; Quarry commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown) (plus uncommitted changes, if any)"
   echo "- Beds: every code starts from the same LAMMPS-settled bed (bench/peers); LIGGGHTS and Quarry read its data file and re-settle it $NRESETTLE steps with their own model (a data file has no tangential contact history), LAMMPS continues from its restart."
   for s in $SIZES; do

@@ -48,6 +48,7 @@ SimulationSpec settled_bed_spec(const SettledBedParameters& parameters) {
   domain.hi = box + Vec3{margin, margin, margin};
   sim.domain = domain;
   sim.skin = parameters.skin;
+  sim.max_overlap_fraction = parameters.max_overlap_fraction;
 
   MaterialSpec glass;
   glass.name = std::string("glass");
@@ -100,7 +101,7 @@ World make_lattice_world(const SettledBedParameters& parameters) {
     for (int j = 0; j < parameters.cells_y; ++j)
       for (int i = 0; i < parameters.cells_x; ++i) {
         const double jx = jitter(random), jy = jitter(random), jz = jitter(random);
-        const Vec3 site{(i + 0.5) * a + jx, (j + 0.5) * a + jy, (k + 0.5) * a + jz};
+        const Vec3 site{(i + 0.5) * a + jx, (j + 0.5) * a + jy, (k + 0.5) * a + jz + parameters.lift};
         p.add(world.next_id++, 0, 0, site, Vec3{}, parameters.particle_radius, parameters.density, 0.0);
       }
   world.lists_stale = true;
@@ -123,11 +124,9 @@ void replace_particles(World& world, const SettledBedParameters& parameters, con
     if (std::abs(data.box_lo[d]) > tolerance || std::abs(data.box_hi[d] - box[d]) > tolerance)
       throw UserError(SourceLocation{data.path, 0, 0},
                       fmt::format("the file's box [{}, {}] m along {} is not the problem's [0, {}] m "
-                                  "({}: {} lattice spacings of {} m)",
+                                  "({}, spacing {} m, lift {} m)",
                                   data.box_lo[d], data.box_hi[d], "xyz"[d], box[d], lattice,
-                                  d == 2 ? parameters.cells_z + 2
-                                         : (d == 0 ? parameters.cells_x : parameters.cells_y),
-                                  parameters.lattice_spacing),
+                                  parameters.lattice_spacing, parameters.lift),
                       "pass the --nx/--ny/--nz the peers' bed was settled with (bench/run.sh, geom)");
   for (const LammpsAtom& atom : data.atoms) {
     const SourceLocation where{data.path, atom.line, 0};
@@ -158,6 +157,28 @@ void replace_particles(World& world, const SettledBedParameters& parameters, con
   }
   world.next_id = data.atoms.empty() ? 1 : data.atoms.back().id + 1;
   world.lists_stale = true;
+}
+
+LammpsData to_lammps_data(const World& world, const SettledBedParameters& parameters) {
+  LammpsData data;
+  data.title = fmt::format("Quarry bench lattice {}x{}x{}, spacing {} m, lift {} m, seed {}", parameters.cells_x,
+                           parameters.cells_y, parameters.cells_z, parameters.lattice_spacing, parameters.lift,
+                           parameters.seed);
+  data.atom_types = 1;
+  data.box_hi = parameters.box_max();
+  const ParticleStore& p = world.particles;
+  data.atom_count = p.size();
+  data.atoms.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    LammpsAtom& a = data.atoms[i];
+    a.id = p.id[i];
+    a.diameter = 2.0 * p.radius[i];
+    a.density = parameters.density;
+    a.position = p.position[i];
+    a.velocity = p.velocity[i];
+    a.angular_velocity = p.angular_velocity[i];
+  }
+  return data;
 }
 
 void prepare_first_step(World& world) { sim::initialize(world); }

@@ -27,13 +27,16 @@ struct SettledBedParameters {
   double time_step = 1.0e-5;                     // s
   double skin = 2.0e-4;                          // m (0.1 d)
   std::uint64_t seed = 4711;                     // jitter stream
+  double lift = 0.0;  // m, the lattice raised above the floor (> 0: a pour, bench/run_flowing.sh)
+  double max_overlap_fraction = 0.1;             // the overlap guard (the peers have none)
 
   std::size_t particle_count() const {
     return static_cast<std::size_t>(cells_x) * cells_y * cells_z;
   }
-  // Box: [0, nx·a] × [0, ny·a] × [0, (nz+2)·a] (m); the top wall 2 spacings above the lattice.
+  // Box: [0, nx·a] × [0, ny·a] × [0, (nz+2)·a + lift] (m); the top wall 2 spacings above the
+  // lattice.
   Vec3 box_max() const {
-    return {cells_x * lattice_spacing, cells_y * lattice_spacing, (cells_z + 2) * lattice_spacing};
+    return {cells_x * lattice_spacing, cells_y * lattice_spacing, (cells_z + 2) * lattice_spacing + lift};
   }
 };
 
@@ -45,7 +48,8 @@ enum WallIndex : int { floor_wall = 0, top_wall, x_low_wall, x_high_wall, y_low_
 SimulationSpec settled_bed_spec(const SettledBedParameters& parameters);
 
 // Builds the world and places the jittered lattice (particles at rest at (i + ½)·a + jitter,
-// ids 1..N) directly into world.particles; marks the lists stale. Deterministic for a seed.
+// raised by `lift` along z, ids 1..N) directly into world.particles; marks the lists stale.
+// Deterministic for a seed.
 World make_lattice_world(const SettledBedParameters& parameters);
 
 // Replaces the particles of a world fresh from make_lattice_world (before prepare_first_step:
@@ -55,6 +59,10 @@ World make_lattice_world(const SettledBedParameters& parameters);
 // exactly the lattice's particle count, has the same box, one atom type, no sphere larger than
 // the spec's (the neighbour grid is sized for it) and every centre inside the box.
 void replace_particles(World& world, const SettledBedParameters& parameters, const LammpsData& data);
+
+// The world's particles as a LAMMPS data file's atoms (atom-type 1, box [0, box_max]), for
+// lammps_data_text: how the flowing benchmarks give every code the same starting lattice.
+LammpsData to_lammps_data(const World& world, const SettledBedParameters& parameters);
 
 // First force evaluation on a freshly placed or loaded state (what sim::run does before its
 // loop): rebuilds every list, computes forces. Call before stepping.
