@@ -474,6 +474,12 @@ void pair_forces(World& world, int& excessive) {
       std::uint32_t stop = block;
       while (stop < end && stop - block < static_cast<std::uint32_t>(kRows)) {
         const std::uint32_t row_begin = offsets[stop], row_end = offsets[stop + 1];
+        if (row_begin == row_end) {  // no partner (a particle in flight): nothing to read
+          lanes_end[stop - block] = static_cast<std::uint16_t>(batch->count);
+          tail[stop - block] = row_end;
+          ++stop;
+          continue;
+        }
         if (!batched_row(stop)) {
           if (stop == block) ++stop;  // a long row alone: scalar law below
           break;
@@ -501,6 +507,7 @@ void pair_forces(World& world, int& excessive) {
       if (batch->count > 0) excessive |= evaluate_hertz_mindlin_batch(only, *batch, v.dt, v.lead_time, v.overlap_limit);
       int lane = 0;
       for (std::uint32_t i = block; i < stop; ++i) {
+        if (offsets[i] == offsets[i + 1]) continue;  // its force and torque stay as they are
         if (!batched_row(i)) {
           scalar_row(i);
           continue;
@@ -522,9 +529,8 @@ void pair_forces(World& world, int& excessive) {
       block = stop;
     }
   } else {
-    for (std::uint32_t i = first; i < end; ++i) {
-      scalar_row(i);
-    }
+    for (std::uint32_t i = first; i < end; ++i)
+      if (offsets[i] != offsets[i + 1]) scalar_row(i);  // an empty row leaves i as it is
   }
   ws.range_time[t] = omp_get_wtime() - phase2_start;
   // The sums of this range are final: others may now add surface contacts onto them.
