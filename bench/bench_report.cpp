@@ -45,8 +45,8 @@ int main(int argc, char** argv) {
     quarry::write_file_atomically(args[1], bench::bench_markdown(runs, heading, 0.01, kind));
     quarry::write_line_plot_png(
         args[2], bench::throughput_plot(bench::summarize_runs(runs),
-                                        pour ? "Pour onto a floor, Hertz-Mindlin with history: throughput against N"
-                                             : "Settled bed, Hertz-Mindlin with history: throughput against N"));
+                                        pour ? "Pour onto a floor, Hertz-Mindlin with history: throughput"
+                                             : "Settled bed, Hertz-Mindlin with history: throughput"));
     std::cerr << fmt::format("wrote {} and {} ({} runs)\n", args[1], args[2], runs.size());
     return 0;
   } catch (const std::exception& e) {

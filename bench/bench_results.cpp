@@ -366,16 +366,22 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
 PlotSpec throughput_plot(const std::vector<BenchGroup>& groups, const std::string& title) {
   PlotSpec plot;
   plot.title = title;
-  plot.x_label = "log10 N (particles)";
   plot.y_label = "million particle-steps per second";
-  // (code rank, threads, skin) -> points by N; the skin is named where the runs recorded it.
-  std::map<std::tuple<int, int, double>, PlotSeries> series;
+  // One N only (a pour of one size): the throughput against the thread count, one line per
+  // code and skin; otherwise against log10 N, one line per code, thread count and skin.
+  bool one_size = true;
+  for (const auto& g : groups) one_size = one_size && g.particles == groups.front().particles;
+  plot.x_label = one_size ? "threads (Quarry) or MPI ranks (peers)" : "log10 N (particles)";
+  std::map<std::tuple<int, int, double>, PlotSeries> series;  // the skin is named where recorded
   for (const auto& g : groups) {
-    PlotSeries& s = series[{code_rank(g.code), g.threads, skin_key(g.skin)}];
-    s.label = fmt::format("{}, {} {}{}", code_label(g.code), g.threads,
-                          g.code == "quarry" ? (g.threads == 1 ? "thread" : "threads") : (g.threads == 1 ? "rank" : "ranks"),
-                          std::isnan(g.skin) ? "" : fmt::format(", skin {:.2f} mm", 1e3 * g.skin));
-    s.x.push_back(std::log10(g.particles));
+    const std::string skin = std::isnan(g.skin) ? "" : fmt::format(", skin {:.2f} mm", 1e3 * g.skin);
+    PlotSeries& s = series[{code_rank(g.code), one_size ? 0 : g.threads, skin_key(g.skin)}];
+    s.label = one_size ? code_label(g.code) + skin
+                       : fmt::format("{}, {} {}{}", code_label(g.code), g.threads,
+                                     g.code == "quarry" ? (g.threads == 1 ? "thread" : "threads")
+                                                        : (g.threads == 1 ? "rank" : "ranks"),
+                                     skin);
+    s.x.push_back(one_size ? g.threads : std::log10(g.particles));
     s.y.push_back(g.median_rate / 1e6);
   }
   for (auto& [key, s] : series) plot.series.push_back(std::move(s));

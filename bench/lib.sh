@@ -68,7 +68,11 @@ machine_line() {
   cpu_field() { lscpu | sed -n "s/^$1: *//p" | head -1; }
   grep -qw avx512f /proc/cpuinfo && vector=AVX-512
   grep -qw avx2 /proc/cpuinfo || vector=SSE
-  echo "- CPU: $(cpu_field 'Model name'), family $(cpu_field 'CPU family') model $(cpu_field 'Model'), $vector, L2 $(cpu_field 'L2 cache'), L3 $(cpu_field 'L3 cache'), hypervisor $(cpu_field 'Hypervisor vendor'); $(nproc --all) logical CPUs; memory $(free -g | awk '/^Mem:/{print $2}') GiB"
+  # lscpu leaves the caches and the hypervisor out in some containers: glibc's view instead.
+  cache() { local v; v=$(cpu_field "$1 cache"); [ -n "$v" ] && { echo "$v"; return; }
+            getconf "LEVEL${1#L}_CACHE_SIZE" 2>/dev/null | awk '{if($1>0) printf "%.0f KiB (getconf)", $1/1024; else print "?"}'; }
+  local hv; hv=$(cpu_field 'Hypervisor vendor'); [ -n "$hv" ] || hv=$(systemd-detect-virt 2>/dev/null || echo "?")
+  echo "- CPU: $(cpu_field 'Model name'), family $(cpu_field 'CPU family') model $(cpu_field 'Model'), $vector, L2 $(cache L2), L3 $(cache L3), hypervisor $hv; $(nproc --all) logical CPUs; memory $(free -g | awk '/^Mem:/{print $2}') GiB"
 }
 
 # build_bench TARGET...: Quarry's Release build (BUILD_DIR, default build/release) of these

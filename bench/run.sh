@@ -12,7 +12,9 @@
 #         SIZES="10k" REPEATS=3 bash bench/run.sh
 #         SIZES="1m" CODES="quarry liggghts" bash bench/run.sh
 # Options (environment): SIZES, REPEATS, CODES (quarry liggghts lmp_granular lmp_ghh),
-#   THREADS ("1 2"), QUIET_WAIT (s to wait for an idle machine before each run), MACHINE (name
+#   THREADS ("1 2"), PIN=1 (bind Quarry's threads to cores, OMP_PROC_BIND=true: only on a
+#   machine known to be idle; a run pinned to a busy core took 88 s of wall time for 49 s of
+#   CPU, issue 21), QUIET_WAIT (s to wait for an idle machine before each run), MACHINE (name
 #   in the result files), BUILD_DIR (default build/release = `cmake --preset release`),
 #   SKIP_BUILD=1, SKIP_INSTALL=1, BEDS_ONLY=1 (prepare the settled beds, time nothing), APPEND=1
 #   (add the runs to the day's latest results file rather than start the next one). Beds and
@@ -55,6 +57,8 @@ QREPORT="$ROOT/$BUILD_DIR/bench/quarry_bench_report"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMP_NUM_THREADS=1          # the peers' binaries; Quarry sets its own thread count
 MPIRUN="mpirun -np 2 --bind-to core"
+BIND="OMP_PROC_BIND=false"
+[ "${PIN:-0}" = 1 ] && BIND="OMP_PROC_BIND=true OMP_PLACES=cores"
 
 mkdir -p "$RUNS" "$LOGS" "$BENCH/results"
 for f in "$BENCH"/peers/common.in "$BENCH"/peers/model_* "$BENCH"/peers/in.*; do
@@ -119,7 +123,7 @@ bench_one() {   # size code threads rep
   local cmd launch=""
   [ "$np" = 2 ] && launch="$MPIRUN"
   case $code in
-    quarry)       cmd="env OMP_PROC_BIND=true OMP_PLACES=cores $QBIN --nx $nx --ny $ny --nz $nz --bed quarry_$s.qck --threads $np --warmup $NWARM --steps $steps"; launch="" ;;
+    quarry)       cmd="env $BIND $QBIN --nx $nx --ny $ny --nz $nz --bed quarry_$s.qck --threads $np --warmup $NWARM --steps $steps"; launch="" ;;
     liggghts)     cmd="liggghts -in in.lig.bench -var rfile lig_$s.rst" ;;
     lmp_granular) cmd="lmp -in in.lmp.bench -var model granular -var rfile bed_$s.rst" ;;
     lmp_ghh)      cmd="lmp -in in.lmp.bench -var model ghh -var rfile bed_$s.rst" ;;
@@ -156,7 +160,7 @@ done
   echo "## Machine and run"
   echo
   machine_line
-  echo "- Invocation: \`SIZES=\"$SIZES\" REPEATS=$REPEATS CODES=\"$CODES\" THREADS=\"$THREADS\" bash bench/run.sh\`; Quarry commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown) (plus uncommitted changes, if any)"
+  echo "- Invocation: \`SIZES=\"$SIZES\" REPEATS=$REPEATS CODES=\"$CODES\" THREADS=\"$THREADS\" PIN=${PIN:-0} bash bench/run.sh\`; Quarry commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown) (plus uncommitted changes, if any)"
   echo "- Beds: every code starts from the same LAMMPS-settled bed (bench/peers); LIGGGHTS and Quarry read its data file and re-settle it $NRESETTLE steps with their own model (a data file has no tangential contact history), LAMMPS continues from its restart."
   for s in $SIZES; do
     # This invocation's last repeat (logs of an earlier one with more repeats may lie beside it).
