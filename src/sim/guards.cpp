@@ -8,6 +8,7 @@
 
 #include "geometry/surface_contact.h"
 #include "integrate/integrator.h"
+#include "integrate/timestep.h"
 #include "sim/step.h"
 #include "sim/time_step_choice.h"
 
@@ -45,14 +46,15 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
   const double expected = choose_time_step(world.spec).impact_speed;            // m/s
   const double guard = world.spec.simulation.max_overlap_fraction.value;
   // The stiffening that keeps this pair's peak overlap, all of its energy stored elastically,
-  // at 80 % of the guard: Hertz delta_peak^(5/2) = 15 m* v^2 / (16 E* sqrt(R*)) (Johnson eq.
-  // 11.24), so E scales as delta^(-5/2); linear delta_peak = v sqrt(m*/k), k as delta^(-2).
+  // at 80 % of the guard: the Hertz peak overlap goes as E^(-2/5), so E scales as
+  // (delta_peak / target)^(5/2); linear delta_peak = v sqrt(m*/k), so k as (delta_peak / target)^2.
   const double target = 0.8 * guard * reference_radius;  // m
   const double stiffening =
       p.normal_model == NormalModel::linear
           ? equivalent * equivalent * effective_mass / p.linear_normal_stiffness / (target * target)
-          : 15.0 * effective_mass * equivalent * equivalent /
-                (16.0 * p.effective_youngs_modulus * std::sqrt(effective_radius) * std::pow(target, 2.5));
+          : std::pow(hertz_peak_overlap(effective_mass, effective_radius, p.effective_youngs_modulus,
+                                        equivalent) / target,
+                     2.5);
   if (equivalent <= 1.25 * expected)
     return {
         fmt::format(
