@@ -5,11 +5,8 @@
 // (--from-data here, read_data in bench/peers/in.lig.pour and in.lmp.pour), so all start from
 // the same particles. Times the steps from rest (sim::advance) and prints one line
 // "QUARRY_BENCH key=value ..." (the keys of quarry_settled_bed) plus the per-stage table.
-#include <sys/resource.h>
-
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <cstdio>
 #include <fmt/format.h>
 #include <iostream>
 
@@ -18,7 +15,6 @@
 #include "core/allocator.h"
 #include "core/diagnostics.h"
 #include "io/atomic_file.h"
-#include "sim/run.h"
 #include "sim/step.h"
 
 namespace {
@@ -55,12 +51,6 @@ bench::SettledBedParameters pour_defaults() {
   return p;
 }
 
-double peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) * 1024.0;  // ru_maxrss is in KiB on Linux
-}
-
 int run_pour(const Options& options) {
   quarry::World world = bench::make_lattice_world(options.pour);
   if (!options.write_data.empty()) {
@@ -80,19 +70,8 @@ int run_pour(const Options& options) {
   const double loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::uint64_t rebuilds = world.rebuilds - rebuilds_before;
 
-  const bench::BedState bed = bench::measure_bed(world);
-  const double n = static_cast<double>(world.particles.size());
-  const int neighbor = world.timers.stage("neighbor");
   std::cerr << "per-stage time of the timed steps:\n" << world.timers.table(loop_seconds);
-  std::cout << fmt::format(
-      "QUARRY_BENCH n={:.0f} threads={} steps={} loop_s={:.6g} pss={:.6g} contacts_pp={:.4f} "
-      "coordination={:.4f} neigh_pp={:.4f} rss_peak_bytes={:.0f} rss_bytes_pp={:.1f} zmax={:.7g} "
-      "zmean={:.7g} floor_force={:.7g} walls_force_z={:.7g} weight={:.7g} rebuilds={} ke_pp={:.6g} "
-      "neigh_share={:.4f}\n",
-      n, options.threads, options.steps, loop_seconds, n * static_cast<double>(options.steps) / loop_seconds,
-      bed.contact_pairs / n, 2.0 * bed.contact_pairs / n, bed.neighbor_pairs / n, peak_rss_bytes(),
-      peak_rss_bytes() / n, bed.max_height, bed.mean_height, bed.floor_force, bed.all_walls_force_z, bed.weight,
-      rebuilds, bench::kinetic_energy_per_particle(world), world.timers.seconds(neighbor) / loop_seconds);
+  std::cout << bench::bench_result_line(world, options.threads, options.steps, loop_seconds, rebuilds);
   return 0;
 }
 

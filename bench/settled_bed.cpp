@@ -3,7 +3,6 @@
 // or loads a settled bed (--bed); times warm-up + timed steps (sim::advance), and prints one
 // machine-readable line "QUARRY_BENCH key=value ..." plus the per-stage time table.
 #include <omp.h>
-#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -35,13 +34,6 @@ struct Options {
   long warmup_steps = 200;          // the peers' NWARM
   long timed_steps = 2000;          // the peers' timed phase
 };
-
-// Peak resident set size of this process so far (bytes); Linux reports ru_maxrss in KiB.
-double peak_rss_bytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) * 1024.0;
-}
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -109,21 +101,8 @@ int run_bench(const Options& options) {
   const double loop_seconds = seconds_since(start);  // s
   const std::uint64_t rebuilds = world.rebuilds - rebuilds_before;
 
-  const bench::BedState bed = bench::measure_bed(world);
-  const double count = static_cast<double>(n);
-  const double rss = peak_rss_bytes();  // bytes
   std::cerr << "per-stage time of the timed steps:\n" << world.timers.table();
-  // contacts_pp: contacting pairs / N; coordination: 2 × contacting pairs / N (what the peers'
-  // "compute contact/atom" sums to, their CONTACTS_PER_PARTICLE).
-  std::cout << fmt::format(
-      "QUARRY_BENCH n={} threads={} steps={} loop_s={:.6g} pss={:.6g} contacts_pp={:.4f} "
-      "coordination={:.4f} neigh_pp={:.4f} rss_peak_bytes={:.0f} rss_bytes_pp={:.1f} zmax={:.7g} "
-      "zmean={:.7g} floor_force={:.7g} walls_force_z={:.7g} weight={:.7g} rebuilds={} ke_pp={:.4g}\n",
-      n, options.threads, options.timed_steps, loop_seconds,
-      count * static_cast<double>(options.timed_steps) / loop_seconds, bed.contact_pairs / count,
-      2.0 * bed.contact_pairs / count, bed.neighbor_pairs / count, rss, rss / count, bed.max_height,
-      bed.mean_height, bed.floor_force, bed.all_walls_force_z, bed.weight, rebuilds,
-      bench::kinetic_energy_per_particle(world));
+  std::cout << bench::bench_result_line(world, options.threads, options.timed_steps, loop_seconds, rebuilds);
   return 0;
 }
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <random>
 
+#include <sys/resource.h>
+
 #include <fmt/format.h>
 
 #include "bench/lammps_data.h"
@@ -208,6 +210,34 @@ BedState measure_bed(const World& world) {
   state.contact_pairs = static_cast<double>(world.pair_contact_count());
   state.neighbor_pairs = static_cast<double>(world.pairs.size());
   return state;
+}
+
+double peak_rss_bytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) * 1024.0;  // Linux reports ru_maxrss in KiB
+}
+
+std::string bench_result_line(const World& world, int threads, long steps, double loop_seconds,
+                              std::uint64_t rebuilds) {
+  const BedState bed = measure_bed(world);
+  const double n = static_cast<double>(world.particles.size());
+  const double rss = peak_rss_bytes();  // bytes
+  const auto& names = world.timers.names();
+  const auto neighbor = std::find(names.begin(), names.end(), "neighbor");
+  const double neighbor_seconds =  // s
+      neighbor == names.end() ? 0.0 : world.timers.seconds(static_cast<int>(neighbor - names.begin()));
+  // contacts_pp: contacting pairs / N; coordination: 2 × contacting pairs / N (what the peers'
+  // "compute contact/atom" sums to, their CONTACTS_PER_PARTICLE).
+  return fmt::format(
+      "QUARRY_BENCH n={:.0f} threads={} steps={} loop_s={:.6g} pss={:.6g} contacts_pp={:.4f} "
+      "coordination={:.4f} neigh_pp={:.4f} rss_peak_bytes={:.0f} rss_bytes_pp={:.1f} zmax={:.7g} "
+      "zmean={:.7g} floor_force={:.7g} walls_force_z={:.7g} weight={:.7g} rebuilds={} ke_pp={:.6g} "
+      "neigh_share={:.4f}\n",
+      n, threads, steps, loop_seconds, n * static_cast<double>(steps) / loop_seconds, bed.contact_pairs / n,
+      2.0 * bed.contact_pairs / n, bed.neighbor_pairs / n, rss, rss / n, bed.max_height, bed.mean_height,
+      bed.floor_force, bed.all_walls_force_z, bed.weight, rebuilds, kinetic_energy_per_particle(world),
+      neighbor_seconds / loop_seconds);
 }
 
 }  // namespace quarry::bench

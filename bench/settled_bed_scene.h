@@ -84,4 +84,14 @@ struct BedState {
 // Reads the state after a force evaluation (the wall totals are those of the last step).
 BedState measure_bed(const World& world);
 
+// Peak resident set size of this process so far (bytes).
+double peak_rss_bytes();
+
+// The benchmark binaries' result line "QUARRY_BENCH key=value ..." (bench/lib.sh,
+// parse_run_log, reads it) for `steps` timed steps on `threads` threads that took
+// `loop_seconds` (s) and `rebuilds` list builds: throughput, contacts, memory, the bed's
+// measurements, kinetic energy per particle and the neighbour stage's share of the loop.
+std::string bench_result_line(const World& world, int threads, long steps, double loop_seconds,
+                              std::uint64_t rebuilds);
+
 }  // namespace quarry::bench
