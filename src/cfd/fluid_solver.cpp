@@ -104,19 +104,23 @@ void FluidSolver::step(double dt) {
     throw std::invalid_argument(fmt::format("fluid solver: dt must be > 0 (s), got {}", dt));
   }
   // Inputs of this step: β, f and the blocked mask into the padded fields, with ghosts.
+  bool blocked_changed = false;
   for (int k = 0; k < grid_.cells[2]; ++k) {
     for (int j = 0; j < grid_.cells[1]; ++j) {
       for (int i = 0; i < grid_.cells[0]; ++i) {
         const std::size_t c = grid_.cell_index(i, j, k);
         const std::size_t p = padded(i + kGhost, j + kGhost, k + kGhost);
         drag_[p] = drag_input_[c];
-        blocked_[p] = blocked_input_[c] ? 1.0 : 0.0;
+        const double blocked = blocked_input_[c] ? 1.0 : 0.0;
+        blocked_changed |= blocked_[p] != blocked;
+        blocked_[p] = blocked;
         for (int a = 0; a < 3; ++a) force_[a][p] = force_input_[c][a];
       }
     }
   }
   fill_cell_ghosts(drag_);
   fill_cell_ghosts(blocked_);
+  if (blocked_changed) apply_blocked_faces();  // u = 0 on newly blocked faces from this step on
   for (auto& component : force_) fill_cell_ghosts(component);
   fill_cell_ghosts(void_fraction_new_);
   fill_cell_ghosts(void_fraction_old_);

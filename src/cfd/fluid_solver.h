@@ -43,6 +43,25 @@ struct FluidStepReport {
   double divergence = 0.0;            // the same after it (1/s)
 };
 
+// Everything a step reads that earlier steps or calls wrote, beyond what the constructor is
+// given: a checkpoint stores it, and after set_state the next step is bit-identical to the one
+// the solver it came from would take. Cell arrays are in the solver's own layout (each with two
+// ghost layers on every side, ghosts included), the inputs per cell (FluidGrid::cell_index):
+// callers keep and give back, they do not interpret. (What a step rebuilds from these — the
+// linear systems, the multigrid hierarchies, u* and φ — is not part of it.)
+struct FluidSolverState {
+  std::array<std::vector<double>, 3> velocity;  // u at faces (m/s), padded
+  std::vector<double> pressure;                 // p (Pa), padded
+  // ε of the last step (the ∂ε/∂t of the next) and ε set for the next step, padded.
+  std::vector<double> void_fraction_old, void_fraction_new;
+  std::vector<double> drag_coefficient;         // β input (kg/(m³·s)), per cell
+  std::vector<Vec3> force_density;              // f input (N/m³), per cell
+  std::vector<std::uint8_t> blocked;            // per cell, 0 or 1
+  bool void_fraction_started = false;           // ε was set (else the first set is also the old)
+  long long steps = 0;                          // steps taken (messages)
+  FluidStepReport last_report;                  // of the last step (divergence_norm, last_report)
+};
+
 class FluidSolver {
  public:
   // Checks the grid (cells ≥ 1, sizes > 0), the properties (> 0) and that periodic faces come
@@ -67,8 +86,13 @@ class FluidSolver {
   void set_initial_void_fraction(std::span<const double> void_fraction);
   std::span<double> drag_coefficient();  // β ≥ 0 (kg/(m³·s))
   std::span<Vec3> force_density();       // f (N/m³)
-  // Blocked cells hold no fluid (u = 0 on their faces, no flux through them); 1 = blocked.
+  // Blocked cells hold no fluid (u = 0 on their faces, inlet faces included; no flux through
+  // them); 1 = blocked. A change takes effect from the next step.
   std::span<std::uint8_t> blocked();
+  // The inputs as set (read-only).
+  std::span<const double> drag_coefficient() const { return drag_input_; }
+  std::span<const Vec3> force_density() const { return force_input_; }
+  std::span<const std::uint8_t> blocked() const { return blocked_input_; }
   // Initial or imposed state: each face's normal velocity from velocity(x) at its centre;
   // pressure from pressure(x) at cell centres. Boundary values are re-applied afterwards.
   void set_velocity(const std::function<Vec3(const Vec3&)>& velocity);
@@ -89,6 +113,15 @@ class FluidSolver {
   const FluidStepReport& last_report() const { return report_; }
   const FluidGrid& grid() const { return grid_; }
 
+  // --- checkpoints ---
+  // The state between steps (a copy). Cost: O(cells).
+  FluidSolverState state() const;
+  // Takes a state from state() of a solver built with the same grid, properties, boundaries and
+  // options. Throws std::invalid_argument naming the field, the solver unchanged, for an array
+  // whose size is not this grid's, a value that is not finite, ε outside (0, 1], β < 0, a
+  // blocked flag other than 0 or 1, or a negative step count. Cost: O(cells).
+  void set_state(FluidSolverState state);
+
  private:
   // The stages of step(), in order.
   void predict_momentum(double dt);
@@ -105,6 +138,7 @@ class FluidSolver {
   void fill_pressure_ghosts();
   void fill_correction_ghosts();
   void fill_velocity_ghosts(int axis);
+  void apply_blocked_faces();  // u = 0 on every face of a blocked cell, then the velocity ghosts
   double boundary_pressure(int axis, int side, int i, int j, int k) const;
   double correction_coefficient(std::size_t face_low_cell, std::size_t face_high_cell,
                                 double dt) const;

@@ -87,7 +87,7 @@ void FluidSolver::fill_correction_ghosts() {
 }
 
 // Velocity component `axis`. Along its own axis: the boundary faces of walls and inlets hold
-// the prescribed normal velocity, periodic faces wrap, outlets extrapolate (∂u/∂n = 0). Along
+// the prescribed normal velocity (0 where the cell inside is blocked), periodic faces wrap, outlets extrapolate (∂u/∂n = 0). Along
 // the other axes the ghost faces mirror the boundary value: u_ghost = 2 u_b − u_inside for
 // walls and inlets (second order at the face), a copy for outlets, a wrap for periodic.
 void FluidSolver::fill_velocity_ghosts(int axis) {
@@ -109,7 +109,8 @@ void FluidSolver::fill_velocity_ghosts(int axis) {
           if (periodic) {
             if (side == 1) u[p] = u[p - n * s];
           } else if (face.kind != BoundaryKind::pressure_outlet) {
-            u[p] = prescribed;
+            // An inlet face of a blocked cell feeds nothing: no fluid behind it.
+            u[p] = blocked_[side == 0 ? p : p - s] > 0.0 ? 0.0 : prescribed;
           }
           for (int g = 1; g <= kGhost; ++g) {
             const std::size_t ghost = side == 0 ? p - g * s : p + g * s;
@@ -136,6 +137,32 @@ void FluidSolver::fill_velocity_ghosts(int axis) {
       });
     }
   }
+}
+
+// After the blocked mask changed (the padded copy and its ghosts are current): every face of a
+// blocked cell at rest — a periodic axis' high boundary face is its first face again — then the
+// ghost layers from the new face values.
+void FluidSolver::apply_blocked_faces() {
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double>& u = velocity_[a];
+    const std::ptrdiff_t s = stride_[a];
+    const int n = grid_.cells[a];
+    const bool periodic = boundaries_.face(a, 0).kind == BoundaryKind::periodic;
+    for (int k = 0; k < grid_.cells[2]; ++k) {
+      for (int j = 0; j < grid_.cells[1]; ++j) {
+        for (int i = 0; i < grid_.cells[0]; ++i) {
+          const std::size_t p = padded(i + kGhost, j + kGhost, k + kGhost);
+          if (blocked_[p] == 0.0) continue;
+          u[p] = 0.0;
+          u[p + s] = 0.0;
+          const int along = a == 0 ? i : (a == 1 ? j : k);
+          if (periodic && along == n - 1) u[p + s - n * s] = 0.0;
+          if (periodic && along == 0) u[p + n * s] = 0.0;
+        }
+      }
+    }
+  }
+  for (int a = 0; a < 3; ++a) fill_velocity_ghosts(a);
 }
 
 }  // namespace quarry::cfd

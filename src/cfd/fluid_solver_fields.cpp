@@ -1,12 +1,14 @@
 // The fluid solver's inputs (void fraction, drag coefficient, force density, blocked cells, an
 // imposed velocity or pressure) and results (cell and face velocities, pressure, the stable
-// time step), between the flat per-cell arrays of the caller and the padded fields.
+// time step), between the flat per-cell arrays of the caller and the padded fields; the state
+// between steps for checkpoints (state, set_state).
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "cfd/fluid_solver.h"
 
@@ -119,6 +121,98 @@ double FluidSolver::stable_time_step() const {
   if (convective == 0.0) return std::numeric_limits<double>::infinity();
   const double nu = properties_.viscosity / properties_.density;
   return std::min(1.0 / convective, 2.0 * nu / kinetic);
+}
+
+FluidSolverState FluidSolver::state() const {
+  FluidSolverState state;
+  state.velocity = velocity_;
+  state.pressure = pressure_;
+  state.void_fraction_old = void_fraction_old_;
+  state.void_fraction_new = void_fraction_new_;
+  state.drag_coefficient = drag_input_;
+  state.force_density = force_input_;
+  state.blocked = blocked_input_;
+  state.void_fraction_started = void_fraction_started_;
+  state.steps = step_count_;
+  state.last_report = report_;
+  return state;
+}
+
+namespace {
+
+template <class T>
+void check_state_size(const std::vector<T>& values, std::size_t expected, const char* what) {
+  if (values.size() != expected) {
+    throw std::invalid_argument(fmt::format("the fluid's {} has {} values, the grid {}", what,
+                                            values.size(), expected));
+  }
+}
+
+void check_state_finite(std::span<const double> values, const char* what) {
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (!std::isfinite(values[k])) {
+      throw std::invalid_argument(
+          fmt::format("the fluid's {} value {} is not a finite number", what, k));
+    }
+  }
+}
+
+}  // namespace
+
+void FluidSolver::set_state(FluidSolverState state) {
+  const std::size_t padded_count = pressure_.size(), cells = grid_.cell_count();
+  constexpr std::array<const char*, 3> kVelocity{"x-velocity", "y-velocity", "z-velocity"};
+  for (std::size_t a = 0; a < 3; ++a) {
+    check_state_size(state.velocity[a], padded_count, kVelocity[a]);
+    check_state_finite(state.velocity[a], kVelocity[a]);
+  }
+  check_state_size(state.pressure, padded_count, "pressure");
+  check_state_finite(state.pressure, "pressure");
+  for (const auto& [field, what] : {std::pair{&state.void_fraction_old, "previous void fraction"},
+                                    std::pair{&state.void_fraction_new, "void fraction"}}) {
+    check_state_size(*field, padded_count, what);
+    for (std::size_t k = 0; k < field->size(); ++k) {
+      if (!((*field)[k] > 0.0 && (*field)[k] <= 1.0)) {
+        throw std::invalid_argument(
+            fmt::format("the fluid's {} value {} is {}, not in (0, 1]", what, k, (*field)[k]));
+      }
+    }
+  }
+  check_state_size(state.drag_coefficient, cells, "drag coefficient");
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (!(state.drag_coefficient[c] >= 0.0) || !std::isfinite(state.drag_coefficient[c])) {
+      throw std::invalid_argument(fmt::format("the fluid's drag coefficient of cell {} is {}", c,
+                                              state.drag_coefficient[c]));
+    }
+  }
+  check_state_size(state.force_density, cells, "force density");
+  for (std::size_t c = 0; c < cells; ++c) {
+    const Vec3& f = state.force_density[c];
+    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
+      throw std::invalid_argument(
+          fmt::format("the fluid's force density of cell {} is not finite", c));
+    }
+  }
+  check_state_size(state.blocked, cells, "blocked-cell flags");
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (state.blocked[c] > 1) {
+      throw std::invalid_argument(
+          fmt::format("the fluid's blocked flag of cell {} is {}, not 0 or 1", c, state.blocked[c]));
+    }
+  }
+  if (state.steps < 0) {
+    throw std::invalid_argument(fmt::format("the fluid's step count {} is negative", state.steps));
+  }
+  velocity_ = std::move(state.velocity);
+  pressure_ = std::move(state.pressure);
+  void_fraction_old_ = std::move(state.void_fraction_old);
+  void_fraction_new_ = std::move(state.void_fraction_new);
+  drag_input_ = std::move(state.drag_coefficient);
+  force_input_ = std::move(state.force_density);
+  blocked_input_ = std::move(state.blocked);
+  void_fraction_started_ = state.void_fraction_started;
+  step_count_ = state.steps;
+  report_ = state.last_report;
 }
 
 }  // namespace quarry::cfd

@@ -1,11 +1,17 @@
 // Trilinear (cloud-in-cell) weights of a particle's centre on the cell centres, and the void
 // fraction, deposition and interpolation made from them (Hockney & Eastwood 1988, Computer
-// Simulation Using Particles, §5-3: the same assignment both ways conserves momentum).
+// Simulation Using Particles, §5-3: the same assignment both ways conserves momentum). Weights on
+// blocked cells are moved onto the particle's fluid cells; the nearest fluid cell of each blocked
+// one comes from a Euclidean distance transform (Felzenszwalb & Huttenlocher 2012).
 #include "cfdem/cell_kernel.h"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <stdexcept>
 
 namespace quarry::cfdem {
 
@@ -42,7 +48,149 @@ AxisPair axis_pair(double coordinate, double origin, double size, int cells, boo
   return pair;
 }
 
+// One line of the distance transform (Felzenszwalb & Huttenlocher 2012, Algorithm 1): the
+// squared distance (m²) along the line of `count` cells `spacing` apart, given `distance` (the
+// squared distance found along the earlier axes, +∞ where none) at each cell, and the cell it
+// belongs to. Both arrays are replaced by the lower envelope of the parabolas
+// (x − x_q)² + distance_q. A line without any finite value is left as it is.
+void transform_line(std::vector<double>& distance, std::vector<std::uint32_t>& nearest,
+                    double spacing, std::vector<int>& vertex, std::vector<double>& boundary,
+                    std::vector<double>& out_distance, std::vector<std::uint32_t>& out_nearest) {
+  const int count = static_cast<int>(distance.size());
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const auto height = [&](int q) { return distance[static_cast<std::size_t>(q)] + (q * spacing) * (q * spacing); };
+  int top = -1;  // the last parabola of the envelope
+  for (int q = 0; q < count; ++q) {
+    if (!(distance[static_cast<std::size_t>(q)] < kInfinity)) continue;
+    if (top < 0) {
+      top = 0;
+      vertex[0] = q;
+      boundary[0] = -kInfinity;
+      boundary[1] = kInfinity;
+      continue;
+    }
+    // Where parabola q overtakes the top one; the top is dropped while that lies before its start.
+    double crossing = 0.0;
+    while (true) {
+      const int r = vertex[static_cast<std::size_t>(top)];
+      crossing = (height(q) - height(r)) / (2.0 * spacing * (q - r));
+      if (crossing > boundary[static_cast<std::size_t>(top)]) break;
+      --top;  // boundary[0] is −∞, so top stays ≥ 0
+    }
+    ++top;
+    vertex[static_cast<std::size_t>(top)] = q;
+    boundary[static_cast<std::size_t>(top)] = crossing;
+    boundary[static_cast<std::size_t>(top) + 1] = kInfinity;
+  }
+  if (top < 0) return;
+  int k = 0;
+  for (int q = 0; q < count; ++q) {
+    const double x = q * spacing;
+    while (boundary[static_cast<std::size_t>(k) + 1] < x) ++k;
+    const int r = vertex[static_cast<std::size_t>(k)];
+    const double offset = x - r * spacing;
+    out_distance[static_cast<std::size_t>(q)] = offset * offset + distance[static_cast<std::size_t>(r)];
+    out_nearest[static_cast<std::size_t>(q)] = nearest[static_cast<std::size_t>(r)];
+  }
+  distance.swap(out_distance);
+  nearest.swap(out_nearest);
+}
+
 }  // namespace
+
+BlockedCells make_blocked_cells(const cfd::FluidGrid& grid, std::span<const std::uint8_t> mask) {
+  const std::size_t cells = grid.cell_count();
+  if (mask.size() != cells)
+    throw std::invalid_argument(
+        fmt::format("blocked cells: the mask has {} values, the fluid grid {} cells", mask.size(), cells));
+  BlockedCells result;
+  result.count = static_cast<std::size_t>(std::count_if(mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; }));
+  if (result.count == 0) return result;
+  if (result.count == cells)
+    throw std::invalid_argument(fmt::format("blocked cells: all {} cells of the fluid grid are blocked", cells));
+  result.mask.resize(cells);
+  for (std::size_t c = 0; c < cells; ++c) result.mask[c] = mask[c] != 0 ? 1 : 0;
+  // Squared distance (m²) to the nearest fluid cell centre, and that cell, one axis at a time.
+  std::vector<double> distance(cells, std::numeric_limits<double>::infinity());
+  result.nearest_fluid.resize(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    result.nearest_fluid[c] = static_cast<std::uint32_t>(c);
+    if (!result.mask[c]) distance[c] = 0.0;
+  }
+  const std::array<std::size_t, 3> stride{1, static_cast<std::size_t>(grid.cells[0]),
+                                          static_cast<std::size_t>(grid.cells[0]) * static_cast<std::size_t>(grid.cells[1])};
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    const auto b = static_cast<std::size_t>((axis + 1) % 3), c = static_cast<std::size_t>((axis + 2) % 3);
+    const auto length = static_cast<std::size_t>(grid.cells[a]);
+    std::vector<double> line(length), out_line(length), boundary(length + 1);
+    std::vector<std::uint32_t> line_nearest(length), out_nearest(length);
+    std::vector<int> vertex(length);
+    for (int v = 0; v < grid.cells[c]; ++v)
+      for (int u = 0; u < grid.cells[b]; ++u) {
+        const std::size_t start = static_cast<std::size_t>(u) * stride[b] + static_cast<std::size_t>(v) * stride[c];
+        for (std::size_t q = 0; q < length; ++q) {
+          line[q] = distance[start + q * stride[a]];
+          line_nearest[q] = result.nearest_fluid[start + q * stride[a]];
+        }
+        transform_line(line, line_nearest, grid.cell_size[axis], vertex, boundary, out_line, out_nearest);
+        for (std::size_t q = 0; q < length; ++q) {
+          distance[start + q * stride[a]] = line[q];
+          result.nearest_fluid[start + q * stride[a]] = line_nearest[q];
+        }
+      }
+  }
+  return result;
+}
+
+CellWeights cell_weights(const cfd::FluidGrid& grid, const PeriodicAxes& periodic,
+                         const BlockedCells& blocked, const Vec3& position, bool* moved_to_nearest) {
+  if (moved_to_nearest) *moved_to_nearest = false;
+  CellWeights weights = cell_weights(grid, periodic, position);
+  if (blocked.count == 0) return weights;
+  double fluid_weight = 0.0;  // Σ w over the entries on fluid cells
+  std::size_t first_fluid = 8;
+  bool any_blocked = false;
+  for (std::size_t c = 0; c < 8; ++c) {
+    if (blocked.mask[weights.cell[c]]) {
+      any_blocked = true;
+      continue;
+    }
+    fluid_weight += weights.weight[c];
+    if (first_fluid == 8 && weights.weight[c] > 0.0) first_fluid = c;
+  }
+  if (!any_blocked) return weights;
+  if (fluid_weight > 0.0) {
+    for (std::size_t c = 0; c < 8; ++c) {
+      if (blocked.mask[weights.cell[c]]) {
+        weights.cell[c] = weights.cell[first_fluid];
+        weights.weight[c] = 0.0;
+      } else {
+        weights.weight[c] /= fluid_weight;
+      }
+    }
+    return weights;
+  }
+  // Every weight on blocked cells: the whole particle onto the fluid cell nearest its own cell.
+  std::array<int, 3> at{};
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = static_cast<std::size_t>(axis);
+    const int n = grid.cells[a];
+    const double s = std::floor((position[axis] - grid.origin[axis]) / grid.cell_size[axis]);
+    if (periodic[a]) {
+      const double wrapped = std::fmod(s, static_cast<double>(n));
+      at[a] = static_cast<int>(wrapped < 0.0 ? wrapped + n : wrapped);
+    } else {
+      at[a] = static_cast<int>(std::clamp(s, 0.0, static_cast<double>(n - 1)));
+    }
+  }
+  const std::uint32_t nearest = blocked.nearest_fluid[grid.cell_index(at[0], at[1], at[2])];
+  weights.cell.fill(nearest);
+  weights.weight.fill(0.0);
+  weights.weight[0] = 1.0;
+  if (moved_to_nearest) *moved_to_nearest = true;
+  return weights;
+}
 
 CellWeights cell_weights(const cfd::FluidGrid& grid, const PeriodicAxes& periodic,
                          const Vec3& position) {

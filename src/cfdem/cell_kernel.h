@@ -2,7 +2,8 @@
 // cells, by trilinear (cloud-in-cell) weights of its centre on the cell centres. The same
 // weights give the void fraction, deposit the particles' drag on the fluid and interpolate the
 // fluid's velocity and pressure gradient to the particles, so that the particle volume and the
-// exchanged momentum are the same on both sides (docs/cfd.md "Coupling").
+// exchanged momentum are the same on both sides (docs/cfd.md "Coupling"). Blocked cells (no fluid)
+// get no weight: a particle's share of them goes to its fluid cells.
 #pragma once
 
 #include <array>
@@ -33,6 +34,36 @@ using PeriodicAxes = std::array<bool, 3>;
 // are clamped to it (periodic axes: wrapped). Cost: O(1).
 CellWeights cell_weights(const cfd::FluidGrid& grid, const PeriodicAxes& periodic,
                          const Vec3& position);
+
+// Blocked cells (no fluid) as the kernel needs them: the mask, and for every cell the nearest
+// fluid cell (itself when it is one), by the distance between cell centres within the grid
+// (periodic faces are not crossed by this search).
+struct BlockedCells {
+  std::vector<std::uint8_t> mask;            // per cell, 1 = blocked; empty when none is
+  std::vector<std::uint32_t> nearest_fluid;  // per cell (flat index); empty when none is blocked
+  std::size_t count = 0;                     // blocked cells
+
+  bool blocked(std::size_t cell) const { return count > 0 && mask[cell] != 0; }
+};
+
+// From a per-cell mask (1 = blocked) of grid.cell_count() values. Throws std::invalid_argument
+// when the size is wrong or every cell is blocked. The nearest fluid cells come from the exact
+// Euclidean distance transform of Felzenszwalb & Huttenlocher (2012, Theory of Computing 8:415-428:
+// lower envelopes of parabolas, one axis after the other), carrying the nearest cell along; ties
+// are broken the same way every time. Cost: O(cells).
+BlockedCells make_blocked_cells(const cfd::FluidGrid& grid, std::span<const std::uint8_t> mask);
+
+// The weights of a particle at `position` kept off blocked cells: the trilinear weights of its
+// blocked cells are dropped and the rest divided by their sum, so they still sum to 1 (to
+// round-off), the particle's volume and forces stay whole on fluid cells, and nothing it
+// interpolates reads a blocked cell (a dropped entry points at one of its fluid cells, with weight
+// 0). A particle none of whose weight falls on a fluid cell (its centre among blocked cell centres)
+// goes whole onto the fluid cell nearest the cell holding its centre, and *moved_to_nearest (if
+// given) is set to true. Equal to the plain cell_weights when no cell is blocked. Continuous in
+// the position wherever some weight is on fluid cells. Cost: O(1).
+CellWeights cell_weights(const cfd::FluidGrid& grid, const PeriodicAxes& periodic,
+                         const BlockedCells& blocked, const Vec3& position,
+                         bool* moved_to_nearest = nullptr);
 
 // ε per cell: 1 − Σ_p w_pc V_p / V_cell, V_p = 4/3 π R_p³. `void_fraction` is resized to the
 // cell count. Σ_c (1 − ε_c) V_cell = Σ_p V_p to round-off. Returns the smallest ε (may be ≤ 0

@@ -1,12 +1,15 @@
 // The coupling kernel: partition of unity, continuity, the void fraction's integral and
-// Newton's third law of the deposited drag, each to round-off.
+// Newton's third law of the deposited drag, each to round-off; the same with blocked cells, and
+// the nearest fluid cell of each blocked one.
 #include "cfdem/cell_kernel.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 
 namespace quarry::cfdem {
 namespace {
@@ -129,6 +132,187 @@ TEST(CellKernel, DepositedDragIsMinusTheParticlesDrag) {
     fluid_drag += (force[c] - cell_velocity[c] * beta[c]) * grid.cell_volume();
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(fluid_drag[a], -particle_drag[a], 1e-14 * 200 * 2.5e-5);
   EXPECT_GT(std::abs(particle_drag.x) + std::abs(particle_drag.y) + std::abs(particle_drag.z), 1e-5);
+}
+
+// ---- blocked cells ----
+
+// A random quarter of the cells blocked, plus a solid slab at j = 0 (the particles near it have
+// most of their weight there) and a solid block of 3 x 2 x 3 (particles inside it fall back).
+std::vector<std::uint8_t> test_mask(const cfd::FluidGrid& grid) {
+  std::mt19937_64 random(17);
+  std::bernoulli_distribution quarter(0.25);
+  std::vector<std::uint8_t> mask(grid.cell_count(), 0);
+  for (int k = 0; k < grid.cells[2]; ++k)
+    for (int j = 0; j < grid.cells[1]; ++j)
+      for (int i = 0; i < grid.cells[0]; ++i)
+        mask[grid.cell_index(i, j, k)] = (j == 0 || (i < 3 && j >= 2 && k >= 3) || quarter(random)) ? 1 : 0;
+  return mask;
+}
+
+TEST(CellKernel, BlockedWeightsStayOnFluidCellsAndSumToOne) {
+  const cfd::FluidGrid grid = test_grid();
+  const BlockedCells blocked = make_blocked_cells(grid, test_mask(grid));
+  ASSERT_GT(blocked.count, grid.cell_count() / 3);
+  int untouched = 0, renormalised = 0, moved = 0;
+  for (const PeriodicAxes periodic : {PeriodicAxes{false, false, false}, PeriodicAxes{true, false, true}}) {
+    for (const Vec3& x : random_positions(grid, 2000, 19)) {
+      const CellWeights plain = cell_weights(grid, periodic, x);
+      bool to_nearest = false;
+      const CellWeights w = cell_weights(grid, periodic, blocked, x, &to_nearest);
+      double sum = 0.0;
+      bool touches_blocked = false;
+      for (std::size_t c = 0; c < 8; ++c) {
+        EXPECT_FALSE(blocked.blocked(w.cell[c])) << "an entry on a blocked cell";
+        EXPECT_GE(w.weight[c], 0.0);
+        sum += w.weight[c];
+        touches_blocked |= blocked.blocked(plain.cell[c]);
+      }
+      EXPECT_NEAR(sum, 1.0, 8e-16);
+      if (!touches_blocked) {  // far from blocked cells: the plain weights, bit for bit
+        ++untouched;
+        for (std::size_t c = 0; c < 8; ++c) {
+          EXPECT_EQ(w.weight[c], plain.weight[c]);
+          EXPECT_EQ(w.cell[c], plain.cell[c]);
+        }
+      } else if (to_nearest) {
+        ++moved;
+        EXPECT_EQ(w.weight[0], 1.0);
+      } else {
+        ++renormalised;
+        // The fluid entries keep their proportions.
+        double fluid = 0.0;
+        for (std::size_t c = 0; c < 8; ++c) fluid += blocked.blocked(plain.cell[c]) ? 0.0 : plain.weight[c];
+        for (std::size_t c = 0; c < 8; ++c) {
+          if (!blocked.blocked(plain.cell[c])) {
+            EXPECT_NEAR(w.weight[c], plain.weight[c] / fluid, 1e-15);
+          }
+        }
+      }
+    }
+  }
+  std::printf("[ measured ] 4000 particles: %d away from blocked cells, %d renormalised, %d moved whole to the "
+              "nearest fluid cell\n",
+              untouched, renormalised, moved);
+  EXPECT_GT(untouched, 10);
+  EXPECT_GT(renormalised, 1000);
+  EXPECT_GT(moved, 10);
+}
+
+// The nearest fluid cell of every blocked cell, against a search over all fluid cells.
+TEST(CellKernel, NearestFluidCellIsTheNearestByCentreDistance) {
+  const cfd::FluidGrid grid = test_grid();
+  const BlockedCells blocked = make_blocked_cells(grid, test_mask(grid));
+  const auto centre = [&](std::size_t c) {
+    const auto nx = static_cast<std::size_t>(grid.cells[0]), ny = static_cast<std::size_t>(grid.cells[1]);
+    return grid.cell_centre(static_cast<int>(c % nx), static_cast<int>((c / nx) % ny), static_cast<int>(c / (nx * ny)));
+  };
+  for (std::size_t c = 0; c < grid.cell_count(); ++c) {
+    const std::uint32_t found = blocked.nearest_fluid[c];
+    ASSERT_FALSE(blocked.blocked(found));
+    if (!blocked.blocked(c)) {
+      EXPECT_EQ(found, c);
+      continue;
+    }
+    double best = 1e300;
+    for (std::size_t f = 0; f < grid.cell_count(); ++f)
+      if (!blocked.blocked(f)) best = std::min(best, norm2(centre(f) - centre(c)));
+    EXPECT_NEAR(norm2(centre(found) - centre(c)), best, 1e-12 * best) << "cell " << c;
+  }
+  EXPECT_THROW(make_blocked_cells(grid, std::vector<std::uint8_t>(grid.cell_count(), 1)), std::invalid_argument);
+  EXPECT_THROW(make_blocked_cells(grid, std::vector<std::uint8_t>(3, 0)), std::invalid_argument);
+  EXPECT_EQ(make_blocked_cells(grid, std::vector<std::uint8_t>(grid.cell_count(), 0)).count, 0u);
+}
+
+// Particles next to blocked cells (and some inside them): Σ_c (1 − ε_c) V_cell is still Σ_p V_p,
+// all of it on fluid cells.
+TEST(CellKernel, VoidFractionWithBlockedCellsIntegratesToParticleVolume) {
+  const cfd::FluidGrid grid = test_grid();
+  const BlockedCells blocked = make_blocked_cells(grid, test_mask(grid));
+  const std::vector<Vec3> positions = random_positions(grid, 300, 23);
+  std::vector<CellWeights> weights;
+  std::vector<double> radius;
+  std::mt19937_64 random(3);
+  std::uniform_real_distribution<double> size(1e-4, 4e-4);
+  double particle_volume = 0.0;  // m³
+  for (const Vec3& x : positions) {
+    weights.push_back(cell_weights(grid, PeriodicAxes{false, false, false}, blocked, x));
+    radius.push_back(size(random));
+    particle_volume += 4.0 / 3.0 * std::numbers::pi * std::pow(radius.back(), 3);
+  }
+  std::vector<double> epsilon;
+  void_fraction(grid, weights, radius, epsilon);
+  double solid = 0.0;  // m³
+  for (std::size_t c = 0; c < epsilon.size(); ++c) {
+    solid += (1.0 - epsilon[c]) * grid.cell_volume();
+    if (blocked.blocked(c)) {
+      EXPECT_EQ(epsilon[c], 1.0) << "cell " << c;
+    }
+  }
+  EXPECT_NEAR(solid / particle_volume, 1.0, 1e-12);
+}
+
+// Newton's third law with blocked cells: the field is NaN in every blocked cell, so a weight
+// that read one would poison the particle's drag; the deposits there stay exactly 0.
+TEST(CellKernel, DepositedDragWithBlockedCellsIsMinusTheParticlesDrag) {
+  const cfd::FluidGrid grid = test_grid();
+  const BlockedCells blocked = make_blocked_cells(grid, test_mask(grid));
+  const PeriodicAxes periodic{true, false, false};
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  std::vector<Vec3> cell_velocity(grid.cell_count());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t c = 0; c < grid.cell_count(); ++c)
+    cell_velocity[c] = blocked.blocked(c) ? Vec3{nan, nan, nan} : Vec3{value(random), value(random), value(random)};
+  std::vector<CellWeights> weights;
+  std::vector<double> coefficient;
+  std::vector<Vec3> momentum;
+  Vec3 particle_drag;  // N
+  for (const Vec3& x : random_positions(grid, 200, 13)) {
+    weights.push_back(cell_weights(grid, periodic, blocked, x));
+    coefficient.push_back(1e-5 * (1.5 + value(random)));  // kg/s
+    const Vec3 v{value(random), value(random), value(random)};
+    momentum.push_back(v * coefficient.back());
+    particle_drag += (interpolate(weights.back(), cell_velocity) - v) * coefficient.back();
+  }
+  ASSERT_TRUE(std::isfinite(particle_drag.x) && std::isfinite(particle_drag.y) && std::isfinite(particle_drag.z));
+  std::vector<double> beta(grid.cell_count(), 0.0);
+  std::vector<Vec3> force(grid.cell_count());
+  deposit(grid, weights, coefficient, beta);
+  deposit(grid, weights, momentum, force);
+  Vec3 fluid_drag;  // N
+  for (std::size_t c = 0; c < grid.cell_count(); ++c) {
+    if (blocked.blocked(c)) {
+      EXPECT_EQ(beta[c], 0.0);
+      EXPECT_EQ(force[c], Vec3{});
+      continue;
+    }
+    fluid_drag += (force[c] - cell_velocity[c] * beta[c]) * grid.cell_volume();
+  }
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(fluid_drag[a], -particle_drag[a], 1e-14 * 200 * 2.5e-5);
+}
+
+// Along a blocked slab (j = 0) the share moved off it is the same at every x: the weights stay
+// continuous as the particle crosses cell centres and faces beside it.
+TEST(CellKernel, BlockedWeightsAreContinuousAlongABlockedWall) {
+  const cfd::FluidGrid grid = test_grid();
+  std::vector<std::uint8_t> mask(grid.cell_count(), 0);
+  for (int k = 0; k < grid.cells[2]; ++k)
+    for (int i = 0; i < grid.cells[0]; ++i) mask[grid.cell_index(i, 0, k)] = 1;
+  const BlockedCells blocked = make_blocked_cells(grid, mask);
+  const double step = 1e-7;                   // m
+  const Vec3 start{-0.0095, 0.0231, 0.0001};  // y inside cell row 1, below its centre
+  std::vector<double> previous;
+  for (int n = 0; n <= 20000; ++n) {
+    const Vec3 x = start + Vec3{1.0, 0.0, 0.6} * (n * step);
+    const CellWeights w = cell_weights(grid, PeriodicAxes{false, false, false}, blocked, x);
+    std::vector<double> field(grid.cell_count(), 0.0);
+    for (std::size_t c = 0; c < 8; ++c) field[w.cell[c]] += w.weight[c];
+    if (!previous.empty()) {
+      for (std::size_t c = 0; c < field.size(); ++c)
+        ASSERT_LT(std::abs(field[c] - previous[c]), 3.0 * step / 0.002) << "cell " << c << " at step " << n;
+    }
+    previous = field;
+  }
 }
 
 }  // namespace

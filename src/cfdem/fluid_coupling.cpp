@@ -52,11 +52,16 @@ FluidCoupling::FluidCoupling(const World& world, FluidCouplingOptions options)
   for (int axis = 0; axis < 3; ++axis)
     periodic_[static_cast<std::size_t>(axis)] =
         options_.boundaries.face(axis, 0).kind == cfd::BoundaryKind::periodic;
+  options_.solver.gravity = world.spec.simulation.gravity.value;
   cfd::FluidSolverOptions solver = options_.solver;
-  solver.gravity = world.spec.simulation.gravity.value;
   solver.threading = world.threading;
   fluid_ = std::make_unique<cfd::FluidSolver>(options_.grid, options_.properties, options_.boundaries,
                                               solver);
+  if (!options_.blocked.empty()) {
+    blocked_ = make_blocked_cells(options_.grid, options_.blocked);  // checks the size, not all blocked
+    std::span<std::uint8_t> mask = fluid_->blocked();
+    for (std::size_t c = 0; c < mask.size(); ++c) mask[c] = blocked_.blocked(c) ? 1 : 0;
+  }
   void_fraction_.assign(options_.grid.cell_count(), 1.0);
   update_cell_fields();
 }
@@ -73,6 +78,11 @@ std::shared_ptr<FluidCoupling> FluidCoupling::attach(World& world, FluidCoupling
     coupling->add_forces(w);
   };
   world.hooks.push_back(std::move(forces));
+  CheckpointSection section;
+  section.name = "fluid";
+  section.save = [coupling](const World&, BinaryWriter& out) { coupling->save_state(out); };
+  section.load = [coupling](World& w, BinaryReader& in) { coupling->load_state(in, w); };
+  world.checkpoint_sections.push_back(std::move(section));
   return coupling;
 }
 
@@ -85,9 +95,15 @@ void FluidCoupling::update_cell_fields() {
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i) {
         const std::size_t c = g.cell_index(i, j, k);
+        if (blocked_.blocked(c)) {  // no fluid: no particle weight reads it (cell_kernel.h)
+          cell_velocity_[c] = Vec3{};
+          cell_pressure_gradient_[c] = Vec3{};
+          continue;
+        }
         cell_velocity_[c] = fluid_->cell_velocity(i, j, k);
-        // ∇p by central differences of the cell pressures (one-sided at a non-periodic border;
-        // exact for the hydrostatic field, which is linear).
+        // ∇p by central differences of the cell pressures (one-sided at a non-periodic border
+        // or a blocked neighbour; exact for the hydrostatic field, which is linear). A cell with
+        // fluid on neither side along an axis takes the hydrostatic ρ_f g there (model A at rest).
         Vec3 gradient;
         const std::array<int, 3> at{i, j, k};
         for (int axis = 0; axis < 3; ++axis) {
@@ -104,9 +120,12 @@ void FluidCoupling::update_cell_fields() {
             if (low[a] < 0) low[a] = 0, span = 1.0;
             if (high[a] >= n[a]) high[a] = n[a] - 1, span = 1.0;
           }
-          gradient[axis] = (fluid_->pressure(high[0], high[1], high[2]) -
-                            fluid_->pressure(low[0], low[1], low[2])) /
-                           (span * g.cell_size[axis]);
+          if (blocked_.blocked(g.cell_index(low[0], low[1], low[2]))) low = at, span -= 1.0;
+          if (blocked_.blocked(g.cell_index(high[0], high[1], high[2]))) high = at, span -= 1.0;
+          gradient[axis] = span > 0.0 ? (fluid_->pressure(high[0], high[1], high[2]) -
+                                         fluid_->pressure(low[0], low[1], low[2])) /
+                                            (span * g.cell_size[axis])
+                                      : options_.properties.density * options_.solver.gravity[axis];
         }
         cell_pressure_gradient_[c] = gradient;
       }
@@ -116,10 +135,32 @@ void FluidCoupling::compute_weights(const World& world) {
   const ParticleStore& p = world.particles;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
   weights_.resize(p.size());
+  moved_to_nearest_.assign(p.size(), 0);
 #pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
-  for (std::ptrdiff_t i = 0; i < n; ++i)
-    weights_[static_cast<std::size_t>(i)] =
-        cell_weights(options_.grid, periodic_, p.position[static_cast<std::size_t>(i)]);
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    bool moved = false;
+    weights_[i] = cell_weights(options_.grid, periodic_, blocked_, p.position[i], &moved);
+    moved_to_nearest_[i] = moved ? 1 : 0;
+  }
+}
+
+void FluidCoupling::warn_particles_among_blocked_cells(World& world) {
+  // Once per run, the lowest index of this exchange (the same for any thread count).
+  const auto first = std::find(moved_to_nearest_.begin(), moved_to_nearest_.end(), char{1});
+  if (blocked_warned_ || first == moved_to_nearest_.end()) return;
+  blocked_warned_ = true;
+  const auto i = static_cast<std::size_t>(first - moved_to_nearest_.begin());
+  const ParticleStore& p = world.particles;
+  const std::size_t cell = weights_[i].cell[0];
+  const cfd::FluidGrid& g = options_.grid;
+  const auto nx = static_cast<std::size_t>(g.cells[0]), ny = static_cast<std::size_t>(g.cells[1]);
+  add_warning_once(world, fmt::format(
+      "particle {} at ({:.6g}, {:.6g}, {:.6g}) m, t = {:.6g} s, is among blocked fluid cells only: its "
+      "volume and drag go to the nearest fluid cell ({}, {}, {}) while it stays there ({} such "
+      "particles at this exchange); keep particles out of blocked regions (a surface around them)",
+      p.id[i], p.position[i].x, p.position[i].y, p.position[i].z, world.time, cell % nx, (cell / nx) % ny,
+      cell / (nx * ny), std::count(moved_to_nearest_.begin(), moved_to_nearest_.end(), char{1})));
 }
 
 cfd::DragResult FluidCoupling::evaluate_drag(const World& world, std::size_t i,
@@ -207,6 +248,7 @@ void FluidCoupling::exchange(World& world) {
       correction[i] = (f.velocity_sum / f.samples - f.exchange_velocity) * f.coefficient;
   }
   compute_weights(world);
+  warn_particles_among_blocked_cells(world);
   const double smallest = cfdem::void_fraction(g, weights_, p.radius, void_fraction_);
   if (smallest < options_.minimum_void_fraction) {
     const auto crowded = static_cast<std::size_t>(
@@ -282,7 +324,7 @@ void FluidCoupling::follow_layout(const World& world) {
     }
     FrozenParticle& f = moved[i];
     f.id = p.id[i];
-    f.weights = weights_[i] = cell_weights(options_.grid, periodic_, p.position[i]);
+    f.weights = weights_[i] = cell_weights(options_.grid, periodic_, blocked_, p.position[i]);
     f.fluid_velocity = interpolate(f.weights, cell_velocity_);
     f.pressure_gradient = interpolate(f.weights, cell_pressure_gradient_);
     f.volume = sphere_volume(p.radius[i]);

@@ -25,7 +25,8 @@ struct FluidCouplingOptions {
   SourceLocation grid_where;  // where the deck sets the cell size (for the cell-size check)
   cfd::FluidProperties properties;
   cfd::FluidBoundaries boundaries;
-  // Tolerances and model of the fluid solver. Its gravity and threads are taken from the world.
+  // Tolerances and model of the fluid solver. Its gravity (stored here by the constructor) and
+  // threads are taken from the world.
   // Only model A: the drag laws return model-A drag (drag_laws.h).
   cfd::FluidSolverOptions solver;
   int coupling_steps = 1;                // DEM steps per fluid step (≥ 1): Δt_f = n Δt_DEM
@@ -34,6 +35,10 @@ struct FluidCouplingOptions {
   // A cell whose void fraction falls below this stops the run (PhysicsError with a hint): the
   // particles crowd a cell more than any packing, so the grid is too fine for them.
   double minimum_void_fraction = 0.05;
+  // Cells without fluid (flat FluidGrid::cell_index order, 1 = blocked; empty: none), fixed for
+  // the run: the solver holds u = 0 on their faces, and the particles' weights avoid them
+  // (cell_kernel.h). cfdem/fluid_blocked.h makes it from the deck's fluid.blocked.
+  std::vector<std::uint8_t> blocked;
 };
 
 // The coupling's state between exchanges, per particle (engine index at `layout_epoch`; kept
@@ -57,13 +62,15 @@ class FluidCoupling {
   // Throws UserError with a hint when a cell holds less than 3 times the volume of the largest
   // particle the world can hold (world.max_radius): the void fraction of such cells swings
   // between 1 and ~0 as a particle passes (coupling-notes §3.4); std::invalid_argument for
-  // other bad options. The fluid starts at rest with ε = 1.
+  // other bad options (a blocked mask of the wrong size, or blocking every cell). The fluid
+  // starts at rest with ε = 1.
   FluidCoupling(const World& world, FluidCouplingOptions options);
 
   // Builds the coupling and adds its hook to the world (post_force: the exchange when a
-  // coupling step begins, at steps 0, n, 2n, …, then the fluid forces). The hook shares the
-  // returned object. Call before sim::initialize, whose force evaluation makes the first
-  // exchange.
+  // coupling step begins, at steps 0, n, 2n, …, then the fluid forces), and its checkpoint
+  // section "fluid" (save_state, load_state). Both share the returned object. Call before
+  // sim::initialize, whose force evaluation makes the first exchange — or, to restart, on the
+  // world restored from a checkpoint, then sim::restore_sections.
   static std::shared_ptr<FluidCoupling> attach(World& world, FluidCouplingOptions options);
 
   // The coupling step at the world's time: weights of the particles now, ε, β_p from the drag
@@ -87,6 +94,8 @@ class FluidCoupling {
   const std::vector<FrozenParticle>& frozen() const { return frozen_; }
   const std::vector<CellWeights>& weights() const { return weights_; }
   long long exchanges() const { return exchanges_; }
+  // The blocked cells (options.blocked) with each one's nearest fluid cell.
+  const BlockedCells& blocked_cells() const { return blocked_; }
   // The drag of particle i as add_forces applies it now (N): β_p (u_p − v_p).
   Vec3 drag_force(const World& world, std::size_t i) const;
   // Fluid momentum Σ ρ ε_f u_f V over the faces between two cells (periodic faces once; faces
@@ -100,10 +109,22 @@ class FluidCoupling {
   // what their changing velocity adds reaches the fluid at the next exchange.
   Vec3 pending_particle_impulse() const;
 
+  // Checkpoints (fluid_checkpoint.cpp): the fluid solver's state and everything the coupling
+  // keeps between exchanges, so that a run restarted at any step — also inside a coupling
+  // interval — takes the same steps, to the bit, as the run that went on. load_state takes
+  // what save_state wrote, into a coupling built with the same options on `world` restored to
+  // the same step; it reads everything and checks it first (sizes against this grid and the
+  // world's particles, finite values, cells and ids in range) and throws std::runtime_error or
+  // std::invalid_argument saying what is wrong, the coupling then unchanged. Cost: O(cells +
+  // particles).
+  void save_state(BinaryWriter& out) const;
+  void load_state(BinaryReader& in, const World& world);
+
  private:
   cfd::DragResult evaluate_drag(const World& world, std::size_t i, const Vec3& fluid_velocity,
                                 double porosity, const Vec3& pressure_gradient) const;
   void compute_weights(const World& world);
+  void warn_particles_among_blocked_cells(World& world);  // after compute_weights
   void freeze_fluid_values(const World& world);  // u_p, ∇p_p from the fluid now
   void follow_layout(const World& world);        // after a layout change: frozen values by id
   void check_relaxation(World& world);
@@ -113,6 +134,9 @@ class FluidCoupling {
   std::unique_ptr<cfd::FluidSolver> fluid_;
   PeriodicAxes periodic_{};
   std::vector<CellWeights> weights_;
+  BlockedCells blocked_;
+  std::vector<char> moved_to_nearest_;  // per particle of compute_weights: all its weight was blocked
+  bool blocked_warned_ = false;         // the warning about such a particle, once per run
   std::vector<double> void_fraction_;
   std::vector<FrozenParticle> frozen_;
   std::vector<Vec3> cell_velocity_, cell_pressure_gradient_;

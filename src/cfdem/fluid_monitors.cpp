@@ -6,14 +6,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
 
 #include "io/png_plot.h"
+#include "sim/binary_stream.h"
 #include "sim/monitors.h"
 #include "sim/output.h"
 
 namespace quarry::cfdem {
 
 namespace {
+
+constexpr std::uint32_t kMonitorsSectionVersion = 1;
 
 // Cell (i, j, k) with `along` at position `axis` and (u, v) on the two other axes in order.
 std::array<int, 3> cell_of(int axis, int along, int u, int v) {
@@ -51,19 +57,23 @@ double plane_pressure(const cfd::FluidSolver& fluid, int axis, double coordinate
   const double t = (coordinate - component(grid.origin, axis)) / spacing - 0.5;
   const int low = n == 1 ? 0 : std::clamp(static_cast<int>(std::floor(t)), 0, n - 2);
   const double w = n == 1 ? 0.0 : t - low;
+  const std::span<const std::uint8_t> blocked = fluid.blocked();
+  const auto is_blocked = [&](const std::array<int, 3>& c) { return blocked[grid.cell_index(c[0], c[1], c[2])] != 0; };
   double sum = 0.0;
   std::size_t columns = 0;
   for_each_column(grid, axis, [&](int u, int v) {
     const auto a = cell_of(axis, low, u, v);
+    if (is_blocked(a)) return;  // no fluid there: the column does not count
     double p = fluid.pressure(a[0], a[1], a[2]);
     if (n > 1) {
       const auto b = cell_of(axis, low + 1, u, v);
+      if (is_blocked(b)) return;
       p = (1.0 - w) * p + w * fluid.pressure(b[0], b[1], b[2]);
     }
     sum += p;
     ++columns;
   });
-  return sum / static_cast<double>(columns);
+  return columns == 0 ? std::numeric_limits<double>::quiet_NaN() : sum / static_cast<double>(columns);
 }
 
 double flow_rate(const cfd::FluidSolver& fluid, const std::vector<double>& void_fraction, int axis,
@@ -166,6 +176,7 @@ std::shared_ptr<FluidMonitors> FluidMonitors::attach(World& world, std::shared_p
   hook.name = "fluid monitors";
   hook.run = [self](World& w) {
     if (!w.output) return;
+    if (self->resume_) self->resume_table(w);
     if (!self->table_ || w.step_count % w.output->monitor_every() == 0) self->record(w);
   };
   world.hooks.push_back(std::move(hook));
@@ -174,7 +185,47 @@ std::shared_ptr<FluidMonitors> FluidMonitors::attach(World& world, std::shared_p
   last.name = "fluid monitors";
   last.run = [self](World& w) { self->finish(w); };
   world.hooks.push_back(std::move(last));
+  CheckpointSection section;
+  section.name = "fluid monitors";
+  section.save = [self](const World&, BinaryWriter& out) {
+    if (self->table_) self->table_->flush();  // the rows a restart keeps, on disk
+    out.value(kMonitorsSectionVersion);
+    out.value(static_cast<std::uint8_t>(self->table_.has_value()));
+    out.value(static_cast<std::uint64_t>(self->table_ ? self->table_->rows().size() : 0));
+  };
+  section.load = [self](World& w, BinaryReader& in) {
+    const auto version = in.value<std::uint32_t>();
+    if (version != kMonitorsSectionVersion)
+      throw std::runtime_error(fmt::format("version {} (this Quarry reads version {})", version, kMonitorsSectionVersion));
+    const auto table = in.value<std::uint8_t>();
+    const auto rows = in.value<std::uint64_t>();
+    if (table > 1) throw std::runtime_error(fmt::format("the table flag holds {}, not 0 or 1", table));
+    Resume resume;
+    resume.time = w.time;
+    if (table) resume.rows = rows;
+    self->resume_ = resume;
+  };
+  world.checkpoint_sections.push_back(std::move(section));
   return self;
+}
+
+void FluidMonitors::resume_table(World& world) {
+  const Resume resume = *resume_;
+  resume_.reset();
+  if (!resume.rows) return;  // no row before the checkpoint: this step writes the first
+  const std::filesystem::path path = world.output->directory() / "fluid_monitors.csv";
+  table_.emplace(path, columns(monitors_));
+  world.output->wrote("fluid_monitors.csv");
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) return;  // restarted into another folder: a new table
+  // The rows of the checkpoint's table: the file may hold later ones (the run went on, or its
+  // end wrote a last row), which the run that went on would not have.
+  const CsvTable earlier = CsvTable::load(path);
+  if (earlier.columns() != table_->columns()) return;  // not this deck's table: replaced
+  for (std::size_t k = 0; k < earlier.rows().size() && k < *resume.rows; ++k) {
+    if (earlier.rows()[k][0] > resume.time) break;
+    table_->add_row(earlier.rows()[k]);
+  }
 }
 
 void FluidMonitors::record(World& world) {
@@ -190,7 +241,8 @@ void FluidMonitors::record(World& world) {
 
 void FluidMonitors::finish(World& world) {
   if (!table_ || !world.output) return;
-  if (table_->rows().back()[0] != world.time) table_->add_row(row(monitors_, *coupling_, world));
+  if (table_->rows().empty() || table_->rows().back()[0] != world.time)
+    table_->add_row(row(monitors_, *coupling_, world));
   table_->flush();
   if (!world.spec.output.plots.value) return;
   const std::vector<std::string>& names = table_->columns();

@@ -17,7 +17,8 @@ namespace quarry::cfdem {
 // Mean pressure (Pa) over the plane x_axis = coordinate (m) across the whole grid: per column of
 // cells along the axis, linear in the two cell centres that bracket the plane (extrapolated
 // linearly from the first or last two in the half cells at the grid's ends, exact for a
-// hydrostatic field), then the mean over the columns (equal cells: equal areas).
+// hydrostatic field), then the mean over the columns (equal cells: equal areas) whose two cells
+// are fluid (not blocked); NaN when the plane has no such column.
 double plane_pressure(const cfd::FluidSolver& fluid, int axis, double coordinate);
 
 // Volumetric flow rate of fluid (m³/s) through the face layer nearest to x_axis = coordinate:
@@ -50,7 +51,9 @@ class FluidMonitors {
 
   // Adds an end_of_step hook writing a row every Output::monitor_every() steps (and at the
   // first step) to OUTPUT/fluid_monitors.csv, and an end_of_run hook calling finish(); null
-  // when `monitors` is empty. Nothing is written while the world has no output.
+  // when `monitors` is empty. Nothing is written while the world has no output. The checkpoint
+  // section "fluid monitors" holds how many rows the table had (a checkpoint also writes them
+  // to the file): a restart keeps those rows of the file and appends, as monitors.csv does.
   static std::shared_ptr<FluidMonitors> attach(World& world, std::shared_ptr<FluidCoupling> coupling,
                                                std::vector<FluidMonitorSpec> monitors);
 
@@ -60,10 +63,20 @@ class FluidMonitors {
 
  private:
   void record(World& world);
+  // After a restart, before the first row: the table as the checkpoint left it.
+  void resume_table(World& world);
+
+  // Restored from a checkpoint taken at `time` (s), when the table held `rows` rows (none: no
+  // table yet).
+  struct Resume {
+    double time = 0.0;
+    std::optional<std::uint64_t> rows;
+  };
 
   std::shared_ptr<FluidCoupling> coupling_;
   std::vector<FluidMonitorSpec> monitors_;
   std::optional<CsvTable> table_;
+  std::optional<Resume> resume_;
 };
 
 }  // namespace quarry::cfdem

@@ -5,8 +5,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <optional>
+#include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "sim/binary_stream.h"
 #include "sim/output.h"
 
 namespace quarry::cfdem {
@@ -38,6 +41,11 @@ std::string fluid_image_text(const FluidCoupling& coupling) {
   text += "        </DataArray>\n";
   text += "        <DataArray type=\"Float64\" Name=\"void_fraction\" format=\"ascii\">\n";
   each_cell([&](int i, int j, int k) { text += fmt::format("{}\n", void_fraction[g.cell_index(i, j, k)]); });
+  text += "        </DataArray>\n";
+  // 1 where the cell holds no fluid (fluid.blocked): threshold it away in ParaView.
+  text += "        <DataArray type=\"UInt8\" Name=\"blocked\" format=\"ascii\">\n";
+  const BlockedCells& blocked = coupling.blocked_cells();
+  each_cell([&](int i, int j, int k) { text += blocked.blocked(g.cell_index(i, j, k)) ? "1\n" : "0\n"; });
   text += "        </DataArray>\n      </CellData>\n    </Piece>\n  </ImageData>\n</VTKFile>\n";
   return text;
 }
@@ -53,13 +61,17 @@ void write_fluid_frame(const FluidCoupling& coupling, const std::filesystem::pat
 
 namespace {
 
-// The hook's state: the series and the next frame's time.
+// The hook's state: the series and the next frame's time (both in the checkpoint's section
+// "fluid frames"; a restart keeps the series' entries up to the checkpoint's time).
 struct FluidFrames {
   std::shared_ptr<FluidCoupling> coupling;
   std::unique_ptr<PvdSeries> series;
   std::size_t frame = 0;
   double next_time = 0.0;  // s
+  std::optional<double> resume_time;  // s: restored from a checkpoint taken then
 };
+
+constexpr std::uint32_t kFramesSectionVersion = 1;
 
 }  // namespace
 
@@ -78,7 +90,10 @@ void attach_fluid_output(World& world, std::shared_ptr<FluidCoupling> coupling) 
     if (w.time + 0.5 * w.dt < frames->next_time) return;
     const std::filesystem::path& directory = w.output->directory();
     if (!frames->series) {
-      frames->series = std::make_unique<PvdSeries>(directory / "fluid.pvd");
+      // A restart continues the series: the frames up to the checkpoint stay listed.
+      const std::filesystem::path path = directory / "fluid.pvd";
+      frames->series = std::make_unique<PvdSeries>(frames->resume_time ? PvdSeries::resume(path, *frames->resume_time)
+                                                                        : PvdSeries(path));
       w.output->wrote("fluid.pvd");  // in the manifest, so that --overwrite removes the series
     }
     w.output->wrote(fluid_frame_name(frames->frame));  // listed before it is written, as the particles' frames
@@ -87,6 +102,26 @@ void attach_fluid_output(World& world, std::shared_ptr<FluidCoupling> coupling) 
     while (frames->next_time <= w.time + 0.5 * w.dt) frames->next_time += interval;
   };
   world.hooks.push_back(std::move(hook));
+  CheckpointSection section;
+  section.name = "fluid frames";
+  section.save = [frames](const World&, BinaryWriter& out) {
+    out.value(kFramesSectionVersion);
+    out.value(static_cast<std::uint64_t>(frames->frame));
+    out.value(frames->next_time);
+  };
+  section.load = [frames](World& w, BinaryReader& in) {
+    const auto version = in.value<std::uint32_t>();
+    if (version != kFramesSectionVersion)
+      throw std::runtime_error(fmt::format("version {} (this Quarry reads version {})", version, kFramesSectionVersion));
+    const auto frame = in.value<std::uint64_t>();
+    const auto next_time = in.value<double>();
+    if (frame > 1000000000000ull || !std::isfinite(next_time) || next_time < 0.0)
+      throw std::runtime_error(fmt::format("the next fluid frame {} at {} s is out of range", frame, next_time));
+    frames->frame = static_cast<std::size_t>(frame);
+    frames->next_time = next_time;
+    frames->resume_time = w.time;
+  };
+  world.checkpoint_sections.push_back(std::move(section));
 }
 
 }  // namespace quarry::cfdem

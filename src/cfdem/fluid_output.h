@@ -1,5 +1,5 @@
-// The fluid's fields for ParaView (issue #18 §5): cell-centred velocity (m/s), pressure (Pa) and
-// void fraction as VTK image data (.vti, one file per frame) listed with their times in a .pvd
+// The fluid's fields for ParaView (issue #18 §5): cell-centred velocity (m/s), pressure (Pa),
+// void fraction and the blocked-cell flag as VTK image data (.vti, one file per frame) listed with their times in a .pvd
 // series, beside the particles' particles.pvd.
 #pragma once
 
@@ -13,7 +13,7 @@ namespace quarry::cfdem {
 
 // The VTK XML ImageData text of the coupling's fluid now: the grid's origin and spacing, one
 // cell per fluid cell, CellData "velocity" (3 components), "pressure", "void_fraction" in ASCII
-// with round-trip precision. Cost: O(cells).
+// with round-trip precision, and "blocked" (UInt8, 1 where the cell holds no fluid). Cost: O(cells).
 std::string fluid_image_text(const FluidCoupling& coupling);
 
 // The file name of fluid frame `frame`: fluid_NNNNNN.vti.
@@ -26,7 +26,9 @@ void write_fluid_frame(const FluidCoupling& coupling, const std::filesystem::pat
 
 // Adds an end-of-step hook that writes a fluid frame at the start of the run and every
 // spec.output.interval (s) of simulated time after it, into the run's output folder (nothing
-// when the world has no output, or the interval is 0). The hook shares `coupling`.
+// when the world has no output, or the interval is 0). The hook shares `coupling`. Its frame
+// number and next frame time are the checkpoint section "fluid frames": restored, the series
+// keeps the frames up to the checkpoint's time and goes on (as particles.pvd does).
 void attach_fluid_output(World& world, std::shared_ptr<FluidCoupling> coupling);
 
 }  // namespace quarry::cfdem

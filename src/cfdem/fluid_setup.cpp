@@ -1,11 +1,12 @@
-// SimulationSpec::fluid → FluidCouplingOptions (grid, properties, faces, drag, coupling steps),
-// with the deck's locations on every error.
+// SimulationSpec::fluid → FluidCouplingOptions (grid, properties, faces, blocked cells, drag,
+// coupling steps), with the deck's locations on every error.
 #include "cfdem/fluid_setup.h"
 
 #include <fmt/format.h>
 
 #include <cmath>
 
+#include "cfdem/fluid_blocked.h"
 #include "cfdem/fluid_monitors.h"
 #include "cfdem/fluid_output.h"
 #include "core/diagnostics.h"
@@ -43,6 +44,8 @@ FluidCouplingOptions coupling_options_from_spec(const World& world) {
     b.reference_pressure = f.reference_pressure.value;
     b.reference_point = f.reference_point.value;
   }
+  options.blocked = blocked_cells_from_spec(world, options.grid);
+  check_blocked_cells(spec, options.grid, options.boundaries, options.blocked);
   if (spec.model.value != FluidModel::a)
     throw UserError(spec.model.where, "the CFD-DEM coupling supports model A only so far",
                     "write model: A (the drag laws are written for it; issue #18)");

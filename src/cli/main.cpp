@@ -67,6 +67,11 @@ sim::RunOptions run_options(const Common& c) {
 
 int exit_code(const sim::RunSummary& s) { return s.interrupted() ? 130 : 0; }
 
+// What `run` attaches to a deck's world beyond build_world: the fluid of a fluid: section (with
+// its frames, monitors and checkpoint sections). `estimate` calibrates with it; `restart` makes
+// it again on the restored world and gives it its state from the checkpoint.
+std::shared_ptr<void> attach_to_world(World& world) { return cfdem::attach_fluid_from_spec(world); }
+
 int command_run(const std::string& deck, const Common& c) {
   SimulationSpec spec = parse_deck(deck);
   World world = build_world(spec);
@@ -90,7 +95,8 @@ int command_check(const std::string& deck) {
   if (d.has_errors()) throw UserError(d);
   std::cerr << d.format();
   World world = build_world(spec);
-  cfdem::attach_fluid_from_spec(world);  // the fluid: section's checks (grid, time step, UDF)
+  // The fluid: section's checks (grid, time step, UDF, blocked cells).
+  const auto fluid = cfdem::attach_fluid_from_spec(world);
   // The world's own notes (e.g. facets an STL reader removed); the time step's are printed above.
   for (const std::string& note : world.warnings)
     if (std::none_of(choice.problems.begin(), choice.problems.end(), [&](const Diagnostic& p) { return p.message == note; }))
@@ -110,14 +116,21 @@ int command_check(const std::string& deck) {
       count(spec.factories.size(), "factory", "factories"), world.dt, count(steps, "step", "steps"),
       spec.simulation.end_time.value, sim::format_bytes(memory.bytes),
       sim::format_bytes(static_cast<double>(sim::machine_memory_bytes())));
+  if (fluid) {
+    const cfd::FluidGrid& g = fluid->options().grid;
+    const std::size_t blocked = fluid->blocked_cells().count;
+    std::cout << fmt::format("{}: fluid grid {} x {} x {} = {}, {} blocked ({:.1f} %), fluid step {:.4g} s ({} DEM steps)\n",
+                             deck, g.cells[0], g.cells[1], g.cells[2], count(g.cell_count(), "cell", "cells"), blocked,
+                             100.0 * static_cast<double>(blocked) / static_cast<double>(g.cell_count()),
+                             fluid->options().coupling_steps * world.dt, fluid->options().coupling_steps);
+  }
   return 0;
 }
 
 int command_estimate(const std::string& deck) {
   const SimulationSpec spec = parse_deck(deck);
   // The calibration runs the deck's own world with what `run` attaches to it (a fluid).
-  const auto attach = [](World& world) -> std::shared_ptr<void> { return cfdem::attach_fluid_from_spec(world); };
-  std::cout << sim::format_estimate(sim::estimate_run(spec, attach));
+  std::cout << sim::format_estimate(sim::estimate_run(spec, attach_to_world));
   return 0;
 }
 
@@ -236,7 +249,7 @@ int main(int argc, char** argv) {
     if (run->parsed()) return command_run(deck, common);
     if (check->parsed()) return command_check(deck);
     if (estimate->parsed()) return command_estimate(deck);
-    if (restart->parsed()) return exit_code(sim::restart(checkpoint, run_options(common)));
+    if (restart->parsed()) return exit_code(sim::restart(checkpoint, run_options(common), attach_to_world));
     if (serve->parsed()) return command_serve(deck, endpoint, common);
     if (udf_build->parsed()) return cli::udf_build(udf_options, std::cout, std::cerr);
   } catch (const UserError& e) {

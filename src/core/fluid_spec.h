@@ -42,6 +42,20 @@ struct FluidMonitorSpec {
   Located<double> at{0.0};    // m: flow_rate's plane
 };
 
+// A region of the grid with no fluid (docs/deck.md "fluid", `blocked:`): a cell is blocked when its
+// centre lies in an axis-aligned box, on the solid side of a plane, or inside a closed surface of
+// the deck's `surfaces:` (cfdem/fluid_blocked.h).
+enum class FluidBlockedKind { box, half_space, surface };
+
+struct FluidBlockedSpec {
+  SourceLocation where;  // the list entry
+  Located<FluidBlockedKind> kind{FluidBlockedKind::box};
+  Located<Vec3> min, max;           // box: corners (m), max > min in every component
+  Located<Vec3> point;              // half_space: a point of its plane (m)
+  Located<Vec3> normal{Vec3{0, 0, 1}};  // half_space: outward, from the solid into the fluid
+  Located<std::string> surface;     // surface: a name of the deck's surfaces (closed, fixed)
+};
+
 struct FluidSpec {
   SourceLocation where;                         // the fluid: section
   Located<double> density{1000.0};              // ρ_f (kg/m³)
@@ -55,6 +69,8 @@ struct FluidSpec {
   Located<std::string> drag_law{std::string("stokes")};  // a name of cfd::kDragLawNames
   std::optional<FluidDragUdfSpec> drag_udf;     // replaces drag_law when present
   std::vector<FluidMonitorSpec> monitors;
+  std::vector<FluidBlockedSpec> blocked;        // cells without fluid, in deck order
+  SourceLocation blocked_where;                 // the blocked: list, for errors about all of it
 };
 
 }  // namespace quarry

@@ -201,6 +201,26 @@ void check_periodic_axes(DeckContext& context, const SimulationSpec& spec) {
   }
 }
 
+// fluid.blocked surfaces: a name of surfaces:, and a fixed one (blocked cells never move).
+void check_blocked_surfaces(DeckContext& context, const SimulationSpec& spec) {
+  const std::vector<std::string> surface_names = spellings_of(spec.surfaces);
+  for (const FluidBlockedSpec& entry : spec.fluid->blocked) {
+    if (entry.kind.value != FluidBlockedKind::surface) continue;
+    if (!check_reference(context, "surface", entry.surface, surface_names)) continue;
+    for (const SurfaceSpec& surface : spec.surfaces) {
+      if (surface.name.value != entry.surface.value) continue;
+      if (surface.motion.kind.value == MotionKind::none && !surface.coupled.value) break;
+      context.error(entry.surface.where,
+                    fmt::format("surface \"{}\" {}, but blocked fluid cells are fixed", surface.name.value,
+                                surface.coupled.value ? "is coupled (moved by a partner)" : "has a motion"),
+                    fmt::format("block a fixed surface; to keep \"{}\" moving, leave it out of fluid.blocked "
+                                "(particles still touch it)",
+                                surface.name.value));
+      break;
+    }
+  }
+}
+
 void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
   check_unique_names(context, "material", names_of(spec.materials));
   check_unique_names(context, "particle type", names_of(spec.particle_types));
@@ -225,6 +245,7 @@ void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
   for (const FactorySpec& factory : spec.factories)
     check_reference(context, "particle type", factory.particle_type, particle_type_names);
   check_interactions(context, spec, material_names);
+  if (spec.fluid) check_blocked_surfaces(context, spec);
   // An export: section with no surface to export is a mistake, not a silent no-op.
   if (spec.fem_export.enabled &&
       std::none_of(spec.surfaces.begin(), spec.surfaces.end(),

@@ -1,6 +1,7 @@
 // The deck's `fluid:` section (CFD-DEM, issue #18 §5): grid, fluid properties, the boundary of
-// each box face, formulation, drag law or user-defined drag, fluid time step. Reads into
-// FluidSpec; the UDF library is loaded (and its errors placed here) when the run is built.
+// each box face, formulation, drag law or user-defined drag, fluid time step, blocked regions.
+// Reads into FluidSpec; the UDF library is loaded and the blocked cells are found (their errors
+// placed here) when the run is built.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -31,6 +32,12 @@ const EnumChoices<FluidMonitorType> kFluidMonitorTypes{
      {"slip_velocity", FluidMonitorType::slip_velocity}}};
 
 const EnumChoices<int> kAxes{"axis", {{"x", 0}, {"y", 1}, {"z", 2}}};
+
+const EnumChoices<FluidBlockedKind> kFluidBlockedKinds{
+    "blocked region type",
+    {{"box", FluidBlockedKind::box},
+     {"half_space", FluidBlockedKind::half_space},
+     {"surface", FluidBlockedKind::surface}}};
 
 const std::array<const char*, 6> kFaceKeys{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
@@ -107,6 +114,42 @@ void read_fluid_monitor(MapReader& map, const FluidSpec& fluid, FluidMonitorSpec
                           "put it between the grid's faces along that axis");
 }
 
+// One entry of fluid.blocked: {type: box, min, max}, {type: half_space, point, normal} or
+// {type: surface, surface: NAME}. The surface's name, and that it is fixed, are checked with the
+// other cross-section names (deck.cpp); that it is closed, when the run is built (its mesh).
+void read_blocked_entry(MapReader& map, FluidBlockedSpec& entry) {
+  entry.where = map.location();
+  const std::vector<std::string> box_keys = {"type", "min", "max"};
+  const std::vector<std::string> half_space_keys = {"type", "point", "normal"};
+  const std::vector<std::string> surface_keys = {"type", "surface"};
+  const std::vector<std::string> all_keys = {"type", "min", "max", "point", "normal", "surface"};
+  if (!map.has("type") || !map.read("type", entry.kind, kFluidBlockedKinds)) {
+    map.reject_unknown_keys(all_keys);
+    map.require("type", "type: is one of " + join_choices(kFluidBlockedKinds));
+    return;
+  }
+  const std::string variant = fmt::format("blocked region type \"{}\"", map.find("type")->Scalar());
+  switch (entry.kind.value) {
+    case FluidBlockedKind::box: {
+      map.reject_unknown_keys(box_keys, all_keys, variant);
+      const bool has_min = map.read("min", entry.min, Presence::required);
+      const bool has_max = map.read("max", entry.max, Presence::required);
+      if (has_min && has_max) check_box_corners(map.context(), "blocked box", entry.min, entry.max);
+      break;
+    }
+    case FluidBlockedKind::half_space:
+      map.reject_unknown_keys(half_space_keys, all_keys, variant);
+      map.read("point", entry.point, Presence::required);
+      if (map.read("normal", entry.normal, Presence::required))
+        check_nonzero_direction(map.context(), "normal", entry.normal);
+      break;
+    case FluidBlockedKind::surface:
+      map.reject_unknown_keys(surface_keys, all_keys, variant);
+      map.read("surface", entry.surface, Presence::required);
+      break;
+  }
+}
+
 }  // namespace
 
 void read_fluid_section(MapReader& root, const DeckParseOptions& options,
@@ -119,7 +162,7 @@ void read_fluid_section(MapReader& root, const DeckParseOptions& options,
   FluidSpec spec;
   spec.where = map.location();
   map.reject_unknown_keys({"density", "viscosity", "time_step", "grid", "boundaries", "model",
-                           "drag_law", "drag_udf", "monitors"});
+                           "drag_law", "drag_udf", "monitors", "blocked"});
   map.read("density", spec.density, positive(), "kg/m³");
   map.read("viscosity", spec.viscosity, positive(), "Pa·s");
   map.read("time_step", spec.time_step, positive(), "s", Presence::required);
@@ -180,6 +223,12 @@ void read_fluid_section(MapReader& root, const DeckParseOptions& options,
     read_fluid_monitor(monitor_map, spec, monitor);
     spec.monitors.push_back(std::move(monitor));
   }
+  if (map.has("blocked")) spec.blocked_where = map.where_value("blocked");
+  for (MapReader& entry_map : list_of_maps(map, "blocked", "blocked region")) {
+    FluidBlockedSpec entry;
+    read_blocked_entry(entry_map, entry);
+    spec.blocked.push_back(std::move(entry));
+  }
   fluid = spec;
 }
 
@@ -235,6 +284,22 @@ std::string fluid_section_text(const FluidSpec& spec) {
     if (m.type.value != FluidMonitorType::slip_velocity) out += fmt::format(", axis: {}", "xyz"[m.axis.value]);
     if (m.type.value == FluidMonitorType::pressure_drop) out += fmt::format(", from: {}, to: {}", m.from.value, m.to.value);
     if (m.type.value == FluidMonitorType::flow_rate) out += fmt::format(", at: {}", m.at.value);
+    out += "}\n";
+  }
+  if (!spec.blocked.empty()) out += "  blocked:\n";
+  for (const FluidBlockedSpec& b : spec.blocked) {
+    out += "    - {type: " + spelling_of(kFluidBlockedKinds, b.kind.value);
+    switch (b.kind.value) {
+      case FluidBlockedKind::box:
+        out += fmt::format(", min: {}, max: {}", vector_yaml(b.min.value), vector_yaml(b.max.value));
+        break;
+      case FluidBlockedKind::half_space:
+        out += fmt::format(", point: {}, normal: {}", vector_yaml(b.point.value), vector_yaml(b.normal.value));
+        break;
+      case FluidBlockedKind::surface:
+        out += ", surface: " + quoted(b.surface.value);
+        break;
+    }
     out += "}\n";
   }
   return out;

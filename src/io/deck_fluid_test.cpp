@@ -1,6 +1,9 @@
 // The deck's fluid: section: every key read into FluidSpec, and written back by the deck writer
 // so that a checkpoint's effective deck keeps it (bad decks: tests/bad_decks/6*_fluid_*).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include "io/deck.h"
 #include "io/deck_writer.h"
@@ -93,6 +96,139 @@ TEST(DeckFluid, WriterRoundTrip) {
   expect_fluid(*again.fluid);
   EXPECT_EQ(again.fluid->drag_udf->library.value, "libs/usrStokesDrag.so");
   EXPECT_EQ(write_deck(again), written);
+}
+
+// ---- fluid.blocked (issue #18 §1): boxes, half-spaces and named surfaces ----
+
+const char* kBlockedDeck = R"(simulation:
+  end_time: 0.01
+  time_step: 1.0e-5
+  domain: {min: [0, 0, 0], max: [0.01, 0.004, 0.004]}
+materials:
+  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25}
+interactions:
+  - {materials: [glass, glass]}
+particle_types:
+  - {name: bead, material: glass, size: {distribution: fixed, radius: 1.0e-4}}
+surfaces:
+  - {name: post, type: box, min: [0.004, 0.001, 0], max: [0.005, 0.003, 0.004], material: glass}
+  - {name: paddle, type: box, min: [0.007, 0, 0], max: [0.008, 0.001, 0.001], material: glass, motion: {type: translation, velocity: [0, 0, 0.01]}}
+fluid:
+  time_step: 1.0e-4
+  grid: {origin: [0, 0, 0], cell_size: 0.001, cells: [10, 4, 4]}
+  blocked:
+    - {type: box, min: [0.001, 0, 0], max: [0.002, 0.004, 0.002]}
+    - {type: half_space, point: [0, 0, 0.0035], normal: [0, 0, -1]}
+    - {type: surface, surface: post}
+)";
+
+// "line:col" (1-based) of the `occurrence`-th `needle` in `text`.
+std::string location_of(const std::string& text, const std::string& needle, int occurrence = 1) {
+  std::size_t at = std::string::npos;
+  for (int n = 0; n < occurrence; ++n) at = text.find(needle, at == std::string::npos ? 0 : at + 1);
+  if (at == std::string::npos) return "not found";
+  const std::size_t line_start = text.rfind('\n', at) == std::string::npos ? 0 : text.rfind('\n', at) + 1;
+  const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+  return std::to_string(line) + ":" + std::to_string(at - line_start + 1);
+}
+
+// The deck with its last blocked entry replaced by `entry`; the formatted errors ("" if none).
+std::string blocked_errors(const std::string& entry, std::string* deck_text = nullptr) {
+  std::string deck = kBlockedDeck;
+  deck.replace(deck.find("    - {type: surface, surface: post}"), std::string("    - {type: surface, surface: post}").size(), entry);
+  if (deck_text) *deck_text = deck;
+  try {
+    parse_deck_string(deck, "fluid.yaml");
+  } catch (const UserError& e) {
+    return e.diagnostics().format();
+  }
+  return {};
+}
+
+TEST(DeckFluid, ReadsBlockedBoxesHalfSpacesAndSurfaces) {
+  const SimulationSpec spec = parse_deck_string(kBlockedDeck, "fluid.yaml");
+  ASSERT_TRUE(spec.fluid.has_value());
+  const std::vector<FluidBlockedSpec>& blocked = spec.fluid->blocked;
+  ASSERT_EQ(blocked.size(), 3u);
+  EXPECT_EQ(blocked[0].kind.value, FluidBlockedKind::box);
+  EXPECT_EQ(blocked[0].min.value, (Vec3{0.001, 0, 0}));
+  EXPECT_EQ(blocked[0].max.value, (Vec3{0.002, 0.004, 0.002}));
+  EXPECT_EQ(blocked[1].kind.value, FluidBlockedKind::half_space);
+  EXPECT_EQ(blocked[1].point.value, (Vec3{0, 0, 0.0035}));
+  EXPECT_EQ(blocked[1].normal.value, (Vec3{0, 0, -1}));
+  EXPECT_EQ(blocked[2].kind.value, FluidBlockedKind::surface);
+  EXPECT_EQ(blocked[2].surface.value, "post");
+  // Locations: the entry (its map), the values, the list.
+  const std::string deck = kBlockedDeck;
+  EXPECT_EQ(fmt::format("{}:{}", blocked[0].where.line, blocked[0].where.column), location_of(deck, "{type: box, min: [0.001"));
+  EXPECT_EQ(fmt::format("{}:{}", blocked[2].surface.where.line, blocked[2].surface.where.column),
+            location_of(deck, "post", 2));
+  EXPECT_EQ(spec.fluid->blocked_where.line, 18);
+}
+
+TEST(DeckFluid, BlockedRoundTripsThroughTheWriter) {
+  const SimulationSpec spec = parse_deck_string(kBlockedDeck, "fluid.yaml");
+  const std::string written = write_deck(spec);
+  EXPECT_NE(written.find("  blocked:\n    - {type: box, min: [0.001, 0, 0], max: [0.002, 0.004, 0.002]}\n"),
+            std::string::npos)
+      << written;
+  const SimulationSpec again = parse_deck_string(written, "written.yaml");
+  ASSERT_TRUE(again.fluid.has_value()) << written;
+  ASSERT_EQ(again.fluid->blocked.size(), 3u);
+  for (std::size_t n = 0; n < 3; ++n) {
+    const FluidBlockedSpec &a = spec.fluid->blocked[n], &b = again.fluid->blocked[n];
+    EXPECT_EQ(a.kind.value, b.kind.value);
+    EXPECT_EQ(a.min.value, b.min.value);
+    EXPECT_EQ(a.max.value, b.max.value);
+    EXPECT_EQ(a.point.value, b.point.value);
+    EXPECT_EQ(a.normal.value, b.normal.value);
+    EXPECT_EQ(a.surface.value, b.surface.value);
+  }
+  EXPECT_EQ(write_deck(again), written);
+  // No blocked entries: no key written.
+  EXPECT_EQ(write_deck(parse_deck_string(kFluidDeck, "fluid.yaml")).find("blocked"), std::string::npos);
+}
+
+// Bad entries, each reported at its own line and column with a hint.
+TEST(DeckFluid, RefusesBadBlockedEntriesAtTheirKey) {
+  std::string deck;
+  std::string errors = blocked_errors("    - {type: surface, surface: pst}", &deck);
+  EXPECT_NE(errors.find("fluid.yaml:" + location_of(deck, "pst") + ": error: unknown surface \"pst\""),
+            std::string::npos)
+      << errors;
+  EXPECT_NE(errors.find("did you mean \"post\"?"), std::string::npos) << errors;
+
+  errors = blocked_errors("    - {type: surface, surface: paddle}", &deck);
+  EXPECT_NE(errors.find("fluid.yaml:" + location_of(deck, "paddle", 2) +
+                        ": error: surface \"paddle\" has a motion, but blocked fluid cells are fixed"),
+            std::string::npos)
+      << errors;
+
+  errors = blocked_errors("    - {type: box, min: [0.003, 0, 0], max: [0.003, 0.004, 0.002]}", &deck);
+  EXPECT_NE(errors.find("fluid.yaml:" + location_of(deck, "[0.003, 0.004") +
+                        ": error: blocked box max must exceed min in every component, but max.x = 0.003 m"),
+            std::string::npos)
+      << errors;
+
+  errors = blocked_errors("    - {type: half_space, point: [0, 0, 0], normal: [0, 0, 0]}", &deck);
+  EXPECT_NE(errors.find("fluid.yaml:" + location_of(deck, "[0, 0, 0]}") + ": error: normal must be a non-zero vector"),
+            std::string::npos)
+      << errors;
+
+  errors = blocked_errors("    - {type: boxx, min: [0, 0, 0], max: [1, 1, 1]}", &deck);
+  EXPECT_NE(errors.find("fluid.yaml:" + location_of(deck, "boxx") + ": error: unknown blocked region type \"boxx\""),
+            std::string::npos)
+      << errors;
+  EXPECT_NE(errors.find("did you mean \"box\"?"), std::string::npos) << errors;
+
+  errors = blocked_errors("    - {type: box, min: [0, 0, 0], max: [1, 1, 1], normal: [0, 0, 1]}", &deck);
+  EXPECT_NE(errors.find("fluid.yaml:" + location_of(deck, "normal: [0, 0, 1]}") +
+                        ": error: key \"normal\" does not apply to blocked region type \"box\""),
+            std::string::npos)
+      << errors;
+
+  errors = blocked_errors("    - {type: surface}", &deck);
+  EXPECT_NE(errors.find("missing required key \"surface\""), std::string::npos) << errors;
 }
 
 }  // namespace

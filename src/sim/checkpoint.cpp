@@ -1,20 +1,23 @@
 // Checkpoints: the complete state of a World in one binary file, written atomically, from which
-// it restarts bit-identically without the deck's files. Format 4: a header (magic, format,
+// it restarts bit-identically without the deck's files. Format 6: a header (magic, format,
 // payload length, CRC-32 of the payload) and the payload: the effective deck as YAML text and
 // every surface's mesh (so a world built through the C ABI restores too), then everything that
 // influences later steps — particles with their forces (the first half kick after a restart
 // needs them), the neighbour list exactly as built (so the restarted run sums contact forces in
 // the same order), contact history, wall contacts, surface poses, drivers and load windows,
-// factory random streams, the mass-flow monitors' plane sides. Loading checks the checksum and
-// then every length, index and value, so a damaged file is an error that says what is wrong,
-// never a crash or a different state.
+// factory random streams, the mass-flow monitors' plane sides — and last the named sections of
+// what was attached to the world (World::checkpoint_sections: a CFD-DEM run's fluid), each as
+// its name and bytes. Loading checks the checksum and then every length, index and value, so a
+// damaged file is an error that says what is wrong, never a crash or a different state.
 #include <fmt/format.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -31,7 +34,9 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::uint64_t kMagic = 0x34304B4359525551ull;  // "QURYCK04"
-constexpr std::uint32_t kFormat = 5;  // 5: the contacts' last normal force (implicit dashpots)
+// 5: the contacts' last normal force (implicit dashpots); 6: the attachments' named sections.
+constexpr std::uint32_t kFormat = 6;
+constexpr std::uint64_t kMostSections = 1000;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 4 + 4;
 
 struct Header {
@@ -409,11 +414,22 @@ RestoredWorld read_payload(std::istream& in, std::uint64_t payload_bytes) {
     for (const auto& tri : mesh.triangles)
       for (std::uint32_t k : tri)
         if (k >= mesh.reference_vertices.size()) bad("a surface mesh has a vertex index out of range");
-  RestoredWorld restored{rebuild_world(spec_yaml, deck_path, meshes), 0};
+  RestoredWorld restored{rebuild_world(spec_yaml, deck_path, meshes), 0, {}};
   World& world = restored.world;
   if (world.surfaces.size() != surface_count) bad("the deck and the meshes disagree on the number of surfaces");
   Load load{r};
   transfer_state(load, world, restored.frame_index);
+  // The attachments' sections: kept as bytes until the same attachments are made again.
+  const auto sections = r.value<std::uint64_t>();
+  if (sections > kMostSections) bad("the count of attached sections is implausible");
+  restored.sections.resize(sections);
+  std::set<std::string> names;
+  for (SavedSection& section : restored.sections) {
+    section.name = r.string();
+    section.bytes = r.string();
+    if (section.name.empty() || !names.insert(section.name).second)
+      bad("an attached section has an empty or repeated name");
+  }
   if (!r.at_end()) bad("bytes remain after the last section");
   validate(world);
   // The search grids of moving surfaces are those of the last list build.
@@ -482,7 +498,11 @@ std::string checkpoint_bytes(const World& const_world, std::uint64_t frame_index
       world.spec.deck_path.empty() ? std::string() : fs::absolute(world.spec.deck_path, ignored).string();
   w.string(deck_path);
   w.string(deck_path.empty() ? std::string() : read_file(deck_path).value_or(""));
-  w.string(write_deck(world.spec));
+  // A drag UDF's library path as the run resolved it, absolute: a restart may start elsewhere.
+  SimulationSpec written = world.spec;
+  if (written.fluid && written.fluid->drag_udf && !written.fluid->drag_udf->library.value.empty())
+    written.fluid->drag_udf->library.value = fs::absolute(written.fluid->drag_udf->library.value, ignored).string();
+  w.string(write_deck(written));
   w.value<std::uint64_t>(world.surfaces.size());
   for (const WorldSurface& s : world.surfaces) {
     w.vector(s.mesh.reference_vertices);
@@ -496,6 +516,16 @@ std::string checkpoint_bytes(const World& const_world, std::uint64_t frame_index
   }
   Save save{w};
   transfer_state(save, world, frame_index);
+  std::set<std::string> names;
+  w.value<std::uint64_t>(world.checkpoint_sections.size());
+  for (const CheckpointSection& section : world.checkpoint_sections) {
+    if (section.name.empty() || !names.insert(section.name).second)
+      throw std::logic_error("checkpoint: two sections named '" + section.name + "' (or one unnamed)");
+    BinaryWriter part;
+    section.save(world, part);
+    w.string(section.name);
+    w.string(part.bytes());
+  }
 
   BinaryWriter file;
   Header header;
@@ -544,6 +574,40 @@ RestoredWorld read_checkpoint_bytes(const std::string& bytes, const std::string&
     return bytes.size() < kHeaderBytes ? 0u : crc32_of(bytes.data() + kHeaderBytes, bytes.size() - kHeaderBytes);
   };
   return restore(in, bytes.size(), name, payload_crc);
+}
+
+void restore_sections(World& world, const std::vector<SavedSection>& sections, const std::string& file_name) {
+  const auto saved = [&](const std::string& name) {
+    return std::find_if(sections.begin(), sections.end(), [&](const SavedSection& s) { return s.name == name; });
+  };
+  for (const CheckpointSection& taker : world.checkpoint_sections)
+    if (saved(taker.name) == sections.end())
+      throw UserError(SourceLocation{file_name, 0, 0},
+                      fmt::format("cannot restore checkpoint: it holds no '{}' state, which this restart needs",
+                                  taker.name),
+                      "the checkpoint was written by a run without it (another deck, or a program that did not "
+                      "attach it): restart it the way it was run, or rerun from the deck");
+  for (const SavedSection& section : sections) {
+    const auto taker = std::find_if(world.checkpoint_sections.begin(), world.checkpoint_sections.end(),
+                                    [&](const CheckpointSection& c) { return c.name == section.name; });
+    if (taker == world.checkpoint_sections.end())
+      throw UserError(SourceLocation{file_name, 0, 0},
+                      fmt::format("cannot restore checkpoint: it holds '{}' state that nothing in this restart takes",
+                                  section.name),
+                      "restart it with 'quarry restart', which makes again what 'quarry run' attached (a deck's "
+                      "fluid:); a program restoring it must attach the same before restore_sections");
+    MemoryBuffer buffer(section.bytes.data(), section.bytes.size());
+    std::istream in(&buffer);
+    BinaryReader reader(in, section.bytes.size());
+    try {
+      taker->load(world, reader);
+      if (!reader.at_end()) bad("bytes remain after its last field");
+    } catch (const UserError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw damaged(file_name, fmt::format("its '{}' section: {}", section.name, e.what()));
+    }
+  }
 }
 
 std::uint64_t state_hash(const World& world) {

@@ -171,13 +171,14 @@ RunSummary run(World& world, const RunOptions& options) {
   return summary;
 }
 
-RunSummary restart(const std::string& checkpoint_path, const RunOptions& options) {
+RunSummary restart(const std::string& checkpoint_path, const RunOptions& options, const AttachToWorld& attach) {
   RestoredWorld restored = read_checkpoint(checkpoint_path);
   World& world = restored.world;
-  if (world.spec.fluid)  // CFD-DEM (issue #18): the fluid's fields are not in a checkpoint yet
-    throw UserError({checkpoint_path, 0, 0}, "a run with a fluid: section cannot be restarted yet",
-                    "the checkpoint holds the particles but not the fluid's velocity and pressure; "
-                    "run the deck again from the start");
+  // What the run attached beyond the deck's world (a fluid), made again from the checkpoint's
+  // deck, then given the state it had; kept alive while the world runs. (A deck with
+  // structures: is refused by read_checkpoint: their shell state is not in the checkpoint.)
+  const std::shared_ptr<void> attached = attach ? attach(world) : nullptr;
+  restore_sections(world, restored.sections, checkpoint_path);
   const double end_time = options.end_time ? *options.end_time : world.spec.simulation.end_time.value;
   if (options.threads > 0) world.threading.threads = options.threads;
   RunOptions o = options;

@@ -9,7 +9,9 @@
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <vector>
 
+#include "sim/estimate.h"  // AttachToWorld
 #include "sim/world.h"
 
 namespace quarry::sim {
@@ -46,15 +48,28 @@ RunSummary run(World& world, const RunOptions& options);
 // Restores a checkpoint written by run() and continues; outputs go to the checkpoint's folder
 // unless options say otherwise. The deck's files are not needed (the checkpoint holds the
 // effective deck and the meshes); if the deck or an STL file still exists and has changed, that
-// is an error: a restart continues the same simulation.
-RunSummary restart(const std::string& checkpoint_path, const RunOptions& options);
+// is an error: a restart continues the same simulation. `attach` makes on the restored world
+// what the run attached beyond build_world (the CLI: the fluid of a fluid: section, as `quarry
+// run` does); its checkpoint sections then get their state back (restore_sections) before the
+// first step. A checkpoint with a section nothing attached takes, or an attachment with no
+// section in the checkpoint, is a UserError.
+RunSummary restart(const std::string& checkpoint_path, const RunOptions& options,
+                   const AttachToWorld& attach = {});
 
 // ---- checkpoints (checkpoint.cpp) ----
 // Writes the whole state atomically. `frame_index`: the output's next frame number.
 void write_checkpoint(const World& world, const std::string& path, std::uint64_t frame_index);
+// A checkpoint section as read from the file (World::checkpoint_sections wrote it).
+struct SavedSection {
+  std::string name;
+  std::string bytes;  // what its save wrote
+};
 struct RestoredWorld {
   World world;
   std::uint64_t frame_index = 0;
+  // The sections of what was attached to the world, in the order they were written: given to
+  // the same attachments made again (restore_sections); nothing in `world` holds them yet.
+  std::vector<SavedSection> sections;
 };
 // Rebuilds the world a checkpoint was written from and restores its state; the world is
 // complete (initialized). Throws UserError naming the file and what is wrong for a damaged,
@@ -64,6 +79,11 @@ RestoredWorld read_checkpoint(const std::string& path);
 RestoredWorld read_checkpoint_bytes(const std::string& bytes, const std::string& name);
 // The checkpoint as bytes (what write_checkpoint writes).
 std::string checkpoint_bytes(const World& world, std::uint64_t frame_index);
+// Hands each saved section to the entry of world.checkpoint_sections of the same name (the world
+// restored from the checkpoint, with the run's attachments made again). Throws UserError naming
+// `file_name`: "cannot restore checkpoint: …" for a section no entry takes, an entry with no
+// section, or content its load refuses or does not read to its end. Cost: the sections' loads.
+void restore_sections(World& world, const std::vector<SavedSection>& sections, const std::string& file_name);
 
 // A hash of the particle state (ids, positions, velocities, angular velocities) and of the
 // surfaces' per-element and per-node loads, for the determinism tests: equal hashes mean

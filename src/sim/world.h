@@ -208,6 +208,27 @@ struct StepHook {
   std::function<void(World&)> run;  // may throw UserError/PhysicsError: the step stops there
 };
 
+class BinaryWriter;  // sim/binary_stream.h
+class BinaryReader;
+
+// A part of the checkpoint owned by something attached to the world (a CFD-DEM run's fluid, its
+// fluid frames and monitors), which sim writes and reads back without knowing what it holds.
+// Whoever adds hooks that keep state from step to step registers one (names unique); a
+// checkpoint writes each after the world's own state (sim/checkpoint.cpp), and a restart, once
+// the same attachments are made again on the restored world, hands each its bytes back
+// (sim::restore_sections).
+struct CheckpointSection {
+  std::string name;  // unique in the world; in messages
+  // Writes the owner's state. Called whenever a checkpoint is taken; it may also bring the
+  // owner's files up to date (a restart reads them back).
+  std::function<void(const World&, BinaryWriter&)> save;
+  // Reads all of what save wrote into the owner, attached to a world whose own state is restored
+  // already. Throws std::runtime_error or std::invalid_argument saying what is wrong with
+  // content it cannot take (a size that is not the deck's, a value that is not finite); the
+  // restart then stops with a "cannot restore checkpoint" error.
+  std::function<void(World&, BinaryReader&)> load;
+};
+
 namespace sim {
 class Output;  // sim/output.h: frames, monitors, export and checkpoints of a run
 }
@@ -286,6 +307,7 @@ struct World {
   // early; the run loop then stops with a checkpoint. Set by sim::run; null: never asked.
   const std::atomic<int>* stop_request = nullptr;
   std::vector<StepHook> hooks;
+  std::vector<CheckpointSection> checkpoint_sections;  // registered with the hooks that own them
   NotCopied<sim::Output> output;  // null: the step writes nothing
   StageTimers timers;
 

@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 
 #include "geometry/primitives.h"
 #include "geometry/stl_reader.h"
+#include "sim/binary_stream.h"
 #include "sim/run.h"
 #include "verification/test_support.h"
 
@@ -145,6 +147,65 @@ factories:
   sim::advance(world, 500);
   sim::advance(restored.world, 500);
   EXPECT_EQ(sim::state_hash(restored.world), sim::state_hash(world));
+}
+
+// The named sections of what is attached to a world (World::checkpoint_sections; a CFD-DEM run's
+// fluid): written after the core state, given back by name to the same attachments made again
+// on the restored world. A section nothing takes, an attachment with no section, content its
+// load refuses or leaves unread: each an error naming the file, never a crash.
+TEST(CheckpointSections, AreHandedBackByNameAndMismatchesAreRefused) {
+  const auto attach_counter = [](World& world, const std::shared_ptr<std::uint64_t>& value, const std::string& name) {
+    CheckpointSection section;
+    section.name = name;
+    section.save = [value](const World&, BinaryWriter& out) { out.value(*value); };
+    section.load = [value](World&, BinaryReader& in) {
+      *value = in.value<std::uint64_t>();
+      if (*value > 1000) throw std::runtime_error("the counter is implausible");
+    };
+    world.checkpoint_sections.push_back(std::move(section));
+  };
+  World world = start_world(parse_deck(deck_path("tests/verification/05-determinism/deck.yaml")));
+  attach_counter(world, std::make_shared<std::uint64_t>(41), "counter");
+  const std::string bytes = sim::checkpoint_bytes(world, 0);
+  const std::vector<sim::SavedSection> saved = sim::read_checkpoint_bytes(bytes, "sections.qck").sections;
+  ASSERT_EQ(saved.size(), 1u);
+  EXPECT_EQ(saved[0].name, "counter");
+  const auto restore = [&](const std::vector<sim::SavedSection>& sections, const std::vector<std::string>& takers) {
+    sim::RestoredWorld restored = sim::read_checkpoint_bytes(bytes, "sections.qck");
+    auto value = std::make_shared<std::uint64_t>(0);
+    for (const std::string& name : takers) attach_counter(restored.world, value, name);
+    sim::restore_sections(restored.world, sections, "sections.qck");
+    return *value;
+  };
+  EXPECT_EQ(restore(saved, {"counter"}), 41u);
+  const auto expect_refused = [&](const std::vector<sim::SavedSection>& sections,
+                                  const std::vector<std::string>& takers, const std::string& expected) {
+    try {
+      restore(sections, takers);
+      ADD_FAILURE() << expected << ": restored";
+    } catch (const UserError& e) {
+      const std::string text = e.diagnostics().format();
+      EXPECT_NE(text.find("sections.qck: error: cannot restore checkpoint: "), std::string::npos) << text;
+      EXPECT_NE(text.find(expected), std::string::npos) << text;
+    }
+  };
+  expect_refused(saved, {}, "it holds 'counter' state that nothing in this restart takes");
+  expect_refused(saved, {"counter", "other"}, "it holds no 'other' state, which this restart needs");
+  std::vector<sim::SavedSection> damaged = saved;
+  damaged[0].bytes.resize(3);
+  expect_refused(damaged, {"counter"}, "its 'counter' section: the file ends early");
+  damaged = saved;
+  damaged[0].bytes += "x";
+  expect_refused(damaged, {"counter"}, "its 'counter' section: bytes remain after its last field");
+  damaged = saved;
+  damaged[0].bytes[7] = static_cast<char>(0x7f);
+  expect_refused(damaged, {"counter"}, "its 'counter' section: the counter is implausible");
+  // A world with no sections writes none; a section with a name twice is a bug of the caller.
+  World plain = start_world(parse_deck(deck_path("tests/verification/05-determinism/deck.yaml")));
+  EXPECT_TRUE(sim::read_checkpoint_bytes(sim::checkpoint_bytes(plain, 0), "plain.qck").sections.empty());
+  attach_counter(plain, std::make_shared<std::uint64_t>(1), "twice");
+  attach_counter(plain, std::make_shared<std::uint64_t>(2), "twice");
+  EXPECT_THROW(sim::checkpoint_bytes(plain, 0), std::logic_error);
 }
 
 }  // namespace
