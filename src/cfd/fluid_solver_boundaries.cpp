@@ -108,6 +108,11 @@ void FluidSolver::fill_velocity_ghosts(int axis) {
           const std::size_t p = padded(i, j, k);
           if (periodic) {
             if (side == 1) u[p] = u[p - n * s];
+          } else if (face.kind == BoundaryKind::velocity_inlet) {
+            // The inlet's velocity is superficial (the volume flux per area, as a distributor
+            // is rated): the face carries the interstitial U/ε of the cell inside, so the flux
+            // ε u A is U A whatever particle volume that cell holds.
+            u[p] = prescribed / void_fraction_new_[side == 0 ? p : p - s];
           } else if (face.kind != BoundaryKind::pressure_outlet) {
             u[p] = prescribed;
           }
