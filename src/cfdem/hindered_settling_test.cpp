@@ -72,8 +72,13 @@ Suspension suspension(double voidage) {
   return s;
 }
 
-// Mean vertical velocity (m/s) of the middle third of the layers, averaged over the last 1 ms.
-double settling_velocity(const Suspension& s) {
+struct Settling {
+  double velocity = 0.0;           // m/s, mean v_z of the middle third of the layers
+  double pressure_gradient = 0.0;  // Pa/m, mean dp/dz across the middle cells
+};
+
+// Means over the last 1 ms.
+Settling settle(const Suspension& s, cfd::VolumeAveragedModel model) {
   const int cells_across = kAcross / 2, cells_up = kCellsBelow + kLayers / 2 + kCellsAbove;
   const double width = cells_across * s.cell, height = cells_up * s.cell;
   const std::string deck = fmt::format(R"(
@@ -121,12 +126,14 @@ output:
   options.boundaries.face(2, 1).reference_point = {0.0, 0.0, height};
   options.drag_law = cfd::DragLaw::gidaspow;
   options.coupling_steps = 10;
+  options.solver.model = model;
   auto coupling = FluidCoupling::attach(world, std::move(options));
   sim::initialize(world);
   // The middle third of the layers, by height at the start (they move a few µm).
   const double from = bottom + kLayers / 3 * s.spacing, to = bottom + 2 * kLayers / 3 * s.spacing;
-  double sum = 0.0;
+  double sum = 0.0, gradient = 0.0;
   int samples = 0;
+  const int low_cell = kCellsBelow + kLayers / 8, high_cell = kCellsBelow + 3 * kLayers / 8;
   const auto total = static_cast<std::uint64_t>(std::llround(kEndTime / world.dt));
   for (std::uint64_t step = 0; step < total; step += 10) {
     sim::advance(world, 10);
@@ -141,30 +148,46 @@ output:
     }
     EXPECT_EQ(count, kLayers / 3 * kAcross * kAcross);
     sum += layer_sum / count;
+    const cfd::FluidSolver& fluid = coupling->fluid();
+    gradient += (fluid.pressure(0, 0, high_cell) - fluid.pressure(0, 0, low_cell)) / ((high_cell - low_cell) * s.cell);
     ++samples;
   }
   // The void fraction the middle cells hold is the lattice's.
   const std::size_t middle = coupling->options().grid.cell_index(0, 0, kCellsBelow + kLayers / 4);
   EXPECT_NEAR(coupling->void_fraction()[middle], s.voidage, 1e-12);
-  return sum / samples;
+  return {sum / samples, gradient / samples};
 }
 
-TEST(HinderedSettling, FollowsTheDragLawsBalanceAndRichardsonZaki) {
+void expect_hindered_settling(cfd::VolumeAveragedModel model) {
   const double single = balance_speed(1.0);  // m/s, Schiller-Naumann at ε = 1
   // 1.313 mm/s (Stokes: (ρ_p − ρ_f) g d² / (18 μ) = 1.3625 mm/s); Richardson and Zaki's n = 4.65
   // holds for Re_t = ρ_f v_t d / μ < 0.2.
   EXPECT_LT(kFluidDensity * single * kDiameter / kViscosity, 0.2);
   for (const double voidage : {0.95, 0.9, 0.85}) {
-    const double measured = -settling_velocity(suspension(voidage));
+    const Settling m = settle(suspension(voidage), model);
+    const double measured = -m.velocity;
     const double balance = balance_speed(voidage);
     const double richardson_zaki = single * std::pow(voidage, 4.65);
-    std::printf("[ measured ] ε = %.2f: settling %.6g m/s; force balance %.6g m/s (ratio %.4f); Richardson-Zaki "
-                "v_t ε^4.65 = %.6g m/s (ratio %.4f)\n",
-                voidage, measured, balance, measured / balance, richardson_zaki, measured / richardson_zaki);
+    // The fluid carries the mixture: dp/dz = −ρ_mix g (the column's weight per area and height).
+    const double mixture = -(voidage * kFluidDensity + (1.0 - voidage) * kParticleDensity) * kGravity;
+    std::printf("[ measured ] model %s, ε = %.2f: settling %.6g m/s; force balance %.6g m/s (ratio %.4f); "
+                "Richardson-Zaki v_t ε^4.65 = %.6g m/s (ratio %.4f); dp/dz %.6g Pa/m = %.6f of −ρ_mix g\n",
+                model == cfd::VolumeAveragedModel::a ? "A" : "B", voidage, measured, balance, measured / balance,
+                richardson_zaki, measured / richardson_zaki, m.pressure_gradient, m.pressure_gradient / mixture);
     EXPECT_NEAR(measured / balance, 1.0, 0.01) << voidage;
     EXPECT_NEAR(measured / richardson_zaki, 1.0, 0.03) << voidage;
+    EXPECT_NEAR(m.pressure_gradient / mixture, 1.0, 1e-3) << voidage;
   }
 }
+
+TEST(HinderedSettling, FollowsTheDragLawsBalanceAndRichardsonZaki) {
+  expect_hindered_settling(cfd::VolumeAveragedModel::a);
+}
+
+// Model B: the particles feel the drag ÷ ε and Archimedes' force instead of −V_p ∇p; the
+// balance is the same (ε² (ρ_p − ρ_f) V_p g = β_p |v|), and the fluid, which takes both
+// reactions, carries the same mixture.
+TEST(HinderedSettling, ModelBGivesTheSameBalance) { expect_hindered_settling(cfd::VolumeAveragedModel::b); }
 
 }  // namespace
 }  // namespace quarry::cfdem
