@@ -124,6 +124,11 @@ void FluidSolver::step(double dt) {
   for (auto& component : force_) fill_cell_ghosts(component);
   fill_cell_ghosts(void_fraction_new_);
   fill_cell_ghosts(void_fraction_old_);
+  // Inlet faces hold U/ε^{n+1} (superficial inlets): set with this step's void fraction.
+  for (int a = 0; a < 3; ++a)
+    if (boundaries_.face(a, 0).kind == BoundaryKind::velocity_inlet ||
+        boundaries_.face(a, 1).kind == BoundaryKind::velocity_inlet)
+      fill_velocity_ghosts(a);
 
   ++step_count_;
   predict_momentum(dt);           // u*: momentum with p^n, implicit viscosity and drag

@@ -109,8 +109,14 @@ void FluidSolver::fill_velocity_ghosts(int axis) {
           if (periodic) {
             if (side == 1) u[p] = u[p - n * s];
           } else if (face.kind != BoundaryKind::pressure_outlet) {
-            // An inlet face of a blocked cell feeds nothing: no fluid behind it.
-            u[p] = blocked_[side == 0 ? p : p - s] > 0.0 ? 0.0 : prescribed;
+            // An inlet face of a blocked cell feeds nothing: no fluid behind it. An inlet's
+            // velocity is superficial (the volume flux per area, as a distributor is rated):
+            // the face carries the interstitial U/ε of the cell inside, so the flux ε u A is
+            // U A whatever particle volume that cell holds.
+            const std::size_t inside = side == 0 ? p : p - s;
+            if (blocked_[inside] > 0.0) u[p] = 0.0;
+            else if (face.kind == BoundaryKind::velocity_inlet) u[p] = prescribed / void_fraction_new_[inside];
+            else u[p] = prescribed;
           }
           for (int g = 1; g <= kGhost; ++g) {
             const std::size_t ghost = side == 0 ? p - g * s : p + g * s;

@@ -480,6 +480,39 @@ TEST(FluidSolverTest, InletToOutletPlugFlowStaysUniform) {
   }
 }
 
+// A velocity inlet gives the superficial velocity U: its face carries U/ε of the cell inside,
+// so the volume flux ε u A is U A through the inlet and, by continuity, through every layer of
+// faces, whatever particle volume the cells near the inlet hold (a bed resting on a
+// distributor). ε = 0.5, 0.6, 0.8 in the first three layers, 1 beyond; steady.
+TEST(FluidSolverTest, VelocityInletFeedsItsSuperficialVelocityIntoAPackedCell) {
+  FluidGrid grid;
+  grid.cells = {10, 3, 3};
+  grid.cell_size = {0.1, 0.1, 0.1};
+  FluidBoundaries boundaries;
+  boundaries.face(0, 0).kind = BoundaryKind::velocity_inlet;
+  boundaries.face(0, 0).velocity = {0.3, 0.0, 0.0};
+  boundaries.face(0, 1).kind = BoundaryKind::pressure_outlet;
+  boundaries.set_periodic(1);
+  boundaries.set_periodic(2);
+  FluidSolver solver(grid, FluidProperties{1000.0, 1e-3}, boundaries);
+  const std::array<double, 10> layer{0.5, 0.6, 0.8, 1, 1, 1, 1, 1, 1, 1};
+  std::vector<double> eps(grid.cell_count());
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 10; ++i) eps[grid.cell_index(i, j, k)] = layer[static_cast<std::size_t>(i)];
+  for (int n = 0; n < 20; ++n) {
+    solver.set_void_fraction(eps);
+    solver.step(0.05);
+  }
+  for (int i = 0; i <= 10; ++i) {
+    const double face_eps = i == 0    ? layer[0]
+                            : i == 10 ? layer[9]
+                                      : 0.5 * (layer[static_cast<std::size_t>(i - 1)] + layer[static_cast<std::size_t>(i)]);
+    EXPECT_NEAR(face_eps * solver.face_velocity(0, i, 1, 1), 0.3, 1e-10) << "face layer " << i;
+  }
+  EXPECT_DOUBLE_EQ(solver.face_velocity(0, 0, 2, 0), 0.3 / 0.5);  // interstitial at the inlet
+}
+
 // stable_time_step = min(1/Σ_a(max|u_a|/Δx_a), 2ν/Σ_a max u_a²): uniform u = (2, 0, 0) m/s,
 // Δx = 0.1 m, ν = 1e-3 m²/s gives min(0.05, 5e-4) s; at rest it is unbounded.
 TEST(FluidSolverTest, StableTimeStepFromAdvectionLimits) {

@@ -31,8 +31,6 @@ FluidCoupling::FluidCoupling(const World& world, FluidCouplingOptions options)
     : options_(std::move(options)) {
   if (options_.coupling_steps < 1)
     throw std::invalid_argument(fmt::format("coupling_steps must be ≥ 1, got {}", options_.coupling_steps));
-  if (options_.solver.model != cfd::VolumeAveragedModel::a)
-    throw std::invalid_argument("the CFD-DEM coupling supports model A only (the drag laws' form)");
   if (!(options_.minimum_void_fraction > 0.0 && options_.minimum_void_fraction < 1.0))
     throw std::invalid_argument(fmt::format("minimum_void_fraction must be in (0, 1), got {}",
                                             options_.minimum_void_fraction));
@@ -183,9 +181,25 @@ cfd::DragResult FluidCoupling::evaluate_drag(const World& world, std::size_t i,
     context.particle_type = p.type[i];
     context.time = world.time;
     context.particle_volume = sphere_volume(p.radius[i]);
-    return options_.drag_udf->evaluate(input, context);
+    return to_model(options_.drag_udf->evaluate(input, context), input.porosity);
   }
-  return cfd::drag_force(options_.drag_law, input);
+  return to_model(cfd::drag_force(options_.drag_law, input), input.porosity);
+}
+
+// The laws give model-A drag; model B's particle feels it divided by ε at the particle (Zhou et
+// al. 2010: in a uniform bed, f_d − V_p ∇p = f_d/ε − V_p ρ_f g), and the fluid takes the same.
+cfd::DragResult FluidCoupling::to_model(cfd::DragResult drag, double porosity) const {
+  if (options_.solver.model == cfd::VolumeAveragedModel::b) {
+    drag.force = drag.force / porosity;
+    drag.coefficient /= porosity;
+  }
+  return drag;
+}
+
+Vec3 FluidCoupling::pressure_force(const FrozenParticle& f) const {
+  if (options_.solver.model == cfd::VolumeAveragedModel::b)
+    return options_.solver.gravity * (-options_.properties.density * f.volume);  // Archimedes, −ρ_f V_p g
+  return f.pressure_gradient * (-f.volume);                      // −V_p ∇p
 }
 
 void FluidCoupling::freeze_fluid_values(const World& world) {
@@ -296,6 +310,14 @@ void FluidCoupling::exchange(World& world) {
   deposit(g, weights_, coefficient, beta);
   deposit(g, weights_, momentum, force);
   deposit(g, old_weights, correction, force);
+  if (options_.solver.model == cfd::VolumeAveragedModel::b) {
+    // Model B's fluid carries −∇p whole: it takes the reaction of the particles' Archimedes
+    // force, +ρ_f V_p g, which they feel instead of −V_p ∇p (constant over the interval).
+    std::vector<Vec3> archimedes(p.size());
+    for (std::size_t i = 0; i < p.size(); ++i)
+      archimedes[i] = options_.solver.gravity * (options_.properties.density * sphere_volume(p.radius[i]));
+    deposit(g, weights_, archimedes, force);
+  }
   coupling_step_ = options_.coupling_steps * world.dt;
   fluid_->step(coupling_step_);
   update_cell_fields();
@@ -350,7 +372,7 @@ void FluidCoupling::add_forces(World& world) {
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(k);
     FrozenParticle& f = frozen_[i];
-    p.force[i] += drag_force(world, i) - f.pressure_gradient * f.volume;
+    p.force[i] += drag_force(world, i) + pressure_force(f);
     f.velocity_sum += p.velocity[i];
     f.samples += 1;
   }
@@ -384,7 +406,7 @@ Vec3 FluidCoupling::fluid_momentum() const {
 Vec3 FluidCoupling::pending_particle_impulse() const {
   Vec3 force;  // N
   for (const FrozenParticle& f : frozen_)
-    force += (f.fluid_velocity - f.exchange_velocity) * f.coefficient - f.pressure_gradient * f.volume;
+    force += (f.fluid_velocity - f.exchange_velocity) * f.coefficient + pressure_force(f);
   return force * coupling_step_;
 }
 

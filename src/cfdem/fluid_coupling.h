@@ -4,7 +4,7 @@
 // exchange coefficient frozen and the pressure-gradient force −V_p ∇p at each DEM step. The
 // drag the particles felt beyond what the fluid step took (their velocity changed during the
 // interval) goes to the fluid in the next step, so momentum is exchanged exactly.
-// Zhou, Kuang, Chu & Yu 2010 model A. docs/cfd.md "Coupling" gives the timeline.
+// Zhou, Kuang, Chu & Yu 2010 model A (default) or B. docs/cfd.md "Coupling" gives the timeline.
 #pragma once
 
 #include <memory>
@@ -26,8 +26,9 @@ struct FluidCouplingOptions {
   cfd::FluidProperties properties;
   cfd::FluidBoundaries boundaries;
   // Tolerances and model of the fluid solver. Its gravity (stored here by the constructor) and
-  // threads are taken from the world.
-  // Only model A: the drag laws return model-A drag (drag_laws.h).
+  // threads are taken from the world. Model A (default): the particles feel the laws' drag and
+  // −V_p ∇p. Model B: the drag divided by ε at the particle and Archimedes' −ρ_f V_p g, whose
+  // reaction the fluid takes.
   cfd::FluidSolverOptions solver;
   int coupling_steps = 1;                // DEM steps per fluid step (≥ 1): Δt_f = n Δt_DEM
   cfd::DragLaw drag_law = cfd::DragLaw::stokes;
@@ -57,7 +58,7 @@ struct FrozenParticle {
 
 class FluidCoupling {
  public:
-  // Checks the options and the world: coupling_steps ≥ 1, model A, the grid inside the
+  // Checks the options and the world: coupling_steps ≥ 1, the grid inside the
   // world's domain is not required (particles outside it are clamped onto its border cells).
   // Throws UserError with a hint when a cell holds less than 3 times the volume of the largest
   // particle the world can hold (world.max_radius): the void fraction of such cells swings
@@ -82,8 +83,8 @@ class FluidCoupling {
   // m/β_p, a fluid solve failing) or cfd::DragUdfError. Cost: O(particles + fluid step).
   void exchange(World& world);
 
-  // Adds to particles.force, for each particle: β_p (u_p − v_p) − V_p ∇p_p with the frozen
-  // β_p, u_p, ∇p_p and the particle's velocity now. Refreezes first if the particles were
+  // Adds to particles.force, for each particle: β_p (u_p − v_p) − V_p ∇p_p (model B: − ρ_f V_p g)
+  // with the frozen β_p, u_p, ∇p_p and the particle's velocity now. Refreezes first if the particles were
   // reordered, added or removed since the exchange. Cost: O(particles).
   void add_forces(World& world);
 
@@ -100,7 +101,7 @@ class FluidCoupling {
   Vec3 drag_force(const World& world, std::size_t i) const;
   // Fluid momentum Σ ρ ε_f u_f V over the faces between two cells (periodic faces once; faces
   // on a non-periodic border left out), ε_f the mean of the two cells' ε of the last step
-  // (kg·m/s): the quantity the model-A momentum equation conserves.
+  // (kg·m/s): the quantity both models' momentum equations conserve.
   Vec3 fluid_momentum() const;
   // What the fluid step of the last exchange took from the particles and they have not felt
   // yet, when read right after the DEM step that made the exchange with the symplectic Euler
@@ -129,6 +130,8 @@ class FluidCoupling {
   void follow_layout(const World& world);        // after a layout change: frozen values by id
   void check_relaxation(World& world);
   void update_cell_fields();                     // cell velocities and ∇p from the fluid
+  cfd::DragResult to_model(cfd::DragResult drag, double porosity) const;  // ÷ ε in model B
+  Vec3 pressure_force(const FrozenParticle& f) const;  // −V_p ∇p (A) or −ρ_f V_p g (B), N
 
   FluidCouplingOptions options_;
   std::unique_ptr<cfd::FluidSolver> fluid_;

@@ -46,9 +46,7 @@ FluidCouplingOptions coupling_options_from_spec(const World& world) {
   }
   options.blocked = blocked_cells_from_spec(world, options.grid);
   check_blocked_cells(spec, options.grid, options.boundaries, options.blocked);
-  if (spec.model.value != FluidModel::a)
-    throw UserError(spec.model.where, "the CFD-DEM coupling supports model A only so far",
-                    "write model: A (the drag laws are written for it; issue #18)");
+  options.solver.model = spec.model.value == FluidModel::b ? cfd::VolumeAveragedModel::b : cfd::VolumeAveragedModel::a;
   // Δt_f = n Δt_DEM with n a whole number (the seed's rule: physical times must match).
   const double ratio = spec.time_step.value / world.dt;
   const double steps = std::round(ratio);

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -138,8 +139,8 @@ void check_interactions(DeckContext& context, const SimulationSpec& spec,
 }
 
 // Periodic axes (issue #20) against what else the deck holds: a period long enough for the
-// neighbour search (core/periodic_box.h, shortest_period), no fluid grid (the coupling's
-// particle-to-cell kernel does not wrap), and mass-flow planes either along a periodic axis or
+// neighbour search (core/periodic_box.h, shortest_period), a fluid grid periodic with the same
+// period along it, and mass-flow planes either along a periodic axis or
 // perpendicular to it (a tilted plane would meet its own periodic images).
 void check_periodic_axes(DeckContext& context, const SimulationSpec& spec) {
   const auto& periodic = spec.simulation.periodic;
@@ -176,11 +177,37 @@ void check_periodic_axes(DeckContext& context, const SimulationSpec& spec) {
               shortest, axis_names[a], axis_names[a]));
     }
   }
-  if (spec.fluid)
-    context.error(
-        periodic.where, "periodic axes cannot be combined with a fluid: section",
-        "the particle-fluid coupling does not wrap particles across the domain's faces; "
-        "remove periodic (the fluid grid's own boundaries: periodic is a separate setting)");
+  // With a fluid grid, each periodic axis of the particles must be a periodic axis of the
+  // fluid with the same period: the particle-to-cell kernel (cfdem/cell_kernel.h) wraps a
+  // particle on the grid's period, which must be the one its position wraps on.
+  if (spec.fluid && !spec.simulation.domain.value.empty()) {
+    const FluidSpec& fluid = *spec.fluid;
+    const Aabb& domain = spec.simulation.domain.value;
+    for (int a = 0; a < 3; ++a) {
+      if (!periodic.value[a]) continue;
+      const auto face = static_cast<std::size_t>(2 * a);
+      if (fluid.faces[face].type.value != FluidBoundaryType::periodic) {
+        context.error(periodic.where,
+                      fmt::format("the particles are periodic along {} but the fluid is not", axis_names[a]),
+                      fmt::format("make the fluid's {0}_min and {0}_max boundaries periodic, or leave {0} "
+                                  "out of periodic",
+                                  axis_names[a]));
+        continue;
+      }
+      const double period = domain.hi[a] - domain.lo[a];  // m
+      const double lo = fluid.origin.value[a];              // m
+      const double hi = lo + fluid.cells.value[a] * fluid.cell_size.value;
+      const double tolerance = 1e-9 * period;
+      if (std::abs(lo - domain.lo[a]) > tolerance || std::abs(hi - domain.hi[a]) > tolerance)
+        context.error(fluid.cell_size.where,
+                      fmt::format("the fluid grid spans {:.6g} to {:.6g} m along {}, the periodic domain "
+                                  "{:.6g} to {:.6g} m",
+                                  lo, hi, axis_names[a], domain.lo[a], domain.hi[a]),
+                      fmt::format("a periodic axis needs one period for both: grid origin {:.6g} and cells x "
+                                  "cell_size = {:.6g} m along {}",
+                                  domain.lo[a], period, axis_names[a]));
+    }
+  }
   for (const MonitorSpec& monitor : spec.monitors) {
     if (monitor.kind.value != MonitorKind::mass_flow) continue;
     const Vec3 normal = monitor.normal.value;

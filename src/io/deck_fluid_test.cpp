@@ -58,6 +58,17 @@ void expect_fluid(const FluidSpec& f) {
   EXPECT_EQ(f.drag_udf->function.value, "usrStokesDrag");
 }
 
+// Particles periodic along x in a fluid periodic along x over the same period (the grid spans
+// the domain): accepted. The mismatches are bad decks periodic_04 and periodic_07.
+TEST(DeckFluid, PeriodicParticlesWithAFluidOfTheSamePeriod) {
+  std::string deck = kFluidDeck;
+  const std::string domain = "max: [0.001, 0.001, 0.006]}";
+  deck.replace(deck.find(domain), domain.size(), "max: [0.001, 0.001, 0.006], periodic: [x]}");
+  const SimulationSpec spec = parse_deck_string(deck, "fluid.yaml");
+  EXPECT_TRUE(spec.simulation.periodic.value[0]);
+  ASSERT_TRUE(spec.fluid.has_value());
+}
+
 TEST(DeckFluid, ReadsEveryKey) {
   const SimulationSpec spec = parse_deck_string(kFluidDeck, "fluid.yaml");
   ASSERT_TRUE(spec.fluid.has_value());
