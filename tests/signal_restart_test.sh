@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # SIGTERM during a run writes a checkpoint and exits 130 with the restart command; `quarry restart`
-# then continues from it and finishes, appending to the same output series.
+# then continues from it and finishes, appending to the same output series; a restart into an
+# empty folder (--output-dir) starts its tables and series there.
 set -euo pipefail
 quarry=$1 deck=$2 out=$3
 rm -rf "$out"
@@ -20,4 +21,8 @@ stopped=$(sed -n 's/.*(t = \([0-9.e+-]*\) s); checkpoint.*/\1/p' "$out.log")
 end=$(awk -v t="$stopped" 'BEGIN { printf "%.6f", t + 0.005 }')
 "$quarry" restart "$out/checkpoint.qck" --end-time "$end" --quiet
 grep -q "particles_" "$out/particles.pvd"
-echo "stopped at t = $stopped s, restarted to $end s: ok"
+rm -rf "$out.elsewhere" && mkdir "$out.elsewhere"
+"$quarry" restart "$out/checkpoint.qck" --end-time "$end" --output-dir "$out.elsewhere" --quiet
+head -1 "$out.elsewhere/monitors.csv" | grep -q "^time_s," || { echo "no monitors.csv in the other folder"; exit 1; }
+grep -q "particles_" "$out.elsewhere/particles.pvd"
+echo "stopped at t = $stopped s, restarted to $end s (here and in another folder): ok"

@@ -24,6 +24,16 @@ namespace quarry::sim {
 
 namespace {
 
+// A restart's table: the rows the interrupted run wrote up to the checkpoint time when the
+// folder holds them; a restart into another folder starts the table afresh (the earlier rows
+// stay in the first run's folder), as its PVD series do.
+void resume_table(CsvTable& table, const std::filesystem::path& path, double resume_time) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) return;
+  table = CsvTable::load(path);
+  table.truncate_after(resume_time);
+}
+
 // Steps between events for an interval in seconds (0 → never).
 std::uint64_t every_steps(double interval, double dt) {
   if (interval <= 0.0) return 0;
@@ -143,8 +153,7 @@ Output::Output(World& world, const OutputOptions& options)
   }
   if (options.resume_time) {
     // Keep what the interrupted run wrote up to the checkpoint time, drop anything later.
-    monitors_ = CsvTable::load(directory_ / "monitors.csv");
-    monitors_.truncate_after(*options.resume_time);
+    resume_table(monitors_, directory_ / "monitors.csv", *options.resume_time);
     particle_series_.load_existing(*options.resume_time);
     for (auto& series : surface_series_) series.load_existing(*options.resume_time);
   }
@@ -154,10 +163,7 @@ Output::Output(World& world, const OutputOptions& options)
     const std::string file = "profile_" + m.name.value + ".csv";
     profile_monitors_.push_back(k);
     profiles_.emplace_back(directory_ / file, velocity_profile_columns());
-    if (options.resume_time) {
-      profiles_.back() = CsvTable::load(directory_ / file);
-      profiles_.back().truncate_after(*options.resume_time);
-    }
+    if (options.resume_time) resume_table(profiles_.back(), directory_ / file, *options.resume_time);
     wrote(file);
   }
   if (out.contacts.value) {
