@@ -219,17 +219,18 @@ CellWeights cell_weights(const cfd::FluidGrid& grid, const PeriodicAxes& periodi
 
 double void_fraction(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
                      std::span<const double> radius, std::vector<double>& void_fraction) {
-  std::vector<double> solid(grid.cell_count(), 0.0);  // m³ of particle per cell
+  // The particle volume per cell (m³) is summed in place, then turned into ε.
+  std::vector<double>& solid = void_fraction;
+  solid.assign(grid.cell_count(), 0.0);
   for (std::size_t p = 0; p < weights.size(); ++p) {
     const double volume = 4.0 / 3.0 * std::numbers::pi * radius[p] * radius[p] * radius[p];
     for (std::size_t c = 0; c < 8; ++c) solid[weights[p].cell[c]] += weights[p].weight[c] * volume;
   }
   const double cell_volume = grid.cell_volume();
-  void_fraction.resize(solid.size());
   double smallest = 1.0;
-  for (std::size_t c = 0; c < solid.size(); ++c) {
-    void_fraction[c] = 1.0 - solid[c] / cell_volume;
-    smallest = std::min(smallest, void_fraction[c]);
+  for (double& value : void_fraction) {
+    value = 1.0 - value / cell_volume;
+    smallest = std::min(smallest, value);
   }
   return smallest;
 }

@@ -4,6 +4,8 @@
 // particle feels drag and −V_p ∇p, the fluid −ε∇p and minus the deposited drag.
 #include "cfdem/fluid_coupling.h"
 
+#include <chrono>
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -62,6 +64,9 @@ FluidCoupling::FluidCoupling(const World& world, FluidCouplingOptions options)
   }
   void_fraction_.assign(options_.grid.cell_count(), 1.0);
   update_cell_fields();
+  // In this order, so that the indices are the constants of the header.
+  for (const char* name : {"void fraction", "drag", "fluid step", "fluid values", "particle forces"})
+    timers_.stage(name);
 }
 
 std::shared_ptr<FluidCoupling> FluidCoupling::attach(World& world, FluidCouplingOptions options) {
@@ -250,11 +255,21 @@ void FluidCoupling::check_relaxation(World& world) {
 void FluidCoupling::exchange(World& world) {
   const ParticleStore& p = world.particles;
   const cfd::FluidGrid& g = options_.grid;
+  // Wall time of the exchange's parts (timers()): each lap adds the time since the last one.
+  auto last = std::chrono::steady_clock::now();
+  const auto lap = [&](int stage) {
+    const auto now = std::chrono::steady_clock::now();
+    timers_.add(stage, std::chrono::duration<double>(now - last).count());
+    last = now;
+  };
   // The previous interval's drag beyond what its fluid step took: the particles felt
   // β_p (u_p − v_p) at each force evaluation, the fluid β_p (u_p − v_p at the exchange).
   follow_layout(world);
-  std::vector<CellWeights> old_weights(frozen_.size());
-  std::vector<Vec3> correction(frozen_.size());  // N
+  // Per-particle scratch kept from exchange to exchange (not allocated and faulted in anew).
+  std::vector<CellWeights>& old_weights = scratch_.old_weights;
+  std::vector<Vec3>& correction = scratch_.correction;  // N
+  old_weights.resize(frozen_.size());
+  correction.assign(frozen_.size(), Vec3{});
   for (std::size_t i = 0; i < frozen_.size(); ++i) {
     const FrozenParticle& f = frozen_[i];
     old_weights[i] = f.weights;
@@ -274,6 +289,7 @@ void FluidCoupling::exchange(World& world) {
         world.step_count, world.time, crowded, smallest, options_.minimum_void_fraction));
   }
   fluid_->set_void_fraction(void_fraction_);
+  lap(kVoidFractionStage);
 
   // β_p at the slip now, with u, ε and ∇p at the particle by the same weights.
   frozen_.resize(p.size());
@@ -281,11 +297,14 @@ void FluidCoupling::exchange(World& world) {
   std::span<Vec3> force = fluid_->force_density();
   std::fill(beta.begin(), beta.end(), 0.0);
   std::fill(force.begin(), force.end(), Vec3{});
-  std::vector<double> coefficient(p.size());
-  std::vector<Vec3> momentum(p.size());  // β_p v_p (N)
+  std::vector<double>& coefficient = scratch_.coefficient;
+  std::vector<Vec3>& momentum = scratch_.momentum;  // β_p v_p (N)
+  coefficient.assign(p.size(), 0.0);
+  momentum.resize(p.size());
   // Each particle on its own (threads); a law or UDF that throws is evaluated again after the
   // loop for the lowest such index, so the error is the same for any thread count.
-  std::vector<char> failed(p.size(), 0);
+  std::vector<char>& failed = scratch_.failed;
+  failed.assign(p.size(), 0);
   const auto drag_of = [&](std::size_t i) {
     return evaluate_drag(world, i, interpolate(weights_[i], cell_velocity_),
                          interpolate(weights_[i], void_fraction_),
@@ -313,18 +332,22 @@ void FluidCoupling::exchange(World& world) {
   if (options_.solver.model == cfd::VolumeAveragedModel::b) {
     // Model B's fluid carries −∇p whole: it takes the reaction of the particles' Archimedes
     // force, +ρ_f V_p g, which they feel instead of −V_p ∇p (constant over the interval).
-    std::vector<Vec3> archimedes(p.size());
+    std::vector<Vec3>& archimedes = scratch_.archimedes;
+    archimedes.resize(p.size());
     for (std::size_t i = 0; i < p.size(); ++i)
       archimedes[i] = options_.solver.gravity * (options_.properties.density * sphere_volume(p.radius[i]));
     deposit(g, weights_, archimedes, force);
   }
+  lap(kDragStage);
   coupling_step_ = options_.coupling_steps * world.dt;
   fluid_->step(coupling_step_);
+  lap(kFluidStage);
   update_cell_fields();
   freeze_fluid_values(world);
   ++exchanges_;
   last_exchange_step_ = world.step_count;
   check_relaxation(world);
+  lap(kFluidValuesStage);
 }
 
 void FluidCoupling::follow_layout(const World& world) {
@@ -365,6 +388,7 @@ Vec3 FluidCoupling::drag_force(const World& world, std::size_t i) const {
 }
 
 void FluidCoupling::add_forces(World& world) {
+  ScopedStage timed(timers_, kParticleForcesStage);
   follow_layout(world);
   ParticleStore& p = world.particles;
   const auto n = static_cast<std::ptrdiff_t>(p.size());

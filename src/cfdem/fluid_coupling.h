@@ -16,6 +16,7 @@
 #include "cfd/drag_udf.h"
 #include "cfd/fluid_solver.h"
 #include "cfdem/cell_kernel.h"
+#include "core/stage_timer.h"
 #include "sim/world.h"
 
 namespace quarry::cfdem {
@@ -95,6 +96,11 @@ class FluidCoupling {
   const std::vector<FrozenParticle>& frozen() const { return frozen_; }
   const std::vector<CellWeights>& weights() const { return weights_; }
   long long exchanges() const { return exchanges_; }
+  // Wall time (s) of the coupling's parts, summed over the run: "void fraction" (weights and ε),
+  // "drag" (β_p per particle and the deposits), "fluid step", "fluid values" (cell fields, the
+  // frozen values at the particles, checks) in each exchange, and "particle forces" (add_forces,
+  // every DEM step). Not saved in checkpoints: they time this process.
+  const StageTimers& timers() const { return timers_; }
   // The blocked cells (options.blocked) with each one's nearest fluid cell.
   const BlockedCells& blocked_cells() const { return blocked_; }
   // The drag of particle i as add_forces applies it now (N): β_p (u_p − v_p).
@@ -133,6 +139,15 @@ class FluidCoupling {
   cfd::DragResult to_model(cfd::DragResult drag, double porosity) const;  // ÷ ε in model B
   Vec3 pressure_force(const FrozenParticle& f) const;  // −V_p ∇p (A) or −ρ_f V_p g (B), N
 
+  static constexpr int kVoidFractionStage = 0, kDragStage = 1, kFluidStage = 2, kFluidValuesStage = 3,
+                       kParticleForcesStage = 4;
+  StageTimers timers_;
+  struct Scratch {  // exchange()'s per-particle work arrays, reused
+    std::vector<CellWeights> old_weights;
+    std::vector<Vec3> correction, momentum, archimedes;
+    std::vector<double> coefficient;
+    std::vector<char> failed;
+  } scratch_;
   FluidCouplingOptions options_;
   std::unique_ptr<cfd::FluidSolver> fluid_;
   PeriodicAxes periodic_{};
