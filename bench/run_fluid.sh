@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# The CFD-DEM fluidised bed (issue 18, "Performance"): quarry_fluidised_bed at 10k beads in
+# 16 x 16 x 200 cells and 100k beads in 40 x 40 x 40 cells (both >= 50k cells), 1 and 2 threads
+# interleaved, REPEATS times (default 3). Each run's QUARRY_FLUID_BENCH line goes to
+# bench/results/DATE-CPU-fluid.txt with the machine line; the summary (medians per size and
+# thread count: ms per coupled step, the fluid side's parts, the DEM, fluid/DEM) is printed and
+# appended. Copy the figures into docs/performance.md.
+# usage: bench/run_fluid.sh   (BUILD_DIR=build/release, REPEATS=3, SKIP_BUILD=1, QUIET_WAIT=30)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$PWD
+BUILD_DIR=${BUILD_DIR:-build/release}
+REPEATS=${REPEATS:-3}
+QUIET_WAIT=${QUIET_WAIT:-30}
+source bench/lib.sh
+build_bench quarry_fluidised_bed
+bin=$BUILD_DIR/bench/quarry_fluidised_bed
+out=bench/results/$(date -u +%F)-$(cpu_slug)-fluid.txt
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+{
+  echo "# CFD-DEM fluidised bed (bench/run_fluid.sh), $(date -u '+%F %H:%M') UTC"
+  machine_line
+} > "$out"
+sizes=("10000 16 200 50 100" "100000 40 40 30 60")  # beads, cells across, cells up, warm-up, timed
+for repeat in $(seq 1 "$REPEATS"); do
+  for size in "${sizes[@]}"; do
+    read -r beads across up warmup steps <<<"$size"
+    for threads in 1 2; do
+      wait_quiet
+      b0=$(busy); t0=$(date +%s.%N)
+      line=$(cd "$work" && "$ROOT/$bin" --particles "$beads" --cells-across "$across" --cells-up "$up" \
+               --warmup "$warmup" --coupled-steps "$steps" --threads "$threads" 2>/dev/null | grep '^QUARRY_FLUID_BENCH')
+      b1=$(busy); t1=$(date +%s.%N)
+      # Cores the others used during the run: all busy jiffies less this run's own CPU time.
+      load=$(awk -v b=$((b1-b0)) -v hz="$(getconf CLK_TCK)" -v t0="$t0" -v t1="$t1" -v n="$threads" \
+               'BEGIN { o = b / hz / (t1 - t0) - n; if (o < 0) o = 0; printf "%.2f", o }')
+      echo "$line repeat=$repeat busy_cores_beyond_own=$load" | tee -a "$out"
+    done
+  done
+done
+# Medians per (beads, threads).
+summary=$(awk '
+  /^QUARRY_FLUID_BENCH/ {
+    delete kv; for (i = 2; i <= NF; ++i) { split($i, f, "="); kv[f[1]] = f[2] }
+    key = kv["particles"] " " kv["threads"]; keys[key] = 1; n[key]++
+    for (name in kv) v[key, name, n[key]] = kv[name]
+  }
+  function median(key, name,   m, i, j, t, a) {
+    m = n[key]; for (i = 1; i <= m; ++i) a[i] = v[key, name, i]
+    for (i = 1; i <= m; ++i) for (j = i + 1; j <= m; ++j) if (a[j] + 0 < a[i] + 0) { t = a[i]; a[i] = a[j]; a[j] = t }
+    return m % 2 ? a[(m + 1) / 2] : (a[m / 2] + a[m / 2 + 1]) / 2
+  }
+  END {
+    printf "| beads | cells | threads | ms per coupled step | fluid step | void fraction | drag | fluid values | particle forces | DEM (10 steps) | fluid side / DEM |\n"
+    printf "|---|---|---|---|---|---|---|---|---|---|---|\n"
+    for (key in keys) {
+      split(key, k, " ")
+      printf "| %s | %s | %s | %.1f | %.1f | %.2f | %.2f | %.2f | %.2f | %.1f | %.2f |\n", k[1], v[key, "cells", 1], k[2],
+        median(key, "step_ms"), median(key, "fluid_step_ms"), median(key, "void_fraction_ms"), median(key, "drag_ms"),
+        median(key, "fluid_values_ms"), median(key, "particle_forces_ms"), median(key, "dem_ms"), median(key, "fluid_over_dem")
+    }
+  }' "$out" | sort -t'|' -k2,2n -k4,4n)
+printf '\nMedians of %s runs:\n%s\n' "$REPEATS" "$summary" | tee -a "$out"
+echo "results: $out"
