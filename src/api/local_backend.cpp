@@ -49,6 +49,20 @@ auto translated(F&& f) -> decltype(f()) {
   }
 }
 
+// The deck's built-in fluid and structures are attached by `quarry run` (the CLI); through
+// the ABI they are not yet, and a run without them would be another simulation than the deck
+// says: refused, not run silently without them.
+void refuse_built_in_partners(const SimulationSpec& spec, const std::string& file) {
+  const char* section = spec.fluid ? "fluid" : (!spec.structures.empty() ? "structures" : nullptr);
+  if (section)
+    fail(QUARRY_ERROR_UNSUPPORTED,
+         fmt::format("{}: the deck's {}: section (the built-in {}) runs with `quarry run` and `quarry "
+                     "restart`; through the C ABI it is not attached yet. Run it with the command, or "
+                     "couple your own {} solver through the ABI and remove the section",
+                     file, section, spec.fluid ? "CFD-DEM coupling" : "shell solver",
+                     spec.fluid ? "fluid" : "structural"));
+}
+
 }  // namespace
 
 LocalBackend::LocalBackend(const quarry_open_info& info) {
@@ -58,10 +72,12 @@ LocalBackend::LocalBackend(const quarry_open_info& info) {
     fail(QUARRY_ERROR_BAD_VALUE, "give deck_path or checkpoint_path, not both");
   if (info.deck_path) {
     world_ = build_world(parse_deck(info.deck_path));
+    refuse_built_in_partners(world_.spec, info.deck_path);
     if (threads_ > 0) world_.threading.threads = threads_;
     start();
   } else if (info.checkpoint_path) {
     sim::RestoredWorld restored = sim::read_checkpoint(info.checkpoint_path);
+    refuse_built_in_partners(restored.world.spec, info.checkpoint_path);
     world_ = std::move(restored.world);
     if (threads_ > 0) world_.threading.threads = threads_;
     if (output_directory_) attach_output(world_.time, restored.frame_index);
@@ -276,6 +292,7 @@ void LocalBackend::restore_state(const void* bytes, std::uint64_t size) {
   require_outside_hook("quarry_restore_state");
   sim::RestoredWorld restored =
       sim::read_checkpoint_bytes(std::string(static_cast<const char*>(bytes), size), "quarry_restore_state");
+  refuse_built_in_partners(restored.world.spec, "quarry_restore_state");
   // The handle's own settings stay: threads, hooks, the output stream.
   restored.world.threading = world_.threading;
   restored.world.hooks = std::move(world_.hooks);
