@@ -20,6 +20,7 @@
 #include "cfdem/fluid_monitors.h"
 #include "cfdem/fluid_output.h"
 #include "cfdem/fluid_setup.h"
+#include "geometry/icosphere.h"
 #include "geometry/stl_reader.h"
 #include "io/deck.h"
 #include "sim/exchange.h"
@@ -218,35 +219,13 @@ TEST(FluidBlocked, CutOffFluidFollowsPeriodicFaces) {
   EXPECT_FALSE(find_cut_off_fluid(grid, boundaries, blocked).has_value());
 }
 
-// An icosahedron subdivided `levels` times onto a sphere, outward: a closed surface.
-Surface icosphere(const Vec3& centre, double radius, int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (Vec3& x : v) x = x / norm(x);
-  std::vector<std::array<std::uint32_t, 3>> faces = {
-      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> middle;
-    const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-      const auto key = std::minmax(a, b);
-      if (const auto found = middle.find(key); found != middle.end()) return found->second;
-      v.push_back((v[a] + v[b]) / norm(v[a] + v[b]));
-      return middle[key] = static_cast<std::uint32_t>(v.size() - 1);
-    };
-    std::vector<std::array<std::uint32_t, 3>> finer;
-    for (const auto& f : faces) {
-      const std::uint32_t a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
-      finer.insert(finer.end(), {{f[0], a, c}, {f[1], b, a}, {f[2], c, b}, {a, b, c}});
-    }
-    faces = finer;
-  }
+// The sphere mesh of geometry/icosphere.h as a Surface: a closed surface.
+Surface sphere_surface(const Vec3& centre, double radius, int levels) {
+  TriangleMesh sphere = quarry::icosphere(centre, radius, levels);
   Surface surface;
-  for (const Vec3& x : v) surface.vertices.push_back(centre + x * radius);
+  surface.vertices = std::move(sphere.vertices);
   surface.reference_vertices = surface.vertices;
-  surface.triangles = faces;
+  surface.triangles = std::move(sphere.triangles);
   surface.update_normals_and_areas();
   return surface;
 }
@@ -267,7 +246,7 @@ TEST(FluidBlocked, ClosedStlSurfacesBlockTheCellsInside) {
   write_stl_binary(folder + "/cube.stl", box);
   const Vec3 centre{0.0131, 0.0127, 0.0124};
   const double radius = 0.005;
-  write_stl_binary(folder + "/sphere.stl", icosphere(centre, radius, 3));
+  write_stl_binary(folder + "/sphere.stl", sphere_surface(centre, radius, 3));
   const std::string deck = fmt::format(R"(simulation:
   end_time: 0.01
   time_step: 2.0e-6

@@ -4,6 +4,7 @@
 // its faces), a sphere against its analytic inside, both orientations, and the union of two
 // overlapping parts.
 #include "geometry/closed_mesh.h"
+#include "geometry/icosphere.h"
 
 #include <gtest/gtest.h>
 
@@ -40,34 +41,12 @@ Mesh cube(const Vec3& lo, const Vec3& hi, std::uint32_t first_vertex = 0) {
 
 void flip(std::array<std::uint32_t, 3>& triangle) { std::swap(triangle[1], triangle[2]); }
 
-// An icosahedron subdivided `levels` times onto the sphere of `radius` about `centre`, outward.
-Mesh icosphere(const Vec3& centre, double radius, int levels) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (Vec3& p : v) p = p / std::sqrt(dot(p, p));
-  Triangles faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                     {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                     {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> middle;
-    const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
-      const auto key = std::minmax(a, b);
-      if (const auto found = middle.find(key); found != middle.end()) return found->second;
-      Vec3 m = (v[a] + v[b]) * 0.5;
-      v.push_back(m / std::sqrt(dot(m, m)));
-      return middle[key] = static_cast<std::uint32_t>(v.size() - 1);
-    };
-    Triangles finer;
-    for (const auto& f : faces) {
-      const std::uint32_t a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
-      finer.insert(finer.end(), {{f[0], a, c}, {f[1], b, a}, {f[2], c, b}, {a, b, c}});
-    }
-    faces = finer;
-  }
+// The sphere mesh of geometry/icosphere.h as this test's Mesh.
+Mesh sphere_mesh(const Vec3& centre, double radius, int levels) {
+  TriangleMesh sphere = quarry::icosphere(centre, radius, levels);
   Mesh mesh;
-  for (const Vec3& p : v) mesh.vertices.push_back(centre + p * radius);
-  mesh.triangles = faces;
+  mesh.vertices = std::move(sphere.vertices);
+  mesh.triangles = std::move(sphere.triangles);
   return mesh;
 }
 
@@ -224,7 +203,7 @@ TEST(ClosedMesh, CentresOnTheSurfaceFollowTheTieRule) {
 TEST(ClosedMesh, SphereMatchesItsAnalyticInside) {
   const double radius = 0.3, cell = 0.02;
   const Vec3 centre{0.401, 0.397, 0.403};  // off the lattice: no symmetric ties
-  const Mesh sphere = icosphere(centre, radius, 3);
+  const Mesh sphere = sphere_mesh(centre, radius, 3);
   const CellCentres centres{{0, 0, 0}, {cell, cell, cell}, {40, 40, 40}};
   const MeshClosure closure = check_closure(sphere.vertices, sphere.triangles);
   ASSERT_TRUE(closure.closed());
