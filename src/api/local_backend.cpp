@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "cfdem/fluid_setup.h"
 #include "coupling/sample_points.h"
 #include "io/deck.h"
 #include "io/deck_writer.h"
@@ -49,18 +50,15 @@ auto translated(F&& f) -> decltype(f()) {
   }
 }
 
-// The deck's built-in fluid and structures are attached by `quarry run` (the CLI); through
-// the ABI they are not yet, and a run without them would be another simulation than the deck
-// says: refused, not run silently without them.
-void refuse_built_in_partners(const SimulationSpec& spec, const std::string& file) {
-  const char* section = spec.fluid ? "fluid" : (!spec.structures.empty() ? "structures" : nullptr);
-  if (section)
+// The deck's built-in shells are attached by `quarry run` (the CLI) only; a run without them
+// would be another simulation than the deck says: refused, not run silently without them.
+void refuse_built_in_structures(const SimulationSpec& spec, const std::string& file) {
+  if (!spec.structures.empty())
     fail(QUARRY_ERROR_UNSUPPORTED,
-         fmt::format("{}: the deck's {}: section (the built-in {}) runs with `quarry run` and `quarry "
-                     "restart`; through the C ABI it is not attached yet. Run it with the command, or "
-                     "couple your own {} solver through the ABI and remove the section",
-                     file, section, spec.fluid ? "CFD-DEM coupling" : "shell solver",
-                     spec.fluid ? "fluid" : "structural"));
+         fmt::format("{}: the deck's structures: section (the built-in shell solver) runs with `quarry run`; "
+                     "through the C ABI it is not attached yet. Run it with the command, or couple your own "
+                     "structural solver through the ABI and remove the section",
+                     file));
 }
 
 }  // namespace
@@ -72,13 +70,16 @@ LocalBackend::LocalBackend(const quarry_open_info& info) {
     fail(QUARRY_ERROR_BAD_VALUE, "give deck_path or checkpoint_path, not both");
   if (info.deck_path) {
     world_ = build_world(parse_deck(info.deck_path));
-    refuse_built_in_partners(world_.spec, info.deck_path);
+    refuse_built_in_structures(world_.spec, info.deck_path);
+    attached_ = cfdem::attach_fluid_from_spec(world_);  // the deck's fluid: section, as `quarry run`
     if (threads_ > 0) world_.threading.threads = threads_;
     start();
   } else if (info.checkpoint_path) {
     sim::RestoredWorld restored = sim::read_checkpoint(info.checkpoint_path);
-    refuse_built_in_partners(restored.world.spec, info.checkpoint_path);
     world_ = std::move(restored.world);
+    // The fluid the run had, made again from the checkpoint's deck and given its state back.
+    attached_ = cfdem::attach_fluid_from_spec(world_);
+    sim::restore_sections(world_, restored.sections, info.checkpoint_path);
     if (threads_ > 0) world_.threading.threads = threads_;
     if (output_directory_) attach_output(world_.time, restored.frame_index);
     started_ = true;
@@ -292,10 +293,19 @@ void LocalBackend::restore_state(const void* bytes, std::uint64_t size) {
   require_outside_hook("quarry_restore_state");
   sim::RestoredWorld restored =
       sim::read_checkpoint_bytes(std::string(static_cast<const char*>(bytes), size), "quarry_restore_state");
-  refuse_built_in_partners(restored.world.spec, "quarry_restore_state");
-  // The handle's own settings stay: threads, hooks, the output stream.
+  // The handle's own settings stay: threads, hooks (the fluid's among them), the output stream.
+  // The attached fluid takes its saved state (checked whole before it changes anything); a
+  // state from a deck with another fluid, or none, is refused and the handle left as it was.
   restored.world.threading = world_.threading;
   restored.world.hooks = std::move(world_.hooks);
+  restored.world.checkpoint_sections = std::move(world_.checkpoint_sections);
+  try {
+    sim::restore_sections(restored.world, restored.sections, "quarry_restore_state");
+  } catch (...) {
+    world_.hooks = std::move(restored.world.hooks);
+    world_.checkpoint_sections = std::move(restored.world.checkpoint_sections);
+    throw;
+  }
   restored.world.output = std::move(world_.output);
   // Every view and index taken before is stale: the epoch moves past both the current one and
   // the saved one (which may be equal to the current one for a different particle order).

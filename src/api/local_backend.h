@@ -97,6 +97,7 @@ class LocalBackend final : public Backend {
   bool started_ = false;
   SimulationSpec spec_;              // before start: the definition built by calls
   World world_;
+  std::shared_ptr<void> attached_;   // the deck's built-in fluid (its hooks share it), as `quarry run`
   int threads_ = 0;
   std::optional<std::filesystem::path> output_directory_;
   sim::TypeOrder order_;

@@ -164,12 +164,6 @@ TEST(BadCalls, OpenRefusesWhatItCannotUse) {
   info = QUARRY_OPEN_INFO_INIT;
   info.threads = -2;
   EXPECT_EQ(quarry_open(&info, &sim), QUARRY_ERROR_BAD_VALUE);
-  // A deck whose fluid: section the ABI would not attach: refused, not run without its fluid.
-  const std::string fluid_deck = std::string(QUARRY_SOURCE_DIR) + "/tests/decks/fluid_restart.yaml";
-  info = QUARRY_OPEN_INFO_INIT;
-  info.deck_path = fluid_deck.c_str();
-  EXPECT_EQ(quarry_open(&info, &sim), QUARRY_ERROR_UNSUPPORTED);
-  EXPECT_NE(error_of(QUARRY_NO_SIM).find("fluid: section"), std::string::npos) << error_of(QUARRY_NO_SIM);
 }
 
 // The per-call refusals of a started simulation: NULL pointers, lengths that are not the

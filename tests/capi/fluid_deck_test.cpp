@@ -1,0 +1,98 @@
+// A deck with a fluid: section through the C ABI (issue #16/#18): quarry_open attaches the
+// built-in fluid as `quarry run` does, quarry_save_state / quarry_restore_state carry its state
+// (a second handle restored from the first one's state steps to the same bits), a fluid state
+// is refused by a handle without that fluid, and a deck with structures: is refused (the shells
+// are attached by `quarry run` only). Nothing but quarry.h and libquarry.so.
+#include <gtest/gtest.h>
+#include <quarry/quarry.h>
+
+#include <array>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+const std::string kFluidDeck = std::string(QUARRY_SOURCE_DIR) + "/tests/decks/fluid_restart.yaml";
+
+std::string error_of(quarry_sim sim) {
+  char text[2048] = {0};
+  quarry_last_error(sim, text, sizeof text, nullptr);
+  return text;
+}
+
+quarry_sim open_deck(const std::string& deck) {
+  quarry_open_info info = QUARRY_OPEN_INFO_INIT;
+  info.deck_path = deck.c_str();
+  quarry_sim sim{};
+  EXPECT_EQ(quarry_open(&info, &sim), QUARRY_OK) << error_of(QUARRY_NO_SIM);
+  return sim;
+}
+
+std::vector<char> saved_state(quarry_sim sim) {
+  std::uint64_t needed = 0;
+  EXPECT_EQ(quarry_save_state(sim, nullptr, 0, &needed), QUARRY_OK);
+  std::vector<char> state(needed);
+  EXPECT_EQ(quarry_save_state(sim, state.data(), state.size(), &needed), QUARRY_OK) << error_of(sim);
+  return state;
+}
+
+// Position and velocity of every particle by id (engine orders may differ between handles).
+std::map<std::uint64_t, std::array<double, 6>> particles_by_id(quarry_sim sim) {
+  quarry_view ids{}, x{}, v{};
+  EXPECT_EQ(quarry_view_particles(sim, QUARRY_FIELD_ID, &ids), QUARRY_OK);
+  EXPECT_EQ(quarry_view_particles(sim, QUARRY_FIELD_POSITION, &x), QUARRY_OK);
+  EXPECT_EQ(quarry_view_particles(sim, QUARRY_FIELD_VELOCITY, &v), QUARRY_OK);
+  std::map<std::uint64_t, std::array<double, 6>> out;
+  for (std::uint64_t k = 0; k < ids.count; ++k) {
+    std::uint64_t id = 0;
+    std::memcpy(&id, static_cast<const char*>(ids.data) + k * ids.stride, sizeof id);
+    std::array<double, 6> s{};
+    std::memcpy(s.data(), static_cast<const char*>(x.data) + k * x.stride, 3 * sizeof(double));
+    std::memcpy(s.data() + 3, static_cast<const char*>(v.data) + k * v.stride, 3 * sizeof(double));
+    out[id] = s;
+  }
+  return out;
+}
+
+TEST(FluidDeckThroughTheAbi, RestoredStateStepsToTheSameBitsAsTheHandleItCameFrom) {
+  quarry_sim first = open_deck(kFluidDeck);
+  // 228 steps of 8 µs: inside a coupling interval of 5 steps, the particles in the fluid.
+  ASSERT_EQ(quarry_advance(first, 228 * 8.0e-6, nullptr), QUARRY_OK) << error_of(first);
+  const std::vector<char> state = saved_state(first);
+  ASSERT_EQ(quarry_advance(first, 100 * 8.0e-6, nullptr), QUARRY_OK) << error_of(first);
+
+  quarry_sim second = open_deck(kFluidDeck);
+  ASSERT_EQ(quarry_restore_state(second, state.data(), state.size()), QUARRY_OK) << error_of(second);
+  ASSERT_EQ(quarry_advance(second, 100 * 8.0e-6, nullptr), QUARRY_OK) << error_of(second);
+  const auto a = particles_by_id(first), b = particles_by_id(second);
+  ASSERT_EQ(a.size(), 40u);
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [id, s] : a) {
+    ASSERT_TRUE(b.count(id)) << id;
+    EXPECT_EQ(std::memcmp(s.data(), b.at(id).data(), sizeof s), 0) << "particle " << id;
+  }
+  EXPECT_EQ(quarry_close(second), QUARRY_OK);
+
+  // The fluid acts: the same state stepped by a handle whose deck has no fluid is refused
+  // rather than run without it (its checkpoint holds the fluid's section, which nothing takes).
+  quarry_sim dry = open_deck(std::string(QUARRY_SOURCE_DIR) + "/tests/decks/minimal.yaml");
+  EXPECT_NE(quarry_restore_state(dry, state.data(), state.size()), QUARRY_OK);
+  EXPECT_NE(error_of(dry).find("fluid"), std::string::npos) << error_of(dry);
+  std::uint64_t count = 0;
+  ASSERT_EQ(quarry_num_particles(dry, -1, &count), QUARRY_OK);  // left as it was
+  EXPECT_EQ(quarry_close(dry), QUARRY_OK);
+  EXPECT_EQ(quarry_close(first), QUARRY_OK);
+}
+
+TEST(FluidDeckThroughTheAbi, ADeckWithStructuresIsRefused) {
+  quarry_open_info info = QUARRY_OPEN_INFO_INIT;
+  const std::string deck = std::string(QUARRY_SOURCE_DIR) + "/tests/fsi/plate_bed.yaml";
+  info.deck_path = deck.c_str();
+  quarry_sim sim{};
+  EXPECT_EQ(quarry_open(&info, &sim), QUARRY_ERROR_UNSUPPORTED);
+  EXPECT_NE(error_of(QUARRY_NO_SIM).find("structures: section"), std::string::npos) << error_of(QUARRY_NO_SIM);
+}
+
+}  // namespace
