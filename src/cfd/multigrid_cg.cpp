@@ -38,13 +38,13 @@ constexpr double kDiagonalDominance = 0.25;
 struct Level {
   StencilSystem system;
   std::vector<double> diagonal;
-  // Per unknown, its six couplings to active neighbours flattened (6 per unknown): the
-  // neighbour's index (the unknown itself where there is none) and the conductance (0 there).
-  std::vector<std::uint32_t> link_index;
-  std::vector<double> link_conductance;
-  std::vector<double> solution, rhs, residual;  // work vectors of this level
-  std::array<int, 3> ratio{1, 1, 1};            // coarsening ratio towards the next level
-  bool colours_independent = true;              // a red-black half sweep may run on a team
+  // link[a][P]: the conductance of P with its low neighbour along a where both are active
+  // unknowns, 0 otherwise (no neighbour, or either held). P's high neighbour Q is reached
+  // through link[a][Q]: the stencil is read from the grid's strides, not from index lists.
+  std::array<std::vector<double>, 3> link;
+  std::vector<double> solution, rhs;  // work vectors of this level
+  std::array<int, 3> ratio{1, 1, 1};  // coarsening ratio towards the next level
+  bool colours_independent = true;    // a red-black half sweep may run on a team
   // Coarsest level only: dense Cholesky factor (row-major, lower) over the active unknowns.
   std::vector<double> cholesky;
   std::vector<std::size_t> dense_to_cell;
@@ -72,11 +72,68 @@ inline double coupling(const StencilSystem& s, int a, int side, std::size_t p, s
   return side < 0 ? s.conductance[a][p] : s.conductance[a][static_cast<std::size_t>(q)];
 }
 
-// Σ over active neighbours of g x_N from the level's flattened links.
-inline double linked_sum(const std::uint32_t* index, const double* conductance, const double* x) {
-  return conductance[0] * x[index[0]] + conductance[1] * x[index[1]] +
-         conductance[2] * x[index[2]] + conductance[3] * x[index[3]] +
-         conductance[4] * x[index[4]] + conductance[5] * x[index[5]];
+// One grid row (j, k) of a level: where its neighbour rows along y and z start, and the links
+// to read. A missing neighbour row (a non-periodic border, or an axis of one unknown) points at
+// the row itself with links of 0, so every unknown sums the same six terms.
+struct RowStencil {
+  std::size_t start = 0;                    // index of (0, j, k)
+  std::array<std::size_t, 2> low{}, high{};  // starts of the rows at j∓1 (y), k∓1 (z)
+  const double* x_links = nullptr;          // link[0] from (0, j, k)
+  std::array<const double*, 2> low_links{}, high_links{};
+  int length = 0;     // unknowns along x
+  bool wrap = false;  // periodic along x with more than one unknown
+};
+
+RowStencil row_stencil(const Level& level, int j, int k, const double* zeros) {
+  const StencilSystem& s = level.system;
+  RowStencil r;
+  r.length = s.size[0];
+  r.wrap = s.periodic[0] && s.size[0] > 1;
+  r.start = s.index(0, j, k);
+  r.x_links = level.link[0].data() + r.start;
+  const std::array<int, 2> at{j, k};
+  for (int b = 0; b < 2; ++b) {
+    const int a = b + 1, n = s.size[a];
+    const std::size_t stride = a == 1 ? static_cast<std::size_t>(s.size[0])
+                                      : static_cast<std::size_t>(s.size[0]) * s.size[1];
+    r.low[b] = r.high[b] = r.start;
+    r.low_links[b] = level.link[a].data() + r.start;  // 0 where there is no low neighbour
+    r.high_links[b] = zeros;
+    if (n == 1) continue;
+    if (at[b] > 0) {
+      r.low[b] = r.start - stride;
+    } else if (s.periodic[a]) {
+      r.low[b] = r.start + static_cast<std::size_t>(n - 1) * stride;
+    }
+    if (at[b] < n - 1) {
+      r.high[b] = r.start + stride;
+    } else if (s.periodic[a]) {
+      r.high[b] = r.start - static_cast<std::size_t>(n - 1) * stride;
+    } else {
+      continue;
+    }
+    r.high_links[b] = level.link[a].data() + r.high[b];
+  }
+  return r;
+}
+
+// Σ over active neighbours N of g_PN x_N for P = (i, j, k) of the row, in the order x−, x+,
+// y−, y+, z−, z+ (a missing or held neighbour adds 0 · x_P).
+inline double neighbour_sum(const RowStencil& r, const double* x, int i) {
+  const double* row = x + r.start;
+  double x_low = 0.0, x_high = 0.0, g_high = 0.0;
+  if (i > 0 && i < r.length - 1) {
+    x_low = row[i - 1];
+    x_high = row[i + 1];
+    g_high = r.x_links[i + 1];
+  } else {
+    x_low = i > 0 ? row[i - 1] : (r.wrap ? row[r.length - 1] : row[i]);
+    x_high = i < r.length - 1 ? row[i + 1] : (r.wrap ? row[0] : row[i]);
+    g_high = i < r.length - 1 ? r.x_links[i + 1] : (r.wrap ? r.x_links[0] : 0.0);
+  }
+  return r.x_links[i] * x_low + g_high * x_high + r.low_links[0][i] * x[r.low[0] + i] +
+         r.high_links[0][i] * x[r.high[0] + i] + r.low_links[1][i] * x[r.low[1] + i] +
+         r.high_links[1][i] * x[r.high[1] + i];
 }
 
 class MultigridCgSolver final : public PressureSolver {
@@ -87,12 +144,12 @@ class MultigridCgSolver final : public PressureSolver {
 
   void set_system(const StencilSystem& system) override {
     // A fluid step often repeats the previous operator (same dt, ε and β): keep the hierarchy.
-    if (!levels_.empty() && same_system(system, input_)) return;
-    input_ = system;
+    if (!levels_.empty() && fine_is_input_ && same_system(system, levels_[0].system)) return;
+    zeros_.assign(static_cast<std::size_t>(system.size[0]), 0.0);
     // The levels are rebuilt in place: their arrays keep their storage from step to step.
     if (levels_.empty()) levels_.emplace_back();
     levels_[0].system = system;
-    prepare_level(levels_[0]);
+    fine_is_input_ = !prepare_level(levels_[0]);
     singular_ = !has_fixed_part(levels_[0]);
     diagonal_only_ = !singular_ && coupling_fraction(levels_[0]) <= kDiagonalDominance;
     if (diagonal_only_) {
@@ -103,7 +160,7 @@ class MultigridCgSolver final : public PressureSolver {
     while (levels_[count - 1].system.count() > kCoarsestTarget) {
       if (levels_.size() == count) levels_.emplace_back();
       if (!coarsen(levels_[count - 1], levels_[count])) break;
-      prepare_level(levels_[count]);
+      (void)prepare_level(levels_[count]);
       ++count;
     }
     levels_.resize(count);
@@ -149,16 +206,14 @@ class MultigridCgSolver final : public PressureSolver {
       double rz = dot(r, z);
       while (report.iterations < max_iterations) {
         ++report.iterations;
-        apply(fine, direction, q);
-        for_each(n, [&](std::size_t p) {
-          if (!s.active[p]) q[p] = 0.0;
-        });
-        const double alpha = rz / dot(direction, q);
-        for_each(n, [&](std::size_t p) {
+        const double alpha = rz / apply_dot(fine, direction, q);
+        // x += α d and r −= α q, with ‖r‖² summed in the same pass.
+        const double r_squared = row_sum(s, [&](std::size_t p) {
           x[p] += alpha * direction[p];
           r[p] -= alpha * q[p];
+          return r[p] * r[p];
         });
-        r_norm = std::sqrt(dot(r, r));
+        r_norm = std::sqrt(r_squared);
         if (r_norm <= tolerance * b_norm) break;
         precondition(r, z);
         const double rz_next = dot(r, z);
@@ -188,7 +243,8 @@ class MultigridCgSolver final : public PressureSolver {
     const std::size_t rows =
         static_cast<std::size_t>(s.size[1]) * static_cast<std::size_t>(s.size[2]);
     const std::size_t row_length = static_cast<std::size_t>(s.size[0]);
-    std::vector<double> partial(rows, 0.0);
+    std::vector<double>& partial = partial_;
+    partial.assign(rows, 0.0);
     const int team = threading_.team(s.count());
 #pragma omp parallel for schedule(static) num_threads(team)
     for (std::size_t row = 0; row < rows; ++row) {
@@ -219,66 +275,76 @@ class MultigridCgSolver final : public PressureSolver {
     });
   }
 
-  void prepare_level(Level& level) const {
+  // Returns whether it held an unknown the system had active (its level then differs from it).
+  bool prepare_level(Level& level) const {
     StencilSystem& s = level.system;
     const std::size_t n = s.count();
-    level.diagonal.assign(n, 0.0);
-    for (int k = 0; k < s.size[2]; ++k) {
-      for (int j = 0; j < s.size[1]; ++j) {
-        for (int i = 0; i < s.size[0]; ++i) {
-          const std::size_t p = s.index(i, j, k);
-          const std::array<int, 3> at{i, j, k};
-          double diagonal = s.mass[p] + s.boundary[0][p] + s.boundary[1][p] + s.boundary[2][p];
-          for (int a = 0; a < 3; ++a) {
-            for (int side = -1; side <= 1; side += 2) {
-              const std::ptrdiff_t q = neighbour(s, at, a, side, p);
-              if (q >= 0) diagonal += coupling(s, a, side, p, q);
-            }
-          }
-          // An unknown coupled to nothing (enclosed by held unknowns) is held as well.
-          if (diagonal <= 0.0) s.active[p] = 0;
-          level.diagonal[p] = diagonal;
-        }
-      }
-    }
-    level.link_index.assign(6 * n, 0);
-    level.link_conductance.assign(6 * n, 0.0);
-    for (int k = 0; k < s.size[2]; ++k) {
-      for (int j = 0; j < s.size[1]; ++j) {
-        for (int i = 0; i < s.size[0]; ++i) {
-          const std::size_t p = s.index(i, j, k);
-          const std::array<int, 3> at{i, j, k};
-          for (int a = 0; a < 3; ++a) {
-            for (int side = -1; side <= 1; side += 2) {
-              const std::size_t link = 6 * p + static_cast<std::size_t>(2 * a + (side + 1) / 2);
-              const std::ptrdiff_t q = neighbour(s, at, a, side, p);
-              const bool coupled = q >= 0 && s.active[p] && s.active[static_cast<std::size_t>(q)];
-              level.link_index[link] =
-                  static_cast<std::uint32_t>(coupled ? static_cast<std::size_t>(q) : p);
-              level.link_conductance[link] = coupled ? coupling(s, a, side, p, q) : 0.0;
-            }
-          }
-        }
-      }
-    }
+    level.diagonal.resize(n);
+    for (auto& links : level.link) links.resize(n);
     level.solution.assign(n, 0.0);
     level.rhs.assign(n, 0.0);
-    level.residual.assign(n, 0.0);
+    const int rows = s.size[1] * s.size[2];
+    const int team = threading_.team(n);
+    // Diagonal: mass, boundary terms and every coupling to an existing neighbour (held or
+    // not), in the order x−, x+, y−, y+, z−, z+. An unknown coupled to nothing (enclosed by
+    // held unknowns) is held as well.
+    bool held = false;
+#pragma omp parallel for schedule(static) num_threads(team) reduction(|| : held)
+    for (int row = 0; row < rows; ++row) {
+      const int j = row % s.size[1], k = row / s.size[1];
+      for (int i = 0; i < s.size[0]; ++i) {
+        const std::size_t p = s.index(i, j, k);
+        const std::array<int, 3> at{i, j, k};
+        double diagonal = s.mass[p] + s.boundary[0][p] + s.boundary[1][p] + s.boundary[2][p];
+        for (int a = 0; a < 3; ++a) {
+          for (int side = -1; side <= 1; side += 2) {
+            const std::ptrdiff_t q = neighbour(s, at, a, side, p);
+            if (q >= 0) diagonal += coupling(s, a, side, p, q);
+          }
+        }
+        if (diagonal <= 0.0 && s.active[p]) {
+          s.active[p] = 0;
+          held = true;
+        }
+        level.diagonal[p] = diagonal;
+      }
+    }
+    // Links once every unknown's state is known.
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int row = 0; row < rows; ++row) {
+      const int j = row % s.size[1], k = row / s.size[1];
+      for (int i = 0; i < s.size[0]; ++i) {
+        const std::size_t p = s.index(i, j, k);
+        const std::array<int, 3> at{i, j, k};
+        for (int a = 0; a < 3; ++a) {
+          const std::ptrdiff_t q = neighbour(s, at, a, -1, p);
+          const bool coupled = q >= 0 && s.active[p] && s.active[static_cast<std::size_t>(q)];
+          level.link[a][p] = coupled ? s.conductance[a][p] : 0.0;
+        }
+      }
+    }
     level.colours_independent = true;
     for (int a = 0; a < 3; ++a) {
       if (s.periodic[a] && s.size[a] % 2 == 1 && s.size[a] > 1) level.colours_independent = false;
     }
+    return held;
   }
 
   // Largest Σ_N g_PN / diagonal(P) over the active rows (couplings to active neighbours).
-  static double coupling_fraction(const Level& level) {
+  double coupling_fraction(const Level& level) {
     const StencilSystem& s = level.system;
+    std::vector<double>& ones = work_[0];
+    ones.assign(s.count(), 1.0);
     double largest = 0.0;
-    for (std::size_t p = 0; p < s.count(); ++p) {
-      if (!s.active[p]) continue;
-      double sum = 0.0;
-      for (std::size_t l = 6 * p; l < 6 * p + 6; ++l) sum += level.link_conductance[l];
-      largest = std::max(largest, sum / level.diagonal[p]);
+    for (int k = 0; k < s.size[2]; ++k) {
+      for (int j = 0; j < s.size[1]; ++j) {
+        const RowStencil r = row_stencil(level, j, k, zeros_.data());
+        for (int i = 0; i < s.size[0]; ++i) {
+          const std::size_t p = r.start + static_cast<std::size_t>(i);
+          if (s.active[p])
+            largest = std::max(largest, neighbour_sum(r, ones.data(), i) / level.diagonal[p]);
+        }
+      }
     }
     return largest;
   }
@@ -424,15 +490,37 @@ class MultigridCgSolver final : public PressureSolver {
     const int team = threading_.team(s.count());
 #pragma omp parallel for schedule(static) num_threads(team)
     for (int row = 0; row < rows; ++row) {
-      const int j = row % ny, k = row / ny;
+      const RowStencil r = row_stencil(level, row % ny, row / ny, zeros_.data());
       for (int i = 0; i < nx; ++i) {
-        const std::size_t p = s.index(i, j, k);
-        y[p] = s.active[p]
-                   ? level.diagonal[p] * x[p] - linked_sum(&level.link_index[6 * p],
-                                                           &level.link_conductance[6 * p], x.data())
-                   : x[p];
+        const std::size_t p = r.start + static_cast<std::size_t>(i);
+        y[p] = s.active[p] ? level.diagonal[p] * x[p] - neighbour_sum(r, x.data(), i) : x[p];
       }
     }
+  }
+
+  // y = A x on the active unknowns (0 on the held ones); returns Σ x·y summed per row and the
+  // rows in order (as row_sum).
+  double apply_dot(const Level& level, const std::vector<double>& x, std::vector<double>& y) const {
+    const StencilSystem& s = level.system;
+    const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
+    const int rows = ny * nz;
+    std::vector<double>& partial = partial_;
+    partial.assign(static_cast<std::size_t>(rows), 0.0);
+    const int team = threading_.team(s.count());
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int row = 0; row < rows; ++row) {
+      const RowStencil r = row_stencil(level, row % ny, row / ny, zeros_.data());
+      double sum = 0.0;
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t p = r.start + static_cast<std::size_t>(i);
+        y[p] = s.active[p] ? level.diagonal[p] * x[p] - neighbour_sum(r, x.data(), i) : 0.0;
+        sum += x[p] * y[p];
+      }
+      partial[static_cast<std::size_t>(row)] = sum;
+    }
+    double total = 0.0;
+    for (double value : partial) total += value;
+    return total;
   }
 
   // One Gauss-Seidel half sweep over the unknowns of colour (i + j + k) mod 2.
@@ -441,16 +529,15 @@ class MultigridCgSolver final : public PressureSolver {
     const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
     const int rows = ny * nz;
     const int team = level.colours_independent ? threading_.team(s.count()) : 1;
-    std::vector<double>& x = level.solution;
+    double* x = level.solution.data();
 #pragma omp parallel for schedule(static) num_threads(team)
     for (int row = 0; row < rows; ++row) {
       const int j = row % ny, k = row / ny;
+      const RowStencil r = row_stencil(level, j, k, zeros_.data());
       for (int i = (j + k + colour) % 2; i < nx; i += 2) {
-        const std::size_t p = s.index(i, j, k);
+        const std::size_t p = r.start + static_cast<std::size_t>(i);
         if (!s.active[p]) continue;
-        x[p] = (level.rhs[p] +
-                linked_sum(&level.link_index[6 * p], &level.link_conductance[6 * p], x.data())) /
-               level.diagonal[p];
+        x[p] = (level.rhs[p] + neighbour_sum(r, x, i)) / level.diagonal[p];
       }
     }
   }
@@ -499,23 +586,11 @@ class MultigridCgSolver final : public PressureSolver {
       smooth_colour(level, 0);
       smooth_colour(level, 1);
     }
-    apply(level, level.solution, level.residual);
-    const StencilSystem& s = level.system;
-    Level& coarse = levels_[l + 1];
-    const StencilSystem& cs = coarse.system;
-    std::fill(coarse.rhs.begin(), coarse.rhs.end(), 0.0);
-    for (int k = 0; k < s.size[2]; ++k) {
-      for (int j = 0; j < s.size[1]; ++j) {
-        for (int i = 0; i < s.size[0]; ++i) {
-          const std::size_t p = s.index(i, j, k);
-          if (!s.active[p]) continue;
-          const std::size_t c =
-              cs.index(i / level.ratio[0], j / level.ratio[1], k / level.ratio[2]);
-          coarse.rhs[c] += level.rhs[p] - level.residual[p];
-        }
-      }
-    }
+    restrict_residual(level, levels_[l + 1]);
     v_cycle(l + 1);
+    const StencilSystem& s = level.system;
+    const Level& coarse = levels_[l + 1];
+    const StencilSystem& cs = coarse.system;
     const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
     const int rows = ny * nz;
     const int team = threading_.team(s.count());
@@ -535,20 +610,46 @@ class MultigridCgSolver final : public PressureSolver {
     }
   }
 
-  void precondition(const std::vector<double>& r, std::vector<double>& z) {
+  // The coarse right-hand side: the fine residual b − A x summed over each aggregate, the
+  // aggregate's fine unknowns in grid order (k, j, i) — the order the serial sum had.
+  void restrict_residual(const Level& level, Level& coarse) const {
+    const StencilSystem& s = level.system;
+    const StencilSystem& cs = coarse.system;
+    const std::array<int, 3>& ratio = level.ratio;
+    const int coarse_rows = cs.size[1] * cs.size[2];
+    const double* x = level.solution.data();
+    const int team = threading_.team(s.count());
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int coarse_row = 0; coarse_row < coarse_rows; ++coarse_row) {
+      const int cj = coarse_row % cs.size[1], ck = coarse_row / cs.size[1];
+      for (int ci = 0; ci < cs.size[0]; ++ci) coarse.rhs[cs.index(ci, cj, ck)] = 0.0;
+      for (int k = ck * ratio[2]; k < std::min((ck + 1) * ratio[2], s.size[2]); ++k) {
+        for (int j = cj * ratio[1]; j < std::min((cj + 1) * ratio[1], s.size[1]); ++j) {
+          const RowStencil r = row_stencil(level, j, k, zeros_.data());
+          for (int i = 0; i < s.size[0]; ++i) {
+            const std::size_t p = r.start + static_cast<std::size_t>(i);
+            if (!s.active[p]) continue;
+            const double a_x = level.diagonal[p] * x[p] - neighbour_sum(r, x, i);
+            coarse.rhs[cs.index(i / ratio[0], cj, ck)] += level.rhs[p] - a_x;
+          }
+        }
+      }
+    }
+  }
+
+  void precondition(std::vector<double>& r, std::vector<double>& z) {
     Level& fine = levels_[0];
     if (diagonal_only_) {
       const StencilSystem& s = fine.system;
       for_each(s.count(), [&](std::size_t p) { z[p] = s.active[p] ? r[p] / fine.diagonal[p] : 0.0; });
       return;
     }
-    fine.rhs = r;
+    // The fine level works on r and leaves z in its solution: swapped in and out, not copied.
+    // Held unknowns keep the 0 the cycle starts from (no sweep or correction touches them).
+    std::swap(fine.rhs, r);
     v_cycle(0);
-    z = fine.solution;
-    const StencilSystem& s = fine.system;
-    for_each(s.count(), [&](std::size_t p) {
-      if (!s.active[p]) z[p] = 0.0;
-    });
+    std::swap(fine.rhs, r);
+    std::swap(fine.solution, z);
     if (singular_) subtract_on_active(z, active_mean(z));
   }
 
@@ -558,10 +659,14 @@ class MultigridCgSolver final : public PressureSolver {
   }
 
   Threading threading_;
-  StencilSystem input_;  // the operator as last given to set_system
+  // Whether levels_[0].system is the operator as last given to set_system (prepare_level held
+  // none of its unknowns): then an equal operator keeps the hierarchy.
+  bool fine_is_input_ = false;
   std::vector<Level> levels_;
   bool singular_ = false;
   std::array<std::vector<double>, 6> work_;  // solve(): b, x, r, z, direction, q
+  std::vector<double> zeros_;                // a row of zero links (missing neighbour rows)
+  mutable std::vector<double> partial_;      // per-row partial sums of a reduction
   bool diagonal_only_ = false;  // Jacobi preconditioning (kDiagonalDominance), no hierarchy
 };
 
