@@ -105,6 +105,8 @@ void FluidSolver::step(double dt) {
   }
   // Inputs of this step: β, f and the blocked mask into the padded fields, with ghosts.
   bool blocked_changed = false;
+  const int team = options_.threading.team(grid_.cell_count());
+#pragma omp parallel for schedule(static) num_threads(team) reduction(|| : blocked_changed)
   for (int k = 0; k < grid_.cells[2]; ++k) {
     for (int j = 0; j < grid_.cells[1]; ++j) {
       for (int i = 0; i < grid_.cells[0]; ++i) {
@@ -306,13 +308,15 @@ void FluidSolver::predict_momentum(double dt) {
     }
     if (is_periodic(boundaries_, a)) {
       // The face at the high boundary is the first face again: continuity reads both.
-      for (int k = kGhost; k < grid_.cells[2] + kGhost; ++k) {
-        for (int j = kGhost; j < grid_.cells[1] + kGhost; ++j) {
-          for (int i = kGhost; i < grid_.cells[0] + kGhost; ++i) {
-            std::array<int, 3> at{i, j, k};
-            if (at[a] != kGhost) continue;
-            at[a] = grid_.cells[a] + kGhost;
-            star[padded(at[0], at[1], at[2])] = star[padded(i, j, k)];
+      const std::ptrdiff_t period = grid_.cells[a] * stride_[a];
+      std::array<int, 3> high{grid_.cells[0] + kGhost, grid_.cells[1] + kGhost,
+                              grid_.cells[2] + kGhost};
+      high[a] = kGhost + 1;  // the plane of first faces only
+      for (int k = kGhost; k < high[2]; ++k) {
+        for (int j = kGhost; j < high[1]; ++j) {
+          for (int i = kGhost; i < high[0]; ++i) {
+            const std::size_t face = padded(i, j, k);
+            star[face + static_cast<std::size_t>(period)] = star[face];
           }
         }
       }
@@ -398,6 +402,7 @@ void FluidSolver::solve_pressure_correction(double dt) {
   report_.pressure = pressure_solver_->solve(rhs_, unknowns_, options_.pressure_tolerance,
                                              options_.max_iterations);
   std::fill(correction_.begin(), correction_.end(), 0.0);
+#pragma omp parallel for schedule(static) num_threads(team)
   for (int k = 0; k < n[2]; ++k) {
     for (int j = 0; j < n[1]; ++j) {
       for (int i = 0; i < n[0]; ++i) {
@@ -437,6 +442,8 @@ void FluidSolver::correct_velocity(double dt) {
       }
     }
   }
+  const int team = options_.threading.team(grid_.cell_count());
+#pragma omp parallel for schedule(static) num_threads(team)
   for (int k = kGhost; k < grid_.cells[2] + kGhost; ++k) {
     for (int j = kGhost; j < grid_.cells[1] + kGhost; ++j) {
       for (int i = kGhost; i < grid_.cells[0] + kGhost; ++i)
@@ -486,7 +493,9 @@ void FluidSolver::check_step_health(double dt) const {
 
 void FluidSolver::measure_divergence(double dt) {
   const std::array<int, 3>& n = grid_.cells;
-  double largest = 0.0;
+  double largest = 0.0;  // a maximum: the same for any team
+  const int team = options_.threading.team(grid_.cell_count());
+#pragma omp parallel for schedule(static) num_threads(team) reduction(max : largest)
   for (int k = 0; k < n[2]; ++k) {
     for (int j = 0; j < n[1]; ++j) {
       for (int i = 0; i < n[0]; ++i) {
