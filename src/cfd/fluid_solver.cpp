@@ -144,6 +144,12 @@ void FluidSolver::step(double dt) {
   void_fraction_started_ = true;
 }
 
+void FluidSolver::set_threading(const Threading& threading) {
+  options_.threading = threading;
+  pressure_solver_->set_threading(threading);
+  for (auto& solver : momentum_solver_) solver->set_threading(threading);
+}
+
 // Unknown faces of component `axis` along its own axis (padded indices, inclusive): the
 // boundary faces of walls and inlets are known; an outlet's is an unknown; a periodic axis
 // has n faces (the one at the high boundary repeats the first).

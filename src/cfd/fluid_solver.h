@@ -78,6 +78,9 @@ class FluidSolver {
   // Throws std::runtime_error (the state is then that of the failed step) when a linear solve
   // does not converge or the velocity is no longer finite, with the values and a hint.
   void step(double dt);
+  // The team of the next steps' loops and linear solves (the run loop's thread governor
+  // changes it between steps on a busy machine). Results do not depend on it.
+  void set_threading(const Threading& threading);
 
   // --- inputs, per cell (flat, FluidGrid::cell_index order) ---
   // ε at the end of the next step, in (0, 1]. The first call before any step sets the old

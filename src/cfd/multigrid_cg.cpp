@@ -142,6 +142,8 @@ class MultigridCgSolver final : public PressureSolver {
 
   std::string_view name() const override { return "multigrid-cg"; }
 
+  void set_threading(const Threading& threading) override { threading_ = threading; }
+
   void set_system(const StencilSystem& system) override {
     // A fluid step often repeats the previous operator (same dt, ε and β): keep the hierarchy.
     if (!levels_.empty() && fine_is_input_ && same_system(system, levels_[0].system)) return;

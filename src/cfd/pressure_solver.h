@@ -28,6 +28,8 @@ class PressureSolver {
   // Takes the operator; call again whenever a coefficient changes. Cost O(unknowns) (the
   // multigrid backend keeps its hierarchy when the operator equals the previous one).
   virtual void set_system(const StencilSystem& system) = 0;
+  // The team of the following calls (results do not depend on it).
+  virtual void set_threading(const Threading& threading) = 0;
   // Solves A x = b to ‖b − A x‖₂ ≤ relative_tolerance ‖b‖₂, starting from x as given. b and x
   // have system.count() entries; inactive entries of x are set to b. For a singular system the
   // mean of b over active unknowns is removed first and x is returned with zero mean.

@@ -340,6 +340,7 @@ void FluidCoupling::exchange(World& world) {
   }
   lap(kDragStage);
   coupling_step_ = options_.coupling_steps * world.dt;
+  fluid_->set_threading(world.threading);  // the world's team now (the governor may change it)
   fluid_->step(coupling_step_);
   lap(kFluidStage);
   update_cell_fields();
