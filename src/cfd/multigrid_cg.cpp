@@ -337,15 +337,16 @@ class MultigridCgSolver final : public PressureSolver {
     const StencilSystem& s = level.system;
     std::vector<double>& ones = work_[0];
     ones.assign(s.count(), 1.0);
-    double largest = 0.0;
-    for (int k = 0; k < s.size[2]; ++k) {
-      for (int j = 0; j < s.size[1]; ++j) {
-        const RowStencil r = row_stencil(level, j, k, zeros_.data());
-        for (int i = 0; i < s.size[0]; ++i) {
-          const std::size_t p = r.start + static_cast<std::size_t>(i);
-          if (s.active[p])
-            largest = std::max(largest, neighbour_sum(r, ones.data(), i) / level.diagonal[p]);
-        }
+    double largest = 0.0;  // a maximum: the same for any team
+    const int rows = s.size[1] * s.size[2];
+#pragma omp parallel for schedule(static) num_threads(threading_.team(s.count())) \
+    reduction(max : largest)
+    for (int row = 0; row < rows; ++row) {
+      const RowStencil r = row_stencil(level, row % s.size[1], row / s.size[1], zeros_.data());
+      for (int i = 0; i < s.size[0]; ++i) {
+        const std::size_t p = r.start + static_cast<std::size_t>(i);
+        if (s.active[p])
+          largest = std::max(largest, neighbour_sum(r, ones.data(), i) / level.diagonal[p]);
       }
     }
     return largest;
@@ -381,7 +382,7 @@ class MultigridCgSolver final : public PressureSolver {
   }
 
   // Aggregates 2 cells per axis where the axis allows (≥ 2 unknowns, even when periodic).
-  static bool coarsen(Level& fine_level, Level& coarse_level) {
+  bool coarsen(Level& fine_level, Level& coarse_level) const {
     const StencilSystem& fine = fine_level.system;
     std::array<int, 3> ratio{1, 1, 1};
     std::array<int, 3> size = fine.size;
@@ -393,8 +394,7 @@ class MultigridCgSolver final : public PressureSolver {
     for (int a = 0; a < 3; ++a) {
       const int n = fine.size[a];
       if (n < 2 || (fine.periodic[a] && n % 2 != 0)) continue;
-      double sum = 0.0;
-      for (double g : fine.conductance[a]) sum += g;
+      const double sum = row_sum(fine, [&](std::size_t p) { return fine.conductance[a][p]; });
       strength[a] = sum / static_cast<double>(fine.count()) + std::numeric_limits<double>::min();
       strongest = std::max(strongest, strength[a]);
     }
@@ -407,20 +407,28 @@ class MultigridCgSolver final : public PressureSolver {
     }
     StencilSystem& coarse = coarse_level.system;
     coarse.reset(size, fine.periodic);
-    std::fill(coarse.active.begin(), coarse.active.end(), std::uint8_t{0});
-    for (int k = 0; k < fine.size[2]; ++k) {
-      for (int j = 0; j < fine.size[1]; ++j) {
-        for (int i = 0; i < fine.size[0]; ++i) {
-          const std::size_t p = fine.index(i, j, k);
-          const std::array<int, 3> at{i, j, k};
-          const std::size_t c = coarse.index(i / ratio[0], j / ratio[1], k / ratio[2]);
-          coarse.mass[c] += fine.mass[p];
-          if (fine.active[p]) coarse.active[c] = 1;
-          for (int a = 0; a < 3; ++a) {
-            // A conductance through A_c/h_c = (Σ A_f)/(r h_f): the sum of the fine ones over r.
-            const double scale = 1.0 / ratio[a];
-            coarse.boundary[a][c] += scale * fine.boundary[a][p];
-            if (at[a] % ratio[a] == 0) coarse.conductance[a][c] += scale * fine.conductance[a][p];
+    // Each coarse row sums its aggregates' fine cells in grid order (k, j, i): the same bits
+    // for any team.
+    const int coarse_rows = size[1] * size[2];
+    const int team = threading_.team(fine.count());
+#pragma omp parallel for schedule(static) num_threads(team)
+    for (int coarse_row = 0; coarse_row < coarse_rows; ++coarse_row) {
+      const int cj = coarse_row % size[1], ck = coarse_row / size[1];
+      for (int ci = 0; ci < size[0]; ++ci) coarse.active[coarse.index(ci, cj, ck)] = 0;
+      for (int k = ck * ratio[2]; k < std::min((ck + 1) * ratio[2], fine.size[2]); ++k) {
+        for (int j = cj * ratio[1]; j < std::min((cj + 1) * ratio[1], fine.size[1]); ++j) {
+          for (int i = 0; i < fine.size[0]; ++i) {
+            const std::size_t p = fine.index(i, j, k);
+            const std::array<int, 3> at{i, j, k};
+            const std::size_t c = coarse.index(i / ratio[0], cj, ck);
+            coarse.mass[c] += fine.mass[p];
+            if (fine.active[p]) coarse.active[c] = 1;
+            for (int a = 0; a < 3; ++a) {
+              // A conductance through A_c/h_c = (Σ A_f)/(r h_f): the sum of the fine ones over r.
+              const double scale = 1.0 / ratio[a];
+              coarse.boundary[a][c] += scale * fine.boundary[a][p];
+              if (at[a] % ratio[a] == 0) coarse.conductance[a][c] += scale * fine.conductance[a][p];
+            }
           }
         }
       }
