@@ -31,9 +31,13 @@ extern "C" {
 
 /* ---- versioning ---------------------------------------------------------------------------
  * Major: incompatible changes (a caller built for another major is refused at quarry_open).
- * Minor: additions only (new calls, new trailing struct fields, new enum values). */
+ * Minor: additions only (new calls, new trailing struct fields, new enum values). A struct_size
+ * of any earlier minor's struct is accepted (its later fields take their defaults); a field a
+ * minor added is honoured by libraries of that minor or later only, so a caller that needs one
+ * checks quarry_abi_version() first.
+ * 1.1: quarry_settings.periodic. */
 #define QUARRY_ABI_MAJOR 1
-#define QUARRY_ABI_MINOR 0
+#define QUARRY_ABI_MINOR 1
 #define QUARRY_ABI_VERSION ((uint32_t)((QUARRY_ABI_MAJOR << 16) | QUARRY_ABI_MINOR))
 
 /* The library's ABI version, (major << 16) | minor. */
@@ -121,7 +125,8 @@ typedef struct quarry_settings {
   double time_step;             /* s; 0: rayleigh_fraction × the Rayleigh time step */
   double rayleigh_fraction;     /* (0, 1], default 0.2 */
   double gravity[3];            /* m/s², default (0, 0, −9.81) */
-  double domain_min[3];         /* m: particles leaving [min, max] are removed (required) */
+  double domain_min[3];         /* m: particles leaving [min, max] are removed, except through
+                                   periodic faces (required) */
   double domain_max[3];
   double end_time;              /* s, for the outputs' schedule (default 1) */
   double impact_speed;          /* m/s for the Hertz contact-time check; 0: 1 m/s */
@@ -130,9 +135,20 @@ typedef struct quarry_settings {
   int32_t sort_interval;        /* steps between spatial re-sorts (default 1000; 0: never) */
   double max_overlap_fraction;  /* overlap guard, fraction of the smaller radius (default 0.1) */
   uint64_t seed;                /* random seed (default 12345) */
+  /* ---- ABI 1.1 (a caller's struct of 1.0 ends above: these take their defaults) ---- */
+  int32_t periodic[3];          /* 1: the domain repeats along x, y, z (period = max − min there;
+                                   a particle leaving re-enters at the other side, contacts act
+                                   through the faces, as a deck's `periodic: [x, y]`); 0: not
+                                   (default) */
 } quarry_settings;
-/* A quarry_settings holding every default (domain empty: set it). */
+/* A quarry_settings holding every default (domain empty: set it). Returned by value, so the
+ * struct's size is the caller's: libquarry.so keeps this symbol's ABI 1.0 form (the 1.0 struct)
+ * for binaries linked before 1.1, which bind to it (ELF symbol versions QUARRY_1.0 / QUARRY_1.1). */
 QUARRY_API quarry_settings quarry_default_settings(void);
+/* Errors: BAD_VALUE for an integrator or a periodic entry out of range, a periodic axis along
+ * which the domain has no extent (min ≥ max), or a period shorter than the neighbour search
+ * needs for the particle types added so far (3 × (2 R_max + skin), docs/deck.md); nothing is
+ * changed then. quarry_add_particle_type and quarry_start check the period again. */
 QUARRY_API quarry_status quarry_set_settings(quarry_sim sim, const quarry_settings* settings);
 
 typedef struct quarry_material {
@@ -169,6 +185,8 @@ typedef struct quarry_particle_type {
   double radius;                /* m: every particle of the type (when max_radius is 0) */
   double max_radius;            /* m: > 0 for radii uniform in [radius, max_radius] */
 } quarry_particle_type;
+/* With periodic axes set: BAD_VALUE (and no type added) if the type's largest radius makes a
+ * period shorter than the neighbour search needs (see quarry_set_settings). */
 QUARRY_API quarry_status quarry_add_particle_type(quarry_sim sim, const quarry_particle_type* type, uint32_t* index);
 
 /* Builds the simulation from what was added and brings it to t = 0 (forces computed). After it,

@@ -14,7 +14,7 @@ import os
 # The ABI this module was written for (quarry.h's QUARRY_ABI_MAJOR / QUARRY_ABI_MINOR). A library
 # of another major is refused at import; a newer minor only adds calls and trailing fields.
 ABI_MAJOR = 1
-ABI_MINOR = 0
+ABI_MINOR = 1
 ABI_VERSION = (ABI_MAJOR << 16) | ABI_MINOR
 
 
@@ -149,6 +149,7 @@ class quarry_settings(ctypes.Structure):
         ("sort_interval", ctypes.c_int32),
         ("max_overlap_fraction", ctypes.c_double),
         ("seed", ctypes.c_uint64),
+        ("periodic", ctypes.c_int32 * 3),  # ABI 1.1
     ]
 
 

@@ -44,7 +44,16 @@ def status_name(status):
 
 def default_settings():
     """Every setting's default as a dict (quarry_default_settings; the domain is empty)."""
-    return _settings_dict(_lib.quarry_default_settings())
+    return _settings_dict(_default_settings())
+
+
+def _default_settings():
+    """quarry_default_settings as this module's struct: a library older than ABI 1.1 fills only
+    the fields of its own, shorter struct; the later ones get their defaults here."""
+    settings = _lib.quarry_default_settings()
+    if abi_version() < (1, 1):
+        settings.periodic[:] = [0, 0, 0]
+    return settings
 
 
 # ---- helpers --------------------------------------------------------------------------------
@@ -137,6 +146,7 @@ def _pointer(array, c_type=ctypes.c_double):
 
 _SETTINGS_VECTORS = ("gravity", "domain_min", "domain_max")
 _SETTINGS_NAMES = [name for name, _ in _abi.quarry_settings._fields_ if name != "struct_size"]
+_AXES = ("x", "y", "z")
 
 
 def _settings_dict(settings):
@@ -145,7 +155,44 @@ def _settings_dict(settings):
         value = getattr(settings, name)
         out[name] = tuple(value) if name in _SETTINGS_VECTORS else value
     out["integrator"] = Integrator(out["integrator"])
+    out["periodic"] = tuple(axis for axis, flag in zip(_AXES, settings.periodic) if flag)
     return out
+
+
+def _periodic_flags(value):
+    """quarry_settings.periodic (1 per periodic axis) from axis names as a deck lists them
+    (("x", "y"), or "xy"), or from three flags ((True, True, False)); None or () for none."""
+    what = "set_settings: periodic"
+    try:
+        items = [] if value is None else list(value)
+    except TypeError:  # a single number or flag: not a list of axes
+        items = [None]
+    if all(isinstance(item, str) for item in items):
+        flags = [0, 0, 0]
+        for name in items:
+            axis = name.lower()
+            if axis not in _AXES:
+                raise python_error(
+                    Status.ERROR_BAD_VALUE,
+                    '%s: "%s" is not an axis%s' % (what, name, _hint(axis, list(_AXES))),
+                )
+            if flags[_AXES.index(axis)]:
+                raise python_error(
+                    Status.ERROR_BAD_VALUE,
+                    '%s: axis "%s" is named twice; name each periodic axis once, e.g. ("x", "y")'
+                    % (what, axis),
+                )
+            flags[_AXES.index(axis)] = 1
+        return flags
+    if len(items) == 3 and all(
+        isinstance(item, (bool, int, np.integer, np.bool_)) and item in (0, 1) for item in items
+    ):
+        return [int(item) for item in items]
+    raise python_error(
+        Status.ERROR_BAD_VALUE,
+        '%s: %r is neither axis names (("x", "y") or "xy") nor three flags for x, y, z '
+        "((True, True, False))" % (what, value),
+    )
 
 
 # Fields of quarry_particle_data: (numpy dtype, components, ctypes element type).
@@ -183,7 +230,7 @@ class Simulation:
         self._restores = 0  # restore_state calls: every view's particles are other ones after one
         self._hooks = {}  # stage -> the ctypes callback (kept alive while the engine holds it)
         self._hook_exception = None
-        self._settings = _lib.quarry_default_settings()
+        self._settings = _default_settings()
         self._finalizer = weakref.finalize(self, _lib.quarry_close, _abi.quarry_sim(handle.id))
 
     # ---- opening and closing ----
@@ -306,8 +353,10 @@ class Simulation:
         Rayleigh time step), rayleigh_fraction, gravity (m/s², 3), domain_min, domain_max (m, 3;
         or domain=(min, max)), end_time (s), impact_speed (m/s; 0: 1 m/s), skin (m; < 0: 0.1 ×
         the smallest diameter), integrator ("velocity_verlet" or "symplectic_euler"),
-        sort_interval (steps; 0: never), max_overlap_fraction, seed. Keys not given keep their
-        earlier value (at first the defaults, quarry.default_settings())."""
+        sort_interval (steps; 0: never), max_overlap_fraction, seed, periodic (the axes along
+        which the domain repeats, as a deck's `periodic: [x, y]`: ("x", "y"), "xy" or
+        (True, True, False); () for none, the default). Keys not given keep their earlier value
+        (at first the defaults, quarry.default_settings())."""
         values = _abi.quarry_settings.from_buffer_copy(self._settings)
         if domain is not None:
             settings.setdefault("domain_min", domain[0])
@@ -326,6 +375,16 @@ class Simulation:
                 getattr(values, key)[:] = vector.tolist()
             elif key == "integrator":
                 values.integrator = _enum(Integrator, value, "set_settings: integrator")
+            elif key == "periodic":
+                flags = _periodic_flags(value)
+                if any(flags) and abi_version() < (1, 1):
+                    # An older library would read a 1.0 struct and drop the axes without a word.
+                    raise python_error(
+                        Status.ERROR_UNSUPPORTED,
+                        "set_settings: periodic axes need libquarry of ABI 1.1 or later, %s is "
+                        "%d.%d" % ((library_path,) + abi_version()),
+                    )
+                values.periodic[:] = flags
             else:
                 setattr(values, key, value)
         values.struct_size = ctypes.sizeof(values)

@@ -13,6 +13,7 @@
 #include "api/backend.h"
 #include "api/local_backend.h"
 #include "api/remote.h"
+#include "api/struct_versions.h"
 
 namespace quarry::api {
 namespace {
@@ -107,14 +108,18 @@ quarry_status call(quarry_sim sim, const char* name, F&& f) {
     if (!(pointer)) throw ApiError(QUARRY_ERROR_NULL_POINTER, #pointer " is NULL");                      \
   } while (0)
 
-// An input struct whose struct_size must cover this version's fields.
+// A struct whose struct_size covers at least the fields the struct had when it was first
+// published (ABI 1.0): a caller built against an older quarry.h is served. A struct that has
+// grown since is read through its own reader, bounded by the caller's size (struct_versions.h).
 template <class T>
 void require_struct(const T* s, const char* function, const char* what) {
   if (!s) throw ApiError(QUARRY_ERROR_NULL_POINTER, fmt::format("{}: {} is NULL", function, what));
-  if (s->struct_size < sizeof(T))
+  if (s->struct_size < kFirstPublishedSize<T>)
     throw ApiError(QUARRY_ERROR_BAD_VALUE,
-                   fmt::format("{}: {}->struct_size is {}, this library's {} is {} bytes (set struct_size = sizeof)",
-                               function, what, s->struct_size, what, sizeof(T)));
+                   fmt::format("{}: {}->struct_size is {}, less than any version of the struct ({} bytes in ABI 1.0, "
+                               "{} in this library's {}.{}); set struct_size = sizeof the struct",
+                               function, what, s->struct_size, kFirstPublishedSize<T>, sizeof(T), QUARRY_ABI_MAJOR,
+                               QUARRY_ABI_MINOR));
 }
 
 // Copies `text` into a caller's buffer of `size` bytes, NUL-terminated and truncated.
@@ -226,24 +231,27 @@ QUARRY_API quarry_status quarry_close(quarry_sim sim) {
   return status;  // the backend (and its simulation) is freed here, outside the lock
 }
 
-QUARRY_API quarry_settings quarry_default_settings(void) {
-  quarry_settings s{};
-  s.struct_size = sizeof s;
-  s.rayleigh_fraction = 0.2;
-  s.gravity[2] = -9.81;
-  s.end_time = 1.0;
-  s.skin = -1.0;
-  s.integrator = QUARRY_INTEGRATOR_VELOCITY_VERLET;
-  s.sort_interval = 1000;
-  s.max_overlap_fraction = 0.1;
-  s.seed = 12345;
-  return s;
+// quarry_default_settings returns its struct by value, into room the CALLER sized: a binary built
+// against ABI 1.0 has 144 bytes there, and 1.1's 160 would overrun it. So the symbol has two
+// versions (libquarry.map): @@QUARRY_1.1, the default that callers link to now and dlsym finds,
+// and @QUARRY_1.0, 1.0's struct, which binaries linked before 1.1 (unversioned references) bind
+// to. The names here are local; only the versioned quarry_default_settings is exported.
+QUARRY_API quarry_settings default_settings_abi_1_1(void) { return default_settings(); }
+__asm__(".symver default_settings_abi_1_1, quarry_default_settings@@QUARRY_1.1");
+
+QUARRY_API abi_1_0::quarry_settings default_settings_abi_1_0(void) {
+  const quarry_settings current = default_settings();
+  abi_1_0::quarry_settings old;
+  std::memcpy(&old, &current, sizeof old);  // 1.1 only appended: the same bytes up to seed
+  old.struct_size = sizeof old;
+  return old;
 }
+__asm__(".symver default_settings_abi_1_0, quarry_default_settings@QUARRY_1.0");
 
 QUARRY_API quarry_status quarry_set_settings(quarry_sim sim, const quarry_settings* settings) {
   return call(sim, __func__, [&](Backend& b) {
     require_struct(settings, "quarry_set_settings", "settings");
-    b.set_settings(*settings);
+    b.set_settings(read_settings(settings));  // a 1.0 caller's struct ends before periodic
   });
 }
 

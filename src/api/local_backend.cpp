@@ -61,6 +61,18 @@ void refuse_built_in_structures(const SimulationSpec& spec, const std::string& f
                      file));
 }
 
+// The periodic axes of `settings` against the types (docs/deck.md's checks, io/deck.h): BAD_VALUE
+// naming the call, each problem with its hint.
+void check_periodic(const char* call, const SimulationSettings& settings, const std::vector<ParticleTypeSpec>& types) {
+  Diagnostics problems;
+  check_periodic_domain(settings, types, problems);
+  if (!problems.has_errors()) return;
+  std::string text;
+  for (const Diagnostic& d : problems.all())
+    text += fmt::format("{}{} (hint: {})", text.empty() ? "" : "; ", d.message, d.hint);
+  fail(QUARRY_ERROR_BAD_VALUE, fmt::format("{}: {}", call, text));
+}
+
 }  // namespace
 
 LocalBackend::LocalBackend(const quarry_open_info& info) {
@@ -131,7 +143,8 @@ World& LocalBackend::world() {
 
 void LocalBackend::set_settings(const quarry_settings& s) {
   require_not_started("quarry_set_settings");
-  SimulationSettings& out = spec_.simulation;
+  // Built aside and kept only once every check passed: a refused call changes nothing.
+  SimulationSettings out = spec_.simulation;
   if (s.time_step > 0.0) out.fixed_time_step = at(s.time_step);
   else out.fixed_time_step.reset();
   out.rayleigh_fraction = at(s.rayleigh_fraction);
@@ -152,6 +165,17 @@ void LocalBackend::set_settings(const quarry_settings& s) {
   out.max_overlap_fraction = at(s.max_overlap_fraction);
   out.seed = s.seed;
   out.threads = at(static_cast<int>(threads_));
+  std::array<bool, 3> periodic{};
+  for (int a = 0; a < 3; ++a) {
+    if (s.periodic[a] != 0 && s.periodic[a] != 1)
+      fail(QUARRY_ERROR_BAD_VALUE, fmt::format("quarry_set_settings: periodic[{}] (axis {}) is {}; give 1 for a periodic "
+                                               "axis, 0 for one that is not",
+                                               a, "xyz"[a], s.periodic[a]));
+    periodic[a] = s.periodic[a] == 1;
+  }
+  out.periodic = at(periodic);
+  check_periodic("quarry_set_settings", out, spec_.particle_types);
+  spec_.simulation = out;
 }
 
 std::uint32_t LocalBackend::add_material(const quarry_material& m) {
@@ -202,6 +226,11 @@ std::uint32_t LocalBackend::add_particle_type(const quarry_particle_type& t) {
     type.size.kind = at(SizeDistributionKind::fixed);
     type.size.radius = at(t.radius);
   }
+  // The period the settings give must hold this type's particles too (checked on a copy: a
+  // refused type is not added).
+  std::vector<ParticleTypeSpec> types = spec_.particle_types;
+  types.push_back(type);
+  check_periodic("quarry_add_particle_type", spec_.simulation, types);
   spec_.particle_types.push_back(type);
   return static_cast<std::uint32_t>(spec_.particle_types.size() - 1);
 }

@@ -19,10 +19,21 @@ namespace quarry::api::protocol {
 template <class S, class T>
 concept Of = std::same_as<std::remove_const_t<S>, T>;
 
+// The fields a peer of ABI `abi_version` knows: 1.0's, then those later minors appended. A
+// client writes what the server's version knows (RemoteBackend::set_settings), the server reads
+// what the request's header says its client wrote; fields not sent keep the reader's defaults.
 template <class A, Of<quarry_settings> S>
-void fields(A& a, S& s) {
+void fields(A& a, S& s, std::uint32_t abi_version) {
   a(s.time_step, s.rayleigh_fraction, s.gravity, s.domain_min, s.domain_max, s.end_time,
     s.impact_speed, s.skin, s.integrator, s.sort_interval, s.max_overlap_fraction, s.seed);
+  const std::uint32_t minor =
+      (abi_version >> 16) == QUARRY_ABI_MAJOR ? (abi_version & 0xffffu) : 0u;
+  if (minor >= 1) a(s.periodic);
+}
+// Between peers of this build's version.
+template <class A, Of<quarry_settings> S>
+void fields(A& a, S& s) {
+  fields(a, s, QUARRY_ABI_VERSION);
 }
 
 template <class A, Of<quarry_material> S>

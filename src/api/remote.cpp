@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <vector>
@@ -90,7 +91,7 @@ class RemoteBackend final : public Backend {
   bool remote() const override { return true; }
 
   void close() override { ask(Op::close); }
-  void set_settings(const quarry_settings& settings) override { ask(Op::set_settings, settings); }
+  void set_settings(const quarry_settings& settings) override;
   std::uint32_t add_material(const quarry_material& material) override {
     return ask<std::uint32_t>(Op::add_material, material);
   }
@@ -215,6 +216,7 @@ class RemoteBackend final : public Backend {
   ClientConnection connection_;
   std::unique_ptr<SharedSegment> segment_;
   std::uint64_t session_ = 0;
+  std::uint32_t server_abi_version_ = 0;  // from the open reply's header
   std::uint64_t next_request_ = 1;
   int timeout_ms_;
   std::map<std::int32_t, std::vector<std::byte>> particle_views_;  // field → its copy
@@ -244,7 +246,27 @@ RemoteBackend::RemoteBackend(const quarry_open_info& info)
   Reply reply = send(r);
   const auto answer = protocol::read<protocol::OpenReply>(reply.in);
   session_ = answer.session;
+  server_abi_version_ = reply.header.abi_version;
   if (!answer.shared_memory) segment_.reset();
+}
+
+// The fields the server's minor knows (an older server refuses trailing bytes as malformed); a
+// setting it cannot honour is refused here rather than dropped on the way.
+void RemoteBackend::set_settings(const quarry_settings& settings) {
+  const std::uint32_t version = std::min(server_abi_version_, QUARRY_ABI_VERSION);
+  const bool periodic =
+      settings.periodic[0] != 0 || settings.periodic[1] != 0 || settings.periodic[2] != 0;
+  if ((version & 0xffffu) < 1 && periodic)
+    throw ApiError(
+        QUARRY_ERROR_UNSUPPORTED,
+        fmt::format("quarry_set_settings: the server at {} speaks ABI {}, which has no periodic "
+                    "axes (ABI 1.1); run a quarry serve of this library's version ({}), or leave "
+                    "periodic all 0",
+                    connection_.endpoint(), wire::version_text(server_abi_version_),
+                    wire::version_text(QUARRY_ABI_VERSION)));
+  wire::Request r = request(Op::set_settings);
+  protocol::fields(r.fields(), settings, version);
+  send(r);
 }
 
 void RemoteBackend::get_time(double* time, double* time_step, std::uint64_t* steps) {

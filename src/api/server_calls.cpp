@@ -12,6 +12,7 @@
 
 #include "api/protocol.h"
 #include "api/server.h"
+#include "api/struct_versions.h"
 
 namespace quarry::api {
 
@@ -86,6 +87,17 @@ void write_view(Writer& out, const quarry_view& view) {
   }
   for (std::uint64_t k = 0; k < view.count; ++k)
     std::memcpy(to + k * row, from + k * view.stride, row);
+}
+
+// ---- building ----
+
+// The settings as far as the client's ABI minor has them (its request header's version): a 1.0
+// client sends no periodic axes, which keep their default (none).
+void set_settings(Backend& b, Reader& in, Writer&) {
+  quarry_settings settings = default_settings();
+  protocol::fields(in, settings, in.abi_version());
+  in.expect_end();
+  b.set_settings(settings);
 }
 
 // ---- time and checkpoints ----
@@ -336,7 +348,7 @@ CallHandler call_handler(wire::Op op) {
     case Op::close:
       return nullptr;  // the session's own (Server)
     case Op::set_settings:
-      return plain<&Backend::set_settings>;
+      return set_settings;
     case Op::add_material:
       return plain<&Backend::add_material>;
     case Op::add_interaction:

@@ -7,10 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 
 #include "api/protocol.h"
+#include "api/struct_versions.h"
 
 namespace quarry::api {
 namespace {
@@ -250,6 +252,100 @@ TEST(Server, SharedArraysThatGrowTheSegmentWithinOneRequest) {
   EXPECT_EQ(got_velocities, std::vector<double>(3 * n, 0.0));
 }
 
+// A set_settings request as a client of ABI `version` writes it: that version in its header and
+// the fields that version knows.
+std::string settings_request(std::uint64_t session, const quarry_settings& settings,
+                             std::uint32_t version) {
+  wire::Request r(Op::set_settings, nullptr);
+  protocol::fields(r.fields(), settings, version);
+  std::string message = r.message(1, session);
+  std::memcpy(message.data() + 4, &version, sizeof version);
+  return message;
+}
+
+// One sphere (R = 5 mm) at x = 0.098 m moving at 1 m/s along +x in the box [0, 0.1]² × [−0.05,
+// 0.05] m, periodic along x as the settings say, built through the server's requests with the
+// settings of a client of ABI `version` and stepped 5 ms: where it is then (x, or NaN if it
+// was removed).
+double sphere_x_after_crossing(std::uint32_t version, int periodic_x) {
+  Server server(ServerOptions{});
+  const std::uint64_t session = attach(server);
+  quarry_settings settings = default_settings();
+  settings.time_step = 1e-5, settings.gravity[2] = 0.0, settings.impact_speed = 1.0;
+  settings.domain_min[2] = -0.05, settings.domain_max[0] = settings.domain_max[1] = 0.1,
+  settings.domain_max[2] = 0.05;
+  settings.periodic[0] = periodic_x;
+  const quarry_material glass{sizeof(quarry_material), "glass", 2500.0, 1e7, 0.3};
+  const quarry_interaction contact{
+      sizeof(quarry_interaction), "glass", "glass", 0.5, 0.5, 0.0, 0, 0.0};
+  const quarry_particle_type bead{sizeof(quarry_particle_type), "bead", "glass", 5e-3, 0.0};
+  for (const std::string& r :
+       {settings_request(session, settings, version), request(Op::add_material, session, glass),
+        request(Op::add_interaction, session, contact),
+        request(Op::add_particle_type, session, bead), request(Op::start, session)}) {
+    const Answer a = send(server, r);
+    EXPECT_EQ(a.status, QUARRY_OK) << a.error;
+  }
+  const std::vector<double> position{0.098, 0.05, 0.0}, velocity{1.0, 0.0, 0.0};
+  wire::Request add(Op::add_particles, nullptr);
+  add.fields().put(std::uint64_t{1});
+  add.input<std::uint32_t>(nullptr, 0);
+  add.fields().put(std::uint32_t{0});
+  add.input(position.data(), 3);
+  add.input(velocity.data(), 3);
+  for (int k = 0; k < 2; ++k) add.input<double>(nullptr, 0);
+  add.output<std::uint64_t>(nullptr, 0);
+  EXPECT_EQ(send(server, add.message(2, session)).status, QUARRY_OK);
+  EXPECT_EQ(send(server, request(Op::step, session, std::uint64_t{500})).status, QUARRY_OK);
+  std::vector<double> x(3, -1.0);
+  wire::Request get(Op::get_particles, nullptr);
+  get.fields().put(std::uint64_t{1});
+  for (int k = 0; k < 10; ++k)
+    if (k == 2)
+      get.output(x.data(), x.size());
+    else
+      get.output<double>(nullptr, 0);
+  const Answer got = send(server, get.message(3, session));
+  EXPECT_EQ(got.status, QUARRY_OK) << got.error;
+  wire::Reader in(got.payload.data(), got.payload.size(), 0);
+  const auto count = in.get<std::uint64_t>();
+  in.get<std::uint64_t>();
+  get.read_outputs(in);
+  return count == 1 ? x[0] : std::nan("");
+}
+
+TEST(Server, PeriodicAxesOfTheSettingsReachTheSimulation) {
+  // Wrapped from 0.103 m to 0.003 m by the periodic x axis; removed without it.
+  EXPECT_NEAR(sphere_x_after_crossing(QUARRY_ABI_VERSION, 1), 0.003, 1e-9);
+  EXPECT_TRUE(std::isnan(sphere_x_after_crossing(QUARRY_ABI_VERSION, 0)));
+}
+
+TEST(Server, AClientOfAbi10SendsNoPeriodicAxesAndIsServed) {
+  // Its request holds 1.0's fields only (12 bytes fewer): the server leaves the axes at their
+  // default, none, even though this struct has x set (a 1.0 client has no such field).
+  quarry_settings settings = default_settings();
+  wire::Writer old_fields, new_fields;
+  protocol::fields(old_fields, settings, 1u << 16);
+  protocol::fields(new_fields, settings, QUARRY_ABI_VERSION);
+  EXPECT_EQ(new_fields.bytes().size() - old_fields.bytes().size(), sizeof settings.periodic);
+  EXPECT_TRUE(std::isnan(sphere_x_after_crossing(1u << 16, 1)));
+  // A 1.1 request without its periodic entries is malformed, not taken for a 1.0 one.
+  Server server(ServerOptions{});
+  const std::uint64_t session = attach(server);
+  std::string cut = settings_request(session, settings, QUARRY_ABI_VERSION);
+  cut.resize(cut.size() - sizeof settings.periodic);
+  const std::uint64_t length = cut.size() - wire::kRequestHeaderBytes;
+  std::memcpy(cut.data() + 32, &length, sizeof length);
+  const Answer a = send(server, cut);
+  EXPECT_EQ(a.status, QUARRY_ERROR_TRANSPORT);
+  EXPECT_NE(a.error.find("malformed"), std::string::npos) << a.error;
+  // A bad entry travels back with the library's text.
+  settings.periodic[2] = 5;
+  const Answer bad = send(server, settings_request(session, settings, QUARRY_ABI_VERSION));
+  EXPECT_EQ(bad.status, QUARRY_ERROR_BAD_VALUE);
+  EXPECT_NE(bad.error.find("periodic[2] (axis z) is 5"), std::string::npos) << bad.error;
+}
+
 TEST(Server, ForeignMessagesAreNamed) {
   Server server(ServerOptions{});
   const std::uint64_t session = attach(server);
@@ -272,7 +368,8 @@ TEST(Server, ForeignMessagesAreNamed) {
   const auto version = status_and_text(major);
   EXPECT_EQ(version.first, QUARRY_ERROR_VERSION);
   EXPECT_NE(version.second.find("2.0"), std::string::npos) << version.second;
-  EXPECT_NE(version.second.find("1.0"), std::string::npos) << version.second;
+  EXPECT_NE(version.second.find(wire::version_text(QUARRY_ABI_VERSION)), std::string::npos)
+      << version.second;
   // An unknown operation.
   std::string unknown = request(Op::num_types, session);
   const std::uint32_t op = 999;

@@ -399,6 +399,10 @@ std::uint32_t message_abi_version(const void* data, std::size_t size) {
   return load<std::uint32_t>(bytes, 4);
 }
 
+std::uint32_t Reader::abi_version() const {
+  return message_abi_version(data_, size_);
+}
+
 RequestHeader read_request_header(const void* data, std::size_t size) {
   const auto* bytes = static_cast<const std::byte*>(data);
   check_magic(bytes, size, kRequestHeaderBytes, "request");

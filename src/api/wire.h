@@ -161,6 +161,10 @@ class Writer {
   void field(const T& value) {
     put(value);
   }
+  template <class T, std::size_t N>
+  void field(const T (&values)[N]) {  // a fixed array: its elements in order
+    for (const T& value : values) put(value);
+  }
   void field(const char* const& text) { optional_text(text); }
   void field(const std::string& text) { this->text(text); }
   std::string bytes_;
@@ -289,6 +293,9 @@ class Reader {
 
   std::size_t remaining() const { return size_ - at_; }
   std::size_t position() const { return at_; }
+  // The ABI version in the header of the message being read (its sender's; 0 when the bytes
+  // from the first on are not a Quarry message): which fields a struct of it carries.
+  std::uint32_t abi_version() const;
   // Throws unless every byte was read.
   void expect_end() const;
 
@@ -301,6 +308,10 @@ class Reader {
   template <class T>
   void field(T& value) {
     value = get<T>();
+  }
+  template <class T, std::size_t N>
+  void field(T (&values)[N]) {
+    for (T& value : values) value = get<T>();
   }
   void field(double (&vector)[3]) { get(vector); }
   void field(const char*& text) { text = optional_text(); }

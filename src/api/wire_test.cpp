@@ -52,6 +52,7 @@ quarry_settings example_settings() {
   s.integrator = QUARRY_INTEGRATOR_SYMPLECTIC_EULER, s.sort_interval = 25,
   s.max_overlap_fraction = 0.1;
   s.seed = 0xfedcba9876543210ull;
+  s.periodic[0] = 1, s.periodic[2] = 1;
   return s;
 }
 
@@ -164,6 +165,50 @@ TEST(Wire, StructFieldsRoundTrip) {
   EXPECT_EQ(std::memcmp(&read.time_step, &settings.time_step,
                         sizeof settings - offsetof(quarry_settings, time_step)),
             0);
+}
+
+// quarry_settings between peers of different minors: each field list as far as the version
+// knows it, read back with the version the message's header names.
+TEST(Wire, SettingsCarryTheFieldsOfTheSendersMinor) {
+  const quarry_settings settings = example_settings();
+  const auto message_of = [&](std::uint32_t version) {
+    Request r(Op::set_settings, nullptr);
+    protocol::fields(r.fields(), settings, version);
+    std::string m = r.message(1, 2);
+    std::memcpy(m.data() + 4, &version, sizeof version);
+    return m;
+  };
+  // This version's: periodic comes through.
+  const std::string current = message_of(QUARRY_ABI_VERSION);
+  Reader in(current.data(), current.size(), kRequestHeaderBytes);
+  EXPECT_EQ(in.abi_version(), QUARRY_ABI_VERSION);
+  quarry_settings read{};
+  protocol::fields(in, read, in.abi_version());
+  in.expect_end();
+  EXPECT_EQ(std::memcmp(read.periodic, settings.periodic, sizeof read.periodic), 0);
+  EXPECT_EQ(read.seed, settings.seed);
+  // A 1.0 sender's: 12 bytes fewer, read to the end with periodic left as the reader had it.
+  const std::string old = message_of(1u << 16);
+  EXPECT_EQ(current.size() - old.size(), sizeof settings.periodic);
+  Reader old_in(old.data(), old.size(), kRequestHeaderBytes);
+  EXPECT_EQ(old_in.abi_version(), 1u << 16);
+  quarry_settings defaults{};
+  defaults.periodic[1] = 7;  // stays
+  protocol::fields(old_in, defaults, old_in.abi_version());
+  old_in.expect_end();
+  EXPECT_EQ(defaults.seed, settings.seed);
+  EXPECT_EQ(defaults.periodic[0], 0);
+  EXPECT_EQ(defaults.periodic[1], 7);
+  // A later minor's sender: this reader takes the fields it knows (the rest would be refused by
+  // expect_end; a client sends only what the server's minor knows).
+  Reader newer(current.data(), current.size(), kRequestHeaderBytes);
+  quarry_settings later{};
+  protocol::fields(newer, later, QUARRY_ABI_VERSION + 1);
+  newer.expect_end();
+  EXPECT_EQ(later.periodic[2], 1);
+  // Bytes that are not a framed message have no version.
+  const std::string bare = "payload";
+  EXPECT_EQ(Reader(bare.data(), bare.size(), 0).abi_version(), 0u);
 }
 
 // The server reads the request and fills the output; the client's request copies it back.
@@ -336,7 +381,8 @@ TEST(Wire, EveryOperationHasItsCallsName) {
   EXPECT_EQ(op_name(0), nullptr);
   EXPECT_EQ(op_name(kLastOp + 1), nullptr);
   EXPECT_STREQ(op_name(static_cast<std::uint32_t>(Op::get_particles)), "quarry_get_particles");
-  EXPECT_EQ(version_text(QUARRY_ABI_VERSION), "1.0");
+  EXPECT_EQ(version_text(1u << 16), "1.0");
+  EXPECT_EQ(version_text(QUARRY_ABI_VERSION), "1.1");
 }
 
 }  // namespace

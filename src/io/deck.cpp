@@ -139,44 +139,16 @@ void check_interactions(DeckContext& context, const SimulationSpec& spec,
 }
 
 // Periodic axes (issue #20) against what else the deck holds: a period long enough for the
-// neighbour search (core/periodic_box.h, shortest_period), a fluid grid periodic with the same
+// neighbour search (check_periodic_domain, which the C ABI's settings get too), a fluid grid periodic with the same
 // period along it, and mass-flow planes either along a periodic axis or
 // perpendicular to it (a tilted plane would meet its own periodic images).
 void check_periodic_axes(DeckContext& context, const SimulationSpec& spec) {
   const auto& periodic = spec.simulation.periodic;
   if (!(periodic.value[0] || periodic.value[1] || periodic.value[2])) return;
   const char* const axis_names[3] = {"x", "y", "z"};
-  // Largest and smallest radius any particle can have (m), as build_world sizes the grid and
-  // the default skin; a size distribution with errors of its own is reported already.
-  double max_radius = 0.0, min_radius = std::numeric_limits<double>::infinity();
-  try {
-    for (const ParticleTypeSpec& type : spec.particle_types) {
-      const SizeSampler sampler(type.size);
-      max_radius = std::max(max_radius, sampler.max_radius());
-      min_radius = std::min(min_radius, sampler.min_radius());
-    }
-  } catch (const UserError&) {
-    max_radius = 0.0;
-  }
-  if (max_radius > 0.0) {
-    const double skin =
-        spec.simulation.skin.value >= 0.0 ? spec.simulation.skin.value : 0.2 * min_radius;  // m
-    const double shortest = shortest_period(max_radius, skin);                              // m
-    const Aabb& domain = spec.simulation.domain.value;
-    for (int a = 0; a < 3; ++a) {
-      if (!periodic.value[a] || domain.empty()) continue;
-      const double period = domain.hi[a] - domain.lo[a];  // m
-      if (period >= shortest) continue;
-      context.error(
-          periodic.where,
-          fmt::format("the period along {} ({:.4g} m) is shorter than the neighbour search needs: "
-                      "3 × (2 R_max + skin) = 3 × (2 × {:.4g} + {:.4g}) = {:.4g} m",
-                      axis_names[a], period, max_radius, skin, shortest),
-          fmt::format(
-              "make the domain at least {:.4g} m long along {}, or leave {} out of periodic",
-              shortest, axis_names[a], axis_names[a]));
-    }
-  }
+  // An empty domain is a missing or malformed one, reported already where it is read.
+  if (!spec.simulation.domain.value.empty())
+    check_periodic_domain(spec.simulation, spec.particle_types, context.diagnostics);
   // With a fluid grid, each periodic axis of the particles must be a periodic axis of the
   // fluid with the same period: the particle-to-cell kernel (cfdem/cell_kernel.h) wraps a
   // particle on the grid's period, which must be the one its position wraps on.
@@ -373,6 +345,49 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
 }
 
 }  // namespace
+
+void check_periodic_domain(const SimulationSettings& settings, const std::vector<ParticleTypeSpec>& types,
+                           Diagnostics& problems) {
+  const auto& periodic = settings.periodic;
+  const char* const axis_names[3] = {"x", "y", "z"};
+  const Aabb& domain = settings.domain.value;
+  // Largest and smallest radius any particle can have (m), as build_world sizes the grid and
+  // the default skin; a size distribution with errors of its own is reported already.
+  double max_radius = 0.0, min_radius = std::numeric_limits<double>::infinity();
+  try {
+    for (const ParticleTypeSpec& type : types) {
+      const SizeSampler sampler(type.size);
+      max_radius = std::max(max_radius, sampler.max_radius());
+      min_radius = std::min(min_radius, sampler.min_radius());
+    }
+  } catch (const UserError&) {
+    max_radius = 0.0;
+  }
+  const double skin = settings.skin.value >= 0.0 ? settings.skin.value : 0.2 * min_radius;  // m
+  const double shortest = shortest_period(max_radius, skin);                                // m
+  for (int a = 0; a < 3; ++a) {
+    if (!periodic.value[a]) continue;
+    const double period = domain.hi[a] - domain.lo[a];  // m
+    if (!(period > 0.0) || !std::isfinite(period)) {  // NaN and infinite bounds included
+      problems.error(periodic.where,
+                     fmt::format("{0} is periodic but the domain has no finite extent along {0} "
+                                 "(min {1} m, max {2} m): a periodic axis takes its period from "
+                                 "the domain",
+                                 axis_names[a], domain.lo[a], domain.hi[a]),
+                     fmt::format("give the domain max > min along {0}, or leave {0} out of periodic",
+                                 axis_names[a]));
+      continue;
+    }
+    if (max_radius <= 0.0 || period >= shortest) continue;
+    problems.error(
+        periodic.where,
+        fmt::format("the period along {} ({:.4g} m) is shorter than the neighbour search needs: "
+                    "3 × (2 R_max + skin) = 3 × (2 × {:.4g} + {:.4g}) = {:.4g} m",
+                    axis_names[a], period, max_radius, skin, shortest),
+        fmt::format("make the domain at least {:.4g} m long along {}, or leave {} out of periodic",
+                    shortest, axis_names[a], axis_names[a]));
+  }
+}
 
 bool usable_in_file_names(const std::string& name) {
   if (name.empty() || name.front() == '.') return false;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "core/simulation_spec.h"
 
@@ -35,6 +36,16 @@ struct DeckParseOptions {
 // As parse_deck_string, with STL paths resolved and checked as `options` say.
 SimulationSpec parse_deck_string(const std::string& yaml_text, const std::string& display_name,
                                  const DeckParseOptions& options);
+
+// The periodic axes of `settings` against its domain and the particle types' sizes, as a deck's
+// are checked (docs/deck.md, "Periodic boundaries"); also for a definition built without a deck
+// (the C ABI checks each call's settings with it). Along each periodic axis the domain needs
+// max > min (its period), and the period must be at least 3 × (2 R_max + skin) so that the
+// neighbour search meets one image of a particle only (core/periodic_box.h, shortest_period;
+// R_max over `types`, not checked while there is none or a type's sizes are themselves wrong).
+// Each problem is an error at settings.periodic.where, with a hint.
+void check_periodic_domain(const SimulationSettings& settings, const std::vector<ParticleTypeSpec>& types,
+                           Diagnostics& problems);
 
 // True if `name` can stand in a file name of the output folder (a surface's name names its output
 // files): not empty, not starting with '.', and no '/', '\\' or control characters — so no name

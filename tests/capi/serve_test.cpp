@@ -369,6 +369,7 @@ TEST(Serve, NothingListeningGivesTimeoutWithAHint) {
 }
 
 TEST(Serve, AnotherAbiMajorGivesVersionOnEitherSide) {
+  const std::string kThisVersion = wire::version_text(QUARRY_ABI_VERSION);
   Server server;
   {
     RawClient raw(server.endpoint());
@@ -376,13 +377,13 @@ TEST(Serve, AnotherAbiMajorGivesVersionOnEitherSide) {
     const auto [header_status, header_text] = raw.send(open_message(2u << 16, 2u << 16));
     EXPECT_EQ(header_status, QUARRY_ERROR_VERSION);
     EXPECT_NE(header_text.find("2.0"), std::string::npos) << header_text;
-    EXPECT_NE(header_text.find("1.0"), std::string::npos) << header_text;
+    EXPECT_NE(header_text.find(kThisVersion), std::string::npos) << header_text;
     // A caller compiled for major 2 against a library of major 1.
     const auto [caller_status, caller_text] =
         raw.send(open_message(QUARRY_ABI_VERSION, (2u << 16) | 3));
     EXPECT_EQ(caller_status, QUARRY_ERROR_VERSION);
     EXPECT_NE(caller_text.find("2.3"), std::string::npos) << caller_text;
-    EXPECT_NE(caller_text.find("1.0"), std::string::npos) << caller_text;
+    EXPECT_NE(caller_text.find(kThisVersion), std::string::npos) << caller_text;
   }
   // A server of major 3 answering: the client names both versions.
   const std::string endpoint = ipc_endpoint();
@@ -404,7 +405,7 @@ TEST(Serve, AnotherAbiMajorGivesVersionOnEitherSide) {
   fake.join();
   const std::string text = last_error(QUARRY_NO_SIM);
   EXPECT_NE(text.find("3.0"), std::string::npos) << text;
-  EXPECT_NE(text.find("1.0"), std::string::npos) << text;
+  EXPECT_NE(text.find(kThisVersion), std::string::npos) << text;
   zmq_close(rep);
   zmq_ctx_term(context);
   fs::remove(endpoint.substr(6));
@@ -538,6 +539,103 @@ TEST(Serve, HooksAreUnsupportedAndViewsAreCopies) {
   EXPECT_EQ(std::memcmp(view.data, position, sizeof position), 0);
   EXPECT_GT(position[0], 0.0);  // the force moved it
   EXPECT_EQ(quarry_close(sim), QUARRY_OK);
+}
+
+// Periodic axes (ABI 1.1) set through a remote handle reach the server's simulation: a sphere
+// leaving through the x face re-enters at the other; the server's checks come back as texts.
+TEST(Serve, PeriodicSettingsReachTheServersSimulation) {
+  Server server;
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  quarry_material glass = {sizeof glass, "glass", 2500.0, 1e7, 0.3};
+  ASSERT_EQ(quarry_add_material(sim, &glass, nullptr), QUARRY_OK) << last_error(sim);
+  quarry_interaction contact = {sizeof contact,      "glass", "glass", 0.5, 0.5, 0.0,
+                                QUARRY_ROLLING_NONE, 0.0};
+  ASSERT_EQ(quarry_add_interaction(sim, &contact), QUARRY_OK) << last_error(sim);
+  quarry_particle_type bead = {sizeof bead, "bead", "glass", 5e-3, 0.0};
+  ASSERT_EQ(quarry_add_particle_type(sim, &bead, nullptr), QUARRY_OK) << last_error(sim);
+  quarry_settings settings = quarry_default_settings();
+  settings.time_step = 1e-5, settings.gravity[2] = 0.0, settings.impact_speed = 1.0;
+  settings.domain_min[2] = -0.05;
+  settings.domain_max[0] = settings.domain_max[1] = 0.1, settings.domain_max[2] = 0.05;
+  settings.periodic[0] = settings.periodic[1] = 1;
+  quarry_settings short_x = settings;
+  short_x.domain_max[0] = 0.03;  // 3 × (2 × 5 mm + 1 mm) = 33 mm needed
+  EXPECT_EQ(quarry_set_settings(sim, &short_x), QUARRY_ERROR_BAD_VALUE);
+  EXPECT_NE(last_error(sim).find("the period along x (0.03 m) is shorter"), std::string::npos)
+      << last_error(sim);
+  ASSERT_EQ(quarry_set_settings(sim, &settings), QUARRY_OK) << last_error(sim);
+  ASSERT_EQ(quarry_start(sim), QUARRY_OK) << last_error(sim);
+  double position[3] = {0.098, 0.05, 0.0}, velocity[3] = {1.0, 0.0, 0.0};
+  quarry_new_particles add = {sizeof add, 1,       nullptr, 0,      position,
+                              velocity,   nullptr, nullptr, nullptr};
+  ASSERT_EQ(quarry_add_particles(sim, &add), QUARRY_OK) << last_error(sim);
+  ASSERT_EQ(quarry_step(sim, 500), QUARRY_OK) << last_error(sim);  // 5 mm along +x
+  quarry_particle_data data = {sizeof data, 1,       nullptr, nullptr, position, velocity, nullptr,
+                               nullptr,     nullptr, nullptr, nullptr, nullptr,  0,        0};
+  ASSERT_EQ(quarry_get_particles(sim, &data), QUARRY_OK) << last_error(sim);
+  EXPECT_EQ(data.count, 1u);
+  EXPECT_NEAR(position[0], 0.003, 1e-9);
+  EXPECT_EQ(velocity[0], 1.0);
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK);
+}
+
+// A server of ABI 1.0 (faked: 1.0 in its replies' headers, 1.0's settings read to the end): the
+// client sends it the fields 1.0 knows, and refuses periodic axes that server would not honour
+// instead of letting them drop.
+TEST(Serve, AnAbi10ServerGetsItsOwnFieldsAndNoPeriodicAxes) {
+  const std::string endpoint = ipc_endpoint();
+  void* context = zmq_ctx_new();
+  void* rep = zmq_socket(context, ZMQ_REP);
+  ASSERT_EQ(zmq_bind(rep, endpoint.c_str()), 0);
+  std::atomic<int> settings_read{0};
+  std::thread fake([rep, &settings_read] {
+    const int wait_ms = 5000;
+    zmq_setsockopt(rep, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
+    std::vector<char> buffer(1 << 16);
+    for (int k = 0; k < 3; ++k) {  // open, set_settings, close
+      const int size = zmq_recv(rep, buffer.data(), buffer.size(), 0);
+      if (size < 0) return;
+      const wire::RequestHeader request = wire::read_request_header(buffer.data(), size);
+      wire::Writer out;
+      out.bytes().assign(wire::kReplyHeaderBytes, '\0');
+      quarry_status status = QUARRY_OK;
+      if (request.op == static_cast<std::uint32_t>(wire::Op::open)) {
+        protocol::write_values(out, protocol::OpenReply{7, 0, "0.1.0"});
+      } else if (request.op == static_cast<std::uint32_t>(wire::Op::set_settings)) {
+        try {  // as a 1.0 server reads it: its fields, then nothing
+          wire::Reader in(buffer.data(), size, wire::kRequestHeaderBytes);
+          quarry_settings s{};
+          protocol::fields(in, s, 1u << 16);
+          in.expect_end();
+          settings_read += 1;
+        } catch (const wire::WireError&) {
+          status = QUARRY_ERROR_TRANSPORT;
+        }
+      }
+      wire::ReplyHeader header;
+      header.abi_version = 1u << 16;
+      header.status = status;
+      header.request_id = request.request_id;
+      wire::write_reply_header(out.bytes(), header);
+      zmq_send(rep, out.bytes().data(), out.bytes().size(), 0);
+    }
+  });
+  quarry_sim sim;
+  ASSERT_EQ(open(endpoint, sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  quarry_settings settings = quarry_default_settings();
+  settings.periodic[2] = 1;
+  EXPECT_EQ(quarry_set_settings(sim, &settings), QUARRY_ERROR_UNSUPPORTED);
+  const std::string text = last_error(sim);
+  EXPECT_NE(text.find("speaks ABI 1.0, which has no periodic axes"), std::string::npos) << text;
+  settings.periodic[2] = 0;
+  EXPECT_EQ(quarry_set_settings(sim, &settings), QUARRY_OK) << last_error(sim);
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  fake.join();
+  EXPECT_EQ(settings_read.load(), 1);
+  zmq_close(rep);
+  zmq_ctx_term(context);
+  fs::remove(endpoint.substr(6));
 }
 
 TEST(Serve, SigtermStopsTheServerDuringAnAdvanceAndRemovesItsSocket) {

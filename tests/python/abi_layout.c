@@ -59,6 +59,7 @@ int main(void) {
   FIELD(quarry_settings, sort_interval);
   FIELD(quarry_settings, max_overlap_fraction);
   FIELD(quarry_settings, seed);
+  FIELD(quarry_settings, periodic);
   FIELD(quarry_material, struct_size);
   FIELD(quarry_material, name);
   FIELD(quarry_material, density);
