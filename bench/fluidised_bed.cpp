@@ -5,7 +5,8 @@
 // loose lattice resting on the plate; the first coupled steps (untimed) lift the bed, the next
 // ones are timed. Prints one line "QUARRY_FLUID_BENCH key=value ..." with the time per coupled
 // step split into the coupling's parts (void fraction, drag, fluid step, fluid values, particle
-// forces) and the DEM (everything else), plus the run's stage table.
+// forces) and the DEM (everything else), the particles' state hash (the same bits for any thread
+// count), plus the run's stage table.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -18,6 +19,7 @@
 #include "core/allocator.h"
 #include "io/deck.h"
 #include "sim/exchange.h"
+#include "sim/run.h"
 #include "sim/step.h"
 
 namespace {
@@ -138,11 +140,12 @@ int run(const Options& o) {
   const double dem = wall - fluid_side;
   std::cout << fmt::format(
       "QUARRY_FLUID_BENCH particles={} cells={} threads={} coupled_steps={} wall_s={:.4f} step_ms={:.4f}{} "
-      "dem_ms={:.4f} fluid_over_dem={:.4f} pressure_iterations={:.2f} momentum_iterations={:.2f} rss_mb={:.1f}\n",
+      "dem_ms={:.4f} fluid_over_dem={:.4f} pressure_iterations={:.2f} momentum_iterations={:.2f} rss_mb={:.1f} "
+      "state_hash={:016x}\n",
       world.particles.size(), coupling->options().grid.cell_count(), o.threads, o.coupled_steps, wall,
       wall * per_step, parts, dem * per_step, fluid_side / dem,
       static_cast<double>(iterations) / o.coupled_steps, static_cast<double>(momentum_iterations) / o.coupled_steps,
-      bench::peak_rss_bytes() / 1048576.0);
+      bench::peak_rss_bytes() / 1048576.0, sim::state_hash(world));
   std::cerr << world.timers.table(wall);
   return 0;
 }

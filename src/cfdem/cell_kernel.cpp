@@ -217,15 +217,79 @@ CellWeights cell_weights(const cfd::FluidGrid& grid, const PeriodicAxes& periodi
   return result;
 }
 
+void order_deposits(const cfd::FluidGrid& grid, std::span<const CellWeights> weights, int threads,
+                    DepositOrder& order) {
+  const std::size_t n = weights.size(), cells = grid.cell_count();
+  const auto ranges = static_cast<std::size_t>(std::max(threads, 1));
+  order.threads = static_cast<int>(ranges);
+  order.lowest.resize(n);
+  order.highest.resize(n);
+#pragma omp parallel for schedule(static) num_threads(order.threads)
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k) {
+    const auto p = static_cast<std::size_t>(k);
+    const auto [low, high] = std::minmax_element(weights[p].cell.begin(), weights[p].cell.end());
+    order.lowest[p] = *low;
+    order.highest[p] = *high;
+  }
+  // Cuts after about n/ranges, 2n/ranges, … particles by their lowest cell.
+  std::vector<std::uint32_t>& per_cell = order.per_cell;
+  per_cell.assign(cells, 0);
+  for (std::size_t p = 0; p < n; ++p) ++per_cell[order.lowest[p]];
+  order.first_cell.assign(ranges + 1, cells);
+  order.first_cell[0] = 0;
+  std::size_t below = 0, r = 1;  // particles in the cells so far; the next cut
+  for (std::size_t c = 0; c < cells && r < ranges; ++c) {
+    below += per_cell[c];
+    while (r < ranges && below * ranges >= r * n) order.first_cell[r++] = c + 1;
+  }
+  order.particles.resize(ranges);
+#pragma omp parallel for schedule(static, 1) num_threads(order.threads)
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(ranges); ++k) {
+    const auto range = static_cast<std::size_t>(k);
+    const std::size_t first = order.first_cell[range], end = order.first_cell[range + 1];
+    std::vector<std::uint32_t>& list = order.particles[range];
+    list.clear();
+    for (std::size_t p = 0; p < n; ++p)
+      if (order.highest[p] >= first && order.lowest[p] < end) list.push_back(static_cast<std::uint32_t>(p));
+  }
+}
+
+namespace {
+
+// Calls add(p, in) for every particle p, in(cell) telling whether p may add to that cell: in index
+// order on this thread, or each range of `order` on its own thread with its own cells (above).
+template <class Add>
+void scatter(std::span<const CellWeights> weights, std::size_t cells, const DepositOrder* order, Add&& add) {
+  if (order == nullptr) {
+    const auto in = [](std::uint32_t) { return true; };
+    for (std::size_t p = 0; p < weights.size(); ++p) add(p, in);
+    return;
+  }
+  if (order->lowest.size() != weights.size() || order->first_cell.back() != cells)
+    throw std::logic_error("deposit: the order was made for other weights or another grid");
+  const auto ranges = static_cast<std::ptrdiff_t>(order->particles.size());
+#pragma omp parallel for schedule(static, 1) num_threads(order->threads)
+  for (std::ptrdiff_t k = 0; k < ranges; ++k) {
+    const auto r = static_cast<std::size_t>(k);
+    const std::size_t first = order->first_cell[r], count = order->first_cell[r + 1] - first;
+    const auto in = [=](std::uint32_t cell) { return cell - first < count; };  // wraps below first
+    for (const std::uint32_t p : order->particles[r]) add(std::size_t{p}, in);
+  }
+}
+
+}  // namespace
+
 double void_fraction(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
-                     std::span<const double> radius, std::vector<double>& void_fraction) {
+                     std::span<const double> radius, std::vector<double>& void_fraction,
+                     const DepositOrder* order) {
   // The particle volume per cell (m³) is summed in place, then turned into ε.
   std::vector<double>& solid = void_fraction;
   solid.assign(grid.cell_count(), 0.0);
-  for (std::size_t p = 0; p < weights.size(); ++p) {
+  scatter(weights, solid.size(), order, [&](std::size_t p, auto in) {
     const double volume = 4.0 / 3.0 * std::numbers::pi * radius[p] * radius[p] * radius[p];
-    for (std::size_t c = 0; c < 8; ++c) solid[weights[p].cell[c]] += weights[p].weight[c] * volume;
-  }
+    for (std::size_t c = 0; c < 8; ++c)
+      if (in(weights[p].cell[c])) solid[weights[p].cell[c]] += weights[p].weight[c] * volume;
+  });
   const double cell_volume = grid.cell_volume();
   double smallest = 1.0;
   for (double& value : void_fraction) {
@@ -236,19 +300,35 @@ double void_fraction(const cfd::FluidGrid& grid, std::span<const CellWeights> we
 }
 
 void deposit(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
-             std::span<const double> value, std::span<double> density) {
+             std::span<const double> value, std::span<double> density, const DepositOrder* order) {
   const double inverse_volume = 1.0 / grid.cell_volume();
-  for (std::size_t p = 0; p < weights.size(); ++p)
+  scatter(weights, density.size(), order, [&](std::size_t p, auto in) {
     for (std::size_t c = 0; c < 8; ++c)
-      density[weights[p].cell[c]] += weights[p].weight[c] * value[p] * inverse_volume;
+      if (in(weights[p].cell[c])) density[weights[p].cell[c]] += weights[p].weight[c] * value[p] * inverse_volume;
+  });
 }
 
 void deposit(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
-             std::span<const Vec3> value, std::span<Vec3> density) {
+             std::span<const Vec3> value, std::span<Vec3> density, const DepositOrder* order) {
   const double inverse_volume = 1.0 / grid.cell_volume();
-  for (std::size_t p = 0; p < weights.size(); ++p)
+  scatter(weights, density.size(), order, [&](std::size_t p, auto in) {
     for (std::size_t c = 0; c < 8; ++c)
-      density[weights[p].cell[c]] += value[p] * (weights[p].weight[c] * inverse_volume);
+      if (in(weights[p].cell[c])) density[weights[p].cell[c]] += value[p] * (weights[p].weight[c] * inverse_volume);
+  });
+}
+
+void deposit_drag(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
+                  std::span<const double> coefficient, std::span<const Vec3> velocity, std::span<double> beta,
+                  std::span<Vec3> force, const DepositOrder* order) {
+  const double inverse_volume = 1.0 / grid.cell_volume();
+  scatter(weights, beta.size(), order, [&](std::size_t p, auto in) {
+    const Vec3 momentum = velocity[p] * coefficient[p];  // β_p v_p (N)
+    for (std::size_t c = 0; c < 8; ++c) {
+      if (!in(weights[p].cell[c])) continue;
+      beta[weights[p].cell[c]] += weights[p].weight[c] * coefficient[p] * inverse_volume;
+      force[weights[p].cell[c]] += momentum * (weights[p].weight[c] * inverse_volume);
+    }
+  });
 }
 
 double interpolate(const CellWeights& weights, std::span<const double> field) {

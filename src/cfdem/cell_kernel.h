@@ -65,20 +65,51 @@ CellWeights cell_weights(const cfd::FluidGrid& grid, const PeriodicAxes& periodi
                          const BlockedCells& blocked, const Vec3& position,
                          bool* moved_to_nearest = nullptr);
 
+// The particles grouped so that several threads deposit them with the bits of one ("owner
+// computes"). The cells are cut into ranges of the flat index, each holding about as many
+// particles (counted at their lowest cell); a range lists, in index order, the particles whose
+// lowest-to-highest cells overlap it. A thread deposits a range's particles into that range's
+// cells only, so every cell sums its particles in index order, as one thread does, however the
+// cells are cut. A particle whose cells straddle a cut is read by both ranges: about one layer of
+// cells' particles per cut (across a periodic z face a particle's cells span the whole flat
+// index, and every range reads it, writing only its own cells).
+struct DepositOrder {
+  int threads = 1;                                    // the team that deposits with it
+  std::vector<std::size_t> first_cell;                // per range and one more: range r is [first_cell[r], first_cell[r + 1])
+  std::vector<std::vector<std::uint32_t>> particles;  // per range, ascending
+  std::vector<std::uint32_t> lowest, highest;         // per particle, its lowest and highest cell (scratch)
+  std::vector<std::uint32_t> per_cell;                // particles whose lowest cell it is (scratch)
+};
+
+// Makes `order` for these weights: `threads` ranges, deposited by as many threads. Cost:
+// O(particles + cells), the particles on the threads.
+void order_deposits(const cfd::FluidGrid& grid, std::span<const CellWeights> weights, int threads,
+                    DepositOrder& order);
+
 // ε per cell: 1 − Σ_p w_pc V_p / V_cell, V_p = 4/3 π R_p³. `void_fraction` is resized to the
 // cell count. Σ_c (1 − ε_c) V_cell = Σ_p V_p to round-off. Returns the smallest ε (may be ≤ 0
-// when particles crowd a cell; the caller checks it). Cost: O(cells + particles); the particles
-// are summed in index order (bit-identical for any thread count).
+// when particles crowd a cell; the caller checks it). Cost: O(cells + particles); each cell sums
+// its particles in index order, on one thread, or on order->threads with an order made for these
+// weights (order_deposits): the same bits.
 double void_fraction(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
-                     std::span<const double> radius, std::vector<double>& void_fraction);
+                     std::span<const double> radius, std::vector<double>& void_fraction,
+                     const DepositOrder* order = nullptr);
 
 // Adds each particle's value times its weight, divided by the cell volume, to `density`
 // (per-cell, already sized): Σ_c density_c V_cell grows by Σ_p value_p exactly (to round-off).
-// Used for β (kg/(m³·s)) from β_p (kg/s) and for force densities (N/m³) from forces (N).
+// Used for β (kg/(m³·s)) from β_p (kg/s) and for force densities (N/m³) from forces (N). Threads
+// and bits as void_fraction's.
 void deposit(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
-             std::span<const double> value, std::span<double> density);
+             std::span<const double> value, std::span<double> density,
+             const DepositOrder* order = nullptr);
 void deposit(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
-             std::span<const Vec3> value, std::span<Vec3> density);
+             std::span<const Vec3> value, std::span<Vec3> density, const DepositOrder* order = nullptr);
+
+// The drag's two deposits in one pass over the weights: β_p into `beta` and β_p v_p into `force`,
+// the same bits as deposit(…, coefficient, beta) and deposit(…, v_p β_p, force).
+void deposit_drag(const cfd::FluidGrid& grid, std::span<const CellWeights> weights,
+                  std::span<const double> coefficient, std::span<const Vec3> velocity, std::span<double> beta,
+                  std::span<Vec3> force, const DepositOrder* order = nullptr);
 
 // Σ_c w_pc field_c: the field at the particle with the same weights.
 double interpolate(const CellWeights& weights, std::span<const double> field);

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -289,6 +291,61 @@ TEST(CellKernel, DepositedDragWithBlockedCellsIsMinusTheParticlesDrag) {
     fluid_drag += (force[c] - cell_velocity[c] * beta[c]) * grid.cell_volume();
   }
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(fluid_drag[a], -particle_drag[a], 1e-14 * 200 * 2.5e-5);
+}
+
+// Deposits on several threads (order_deposits: the cells cut into ranges, one thread each) give
+// the bits of one, for any number of threads, and deposit_drag those of its two deposits: with folded, wrapped (every axis periodic, so some
+// particles span the whole flat index) and blocked cells, half the particles crowded into two
+// layers of cells so that the cuts are uneven, and more threads than rows of cells.
+TEST(CellKernel, DepositsOnThreadsHaveTheBitsOfOneThread) {
+  const cfd::FluidGrid grid = test_grid();
+  for (const bool with_blocked : {false, true}) {
+    const BlockedCells blocked =
+        with_blocked ? make_blocked_cells(grid, test_mask(grid)) : BlockedCells{};
+    std::vector<Vec3> positions = random_positions(grid, 400, 29);
+    for (std::size_t n = 0; n < positions.size(); n += 2) positions[n].z = grid.origin.z + 2.0 * grid.cell_size.z;
+    std::vector<CellWeights> weights;
+    std::vector<double> radius, coefficient;
+    std::vector<Vec3> velocity, momentum;
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> value(-1.0, 1.0);
+    for (const Vec3& x : positions) {
+      weights.push_back(cell_weights(grid, PeriodicAxes{true, true, true}, blocked, x));
+      radius.push_back(2e-4 * (1.5 + value(random)));
+      coefficient.push_back(1e-5 * (1.5 + value(random)));
+      velocity.push_back(Vec3{value(random), value(random), value(random)});
+      momentum.push_back(velocity.back() * coefficient.back());
+    }
+    // Every value as bits, one thread (no order) or `threads` with an order.
+    const auto deposits = [&](const DepositOrder* order) {
+      std::vector<double> epsilon, beta(grid.cell_count(), 0.0);
+      std::vector<Vec3> force(grid.cell_count());
+      std::vector<double> fused_beta(grid.cell_count(), 0.0);
+      std::vector<Vec3> fused_force(grid.cell_count());
+      void_fraction(grid, weights, radius, epsilon, order);
+      deposit(grid, weights, coefficient, beta, order);
+      deposit(grid, weights, momentum, force, order);
+      deposit_drag(grid, weights, coefficient, velocity, fused_beta, fused_force, order);
+      std::vector<std::uint64_t> bits;
+      for (std::size_t c = 0; c < grid.cell_count(); ++c) {
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(fused_beta[c]), std::bit_cast<std::uint64_t>(beta[c]));
+        for (int a = 0; a < 3; ++a)
+          EXPECT_EQ(std::bit_cast<std::uint64_t>(fused_force[c][a]), std::bit_cast<std::uint64_t>(force[c][a]));
+        for (const double v : {epsilon[c], beta[c], force[c].x, force[c].y, force[c].z})
+          bits.push_back(std::bit_cast<std::uint64_t>(v));
+      }
+      return bits;
+    };
+    const std::vector<std::uint64_t> one = deposits(nullptr);
+    for (const int threads : {1, 2, 3, 5, 8, 30}) {
+      DepositOrder order;
+      order_deposits(grid, weights, threads, order);
+      ASSERT_EQ(order.particles.size(), static_cast<std::size_t>(threads));
+      for (const std::vector<std::uint32_t>& list : order.particles)
+        EXPECT_TRUE(std::is_sorted(list.begin(), list.end()));
+      EXPECT_TRUE(deposits(&order) == one) << threads << " threads, blocked cells " << with_blocked;
+    }
+  }
 }
 
 // Along a blocked slab (j = 0) the share moved off it is the same at every x: the weights stay

@@ -384,6 +384,8 @@ TEST(FluidBlocked, ParticlesBesideBlockedCellsKeepTheirVolumeAndMomentum) {
   sim::initialize(c.world);
   sim::advance(c.world, 149);  // the next step (150) makes the fourth exchange
   const std::vector<FrozenParticle> before = c.coupling->frozen();
+  const std::vector<FrozenForce> forces_before = c.coupling->frozen_forces();
+  const std::vector<VelocitySum> sums_before = c.coupling->velocity_sums();
   sim::advance(c.world, 1);
   ASSERT_EQ(c.coupling->exchanges(), 4);
   const cfd::FluidGrid& g = c.coupling->options().grid;
@@ -423,19 +425,20 @@ TEST(FluidBlocked, ParticlesBesideBlockedCellsKeepTheirVolumeAndMomentum) {
     force_sum += force[cell] * g.cell_volume();
   }
   const std::vector<FrozenParticle>& after = c.coupling->frozen();
+  const std::vector<FrozenForce>& forces_after = c.coupling->frozen_forces();
   for (std::size_t i = 0; i < after.size(); ++i) {
     ASSERT_EQ(after[i].id, before[i].id);
-    coefficient_sum += after[i].coefficient;
-    const Vec3 momentum = after[i].exchange_velocity * after[i].coefficient;
+    coefficient_sum += forces_after[i].coefficient;
+    const Vec3 momentum = after[i].exchange_velocity * forces_after[i].coefficient;
     expected_force += momentum;
     scale += std::sqrt(norm2(momentum));
-    if (before[i].samples > 0) {
+    if (sums_before[i].samples > 0) {
       const Vec3 correction =
-          (before[i].velocity_sum / before[i].samples - before[i].exchange_velocity) * before[i].coefficient;
+          (sums_before[i].sum / sums_before[i].samples - before[i].exchange_velocity) * forces_before[i].coefficient;
       expected_force += correction;
       scale += std::sqrt(norm2(correction));
     }
-    EXPECT_TRUE(std::isfinite(after[i].fluid_velocity.x) && std::isfinite(after[i].pressure_gradient.z));
+    EXPECT_TRUE(std::isfinite(forces_after[i].fluid_velocity.x) && std::isfinite(after[i].pressure_gradient.z));
   }
   EXPECT_GT(coefficient_sum, 0.0);
   EXPECT_NEAR(beta_sum / coefficient_sum, 1.0, 1e-14);

@@ -81,23 +81,24 @@ cfd::FluidSolverState read_solver(BinaryReader& in) {
   return state;
 }
 
-// One member of every frozen particle, as an array (written and read as such).
-template <class T>
-std::vector<T> column(const std::vector<FrozenParticle>& frozen, T FrozenParticle::*member) {
+// One member of every particle's frozen values, as an array (written and read as such).
+template <class S, class T>
+std::vector<T> column(const std::vector<S>& frozen, T S::*member) {
   std::vector<T> values(frozen.size());
   for (std::size_t i = 0; i < frozen.size(); ++i) values[i] = frozen[i].*member;
   return values;
 }
 
-template <class T>
-void read_column(BinaryReader& in, std::vector<FrozenParticle>& frozen, T FrozenParticle::*member,
-                 const char* what) {
+template <class S, class T>
+void read_column(BinaryReader& in, std::vector<S>& frozen, T S::*member, const char* what) {
   std::vector<T> values;
   in.vector(values);
   if (values.size() != frozen.size())
     bad(fmt::format("the frozen {} are {} values for {} particles", what, values.size(), frozen.size()));
   for (std::size_t i = 0; i < frozen.size(); ++i) frozen[i].*member = values[i];
 }
+
+bool same(const CellWeights& a, const CellWeights& b) { return a.cell == b.cell && a.weight == b.weight; }
 
 void check_weights(const CellWeights& w, std::size_t cells, const char* what, std::size_t i) {
   for (std::size_t k = 0; k < w.cell.size(); ++k) {
@@ -115,14 +116,16 @@ void FluidCoupling::save_state(BinaryWriter& out) const {
   out.vector(void_fraction_);
   out.vector(weights_);
   out.vector(column(frozen_, &FrozenParticle::id));
-  out.vector(column(frozen_, &FrozenParticle::coefficient));
-  out.vector(column(frozen_, &FrozenParticle::fluid_velocity));
+  out.vector(column(forces_, &FrozenForce::coefficient));
+  out.vector(column(forces_, &FrozenForce::fluid_velocity));
   out.vector(column(frozen_, &FrozenParticle::pressure_gradient));
   out.vector(column(frozen_, &FrozenParticle::volume));
   out.vector(column(frozen_, &FrozenParticle::exchange_velocity));
-  out.vector(column(frozen_, &FrozenParticle::velocity_sum));
-  out.vector(column(frozen_, &FrozenParticle::samples));
-  out.vector(column(frozen_, &FrozenParticle::weights));
+  out.vector(column(velocity_sums_, &VelocitySum::sum));
+  out.vector(column(velocity_sums_, &VelocitySum::samples));
+  // The exchange's weights, which version 1 keeps apart from the weights: the same values (the
+  // pressure force is not written; it is made again from ∇p_p and V_p).
+  out.vector(weights_);
   out.value(layout_epoch_);
   out.value(static_cast<std::uint64_t>(frozen_count_));
   out.value(static_cast<std::int64_t>(exchanges_));
@@ -144,15 +147,18 @@ void FluidCoupling::load_state(BinaryReader& in, const World& world) {
   std::vector<ParticleId> ids;
   in.vector(ids);
   std::vector<FrozenParticle> frozen(ids.size());
+  std::vector<FrozenForce> forces(ids.size());
+  std::vector<VelocitySum> sums(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) frozen[i].id = ids[i];
-  read_column(in, frozen, &FrozenParticle::coefficient, "drag coefficients");
-  read_column(in, frozen, &FrozenParticle::fluid_velocity, "fluid velocities");
+  read_column(in, forces, &FrozenForce::coefficient, "drag coefficients");
+  read_column(in, forces, &FrozenForce::fluid_velocity, "fluid velocities");
   read_column(in, frozen, &FrozenParticle::pressure_gradient, "pressure gradients");
   read_column(in, frozen, &FrozenParticle::volume, "volumes");
   read_column(in, frozen, &FrozenParticle::exchange_velocity, "exchange velocities");
-  read_column(in, frozen, &FrozenParticle::velocity_sum, "velocity sums");
-  read_column(in, frozen, &FrozenParticle::samples, "sample counts");
-  read_column(in, frozen, &FrozenParticle::weights, "weights");
+  read_column(in, sums, &VelocitySum::sum, "velocity sums");
+  read_column(in, sums, &VelocitySum::samples, "sample counts");
+  std::vector<CellWeights> exchange_weights;
+  in.vector(exchange_weights);
   const auto layout_epoch = in.value<std::uint64_t>();
   const auto frozen_count = in.value<std::uint64_t>();
   const auto exchanges = in.value<std::int64_t>();
@@ -169,19 +175,22 @@ void FluidCoupling::load_state(BinaryReader& in, const World& world) {
     if (!(void_fraction[c] > 0.0 && void_fraction[c] <= 1.0))
       bad(fmt::format("the void fraction of cell {} is {}, not in (0, 1]", c, void_fraction[c]));
   const std::size_t n = frozen.size();
-  if (weights.size() != n || frozen_count != n)
-    bad(fmt::format("the coupling holds {} particles' weights and {} frozen values (count {})", weights.size(), n,
-                    frozen_count));
+  if (weights.size() != n || exchange_weights.size() != n || frozen_count != n)
+    bad(fmt::format("the coupling holds {} particles' weights, {} exchange weights and {} frozen values (count {})",
+                    weights.size(), exchange_weights.size(), n, frozen_count));
   const ParticleStore& p = world.particles;
   for (std::size_t i = 0; i < n; ++i) {
     const FrozenParticle& f = frozen[i];
     check_weights(weights[i], cells, "the weights of particle", i);
-    check_weights(f.weights, cells, "the exchange weights of particle", i);
+    check_weights(exchange_weights[i], cells, "the exchange weights of particle", i);
+    if (!same(weights[i], exchange_weights[i]))
+      bad(fmt::format("the exchange weights of particle {} are not its weights", i));
     if (f.id == 0 || f.id >= world.next_id)
       bad(fmt::format("frozen particle {} has id {} (next id {})", i, f.id, world.next_id));
-    if (!(f.coefficient >= 0.0) || !std::isfinite(f.coefficient) || !(f.volume > 0.0) || !std::isfinite(f.volume) ||
-        !finite(f.fluid_velocity) || !finite(f.pressure_gradient) || !finite(f.exchange_velocity) ||
-        !finite(f.velocity_sum) || f.samples < 0)
+    const double coefficient = forces[i].coefficient;
+    if (!(coefficient >= 0.0) || !std::isfinite(coefficient) || !(f.volume > 0.0) || !std::isfinite(f.volume) ||
+        !finite(forces[i].fluid_velocity) || !finite(f.pressure_gradient) || !finite(f.exchange_velocity) ||
+        !finite(sums[i].sum) || sums[i].samples < 0)
       bad(fmt::format("the frozen values of particle id {} are not finite or out of range", f.id));
   }
   // Values the coupling takes to be the particles' as they stand (same layout) must be theirs.
@@ -208,7 +217,11 @@ void FluidCoupling::load_state(BinaryReader& in, const World& world) {
   fluid_->set_state(std::move(solver));  // checks its own fields; throws before changing any
   void_fraction_ = std::move(void_fraction);
   weights_ = std::move(weights);
+  order_is_current_ = false;
+  for (std::size_t i = 0; i < n; ++i) forces[i].pressure_force = pressure_force(frozen[i]);
   frozen_ = std::move(frozen);
+  forces_ = std::move(forces);
+  velocity_sums_ = std::move(sums);
   layout_epoch_ = layout_epoch;
   frozen_count_ = static_cast<std::size_t>(frozen_count);
   exchanges_ = static_cast<long long>(exchanges);

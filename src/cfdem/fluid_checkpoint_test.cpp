@@ -6,6 +6,7 @@
 #include "cfdem/fluid_coupling.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -199,8 +200,10 @@ std::string read_text(const fs::path& path) {
 // the last checkpoint.
 TEST(FluidCheckpoint, ARunStoppedAndRestartedWritesTheFilesOfTheRunThatWentThrough) {
   const SimulationSpec spec = restart_deck();
-  const fs::path straight = fs::path(::testing::TempDir()) / "quarry_fluid_restart_straight";
-  const fs::path split = fs::path(::testing::TempDir()) / "quarry_fluid_restart_split";
+  // Named by the process: two checkouts' tests may run at once on one machine.
+  const std::string tag = std::to_string(::getpid());
+  const fs::path straight = fs::path(::testing::TempDir()) / ("quarry_fluid_restart_straight_" + tag);
+  const fs::path split = fs::path(::testing::TempDir()) / ("quarry_fluid_restart_split_" + tag);
   fs::remove_all(straight);
   fs::remove_all(split);
   std::ostringstream log;
@@ -241,6 +244,8 @@ TEST(FluidCheckpoint, ARunStoppedAndRestartedWritesTheFilesOfTheRunThatWentThrou
   const std::string rows = read_text(straight / "fluid_monitors.csv");
   EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 1 + 21) << rows;  // header, step 1, every 20 steps
   EXPECT_NE(read_text(straight / "fluid.pvd").find("fluid_000008.vti"), std::string::npos);
+  fs::remove_all(straight);
+  fs::remove_all(split);
 }
 
 }  // namespace

@@ -89,11 +89,12 @@ std::shared_ptr<FluidCoupling> FluidCoupling::attach(World& world, FluidCoupling
   return coupling;
 }
 
-void FluidCoupling::update_cell_fields() {
+void FluidCoupling::update_cell_fields(int threads) {
   const cfd::FluidGrid& g = options_.grid;
   cell_velocity_.resize(g.cell_count());
   cell_pressure_gradient_.resize(g.cell_count());
   const std::array<int, 3> n = g.cells;
+#pragma omp parallel for schedule(static) num_threads(threads)
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i) {
@@ -207,22 +208,23 @@ Vec3 FluidCoupling::pressure_force(const FrozenParticle& f) const {
   return f.pressure_gradient * (-f.volume);                      // −V_p ∇p
 }
 
+void FluidCoupling::freeze_particle(const World& world, std::size_t i) {
+  const ParticleStore& p = world.particles;
+  FrozenParticle& f = frozen_[i];
+  f.id = p.id[i];
+  f.volume = sphere_volume(p.radius[i]);
+  f.pressure_gradient = interpolate(weights_[i], cell_pressure_gradient_);
+  f.exchange_velocity = p.velocity[i];
+  forces_[i].fluid_velocity = interpolate(weights_[i], cell_velocity_);
+  forces_[i].pressure_force = pressure_force(f);
+  velocity_sums_[i] = VelocitySum{};
+}
+
 void FluidCoupling::freeze_fluid_values(const World& world) {
   const ParticleStore& p = world.particles;
   const auto n = static_cast<std::ptrdiff_t>(p.size());
 #pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
-  for (std::ptrdiff_t k = 0; k < n; ++k) {
-    const auto i = static_cast<std::size_t>(k);
-    FrozenParticle& f = frozen_[i];
-    f.id = p.id[i];
-    f.fluid_velocity = interpolate(weights_[i], cell_velocity_);
-    f.pressure_gradient = interpolate(weights_[i], cell_pressure_gradient_);
-    f.volume = sphere_volume(p.radius[i]);
-    f.exchange_velocity = p.velocity[i];
-    f.velocity_sum = Vec3{};
-    f.samples = 0;
-    f.weights = weights_[i];
-  }
+  for (std::ptrdiff_t k = 0; k < n; ++k) freeze_particle(world, static_cast<std::size_t>(k));
   layout_epoch_ = p.layout_epoch;
   frozen_count_ = p.size();
 }
@@ -232,24 +234,32 @@ void FluidCoupling::check_relaxation(World& world) {
   // accurate only while dt ≪ m/β_p, the particle's relaxation time.
   const ParticleStore& p = world.particles;
   const double coupling_step = options_.coupling_steps * world.dt;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double rate = frozen_[i].coefficient * p.inv_mass[i];  // 1/τ_p (1/s)
-    if (world.dt * rate > 1.0)
-      throw PhysicsError(fmt::format(
-          "step {}, t = {:.6g} s: particle {} has a drag relaxation time m/β_p = {:.4g} s shorter "
-          "than the DEM time step {:.4g} s (β_p = {:.4g} kg/s, m = {:.4g} kg); the drag would "
-          "overshoot. hint: a smaller time_step, or larger particles",
-          world.step_count, world.time, p.id[i], 1.0 / rate, world.dt, frozen_[i].coefficient,
-          1.0 / p.inv_mass[i]));
-    if (coupling_step * rate > 1.0 && !relaxation_warned_) {
-      relaxation_warned_ = true;  // once per run: the first particle and time it happened
-      add_warning_once(world, fmt::format(
-          "the fluid coupling step {:.4g} s is longer than the drag relaxation time m/β_p = {:.4g} s "
-          "of particle {} at t = {:.6g} s: the frozen drag coefficient lags the slip; use fewer "
-          "DEM steps per fluid step",
-          coupling_step, 1.0 / rate, p.id[i], world.time));
-    }
+  const auto rate = [&](std::size_t i) { return forces_[i].coefficient * p.inv_mass[i]; };  // 1/τ_p (1/s)
+  // The lowest index over each limit (the same for any thread count); coupling_step ≥ dt, so a
+  // particle over the first is over the second too.
+  const std::size_t n = p.size();
+  std::size_t too_fast = n, lagging = n;
+#pragma omp parallel for schedule(static) reduction(min : too_fast, lagging) num_threads(world.threading.team(n))
+  for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if (world.dt * rate(i) > 1.0) too_fast = std::min(too_fast, i);
+    if (coupling_step * rate(i) > 1.0) lagging = std::min(lagging, i);
   }
+  if (lagging < too_fast && !relaxation_warned_) {
+    relaxation_warned_ = true;  // once per run: the first particle and time it happened
+    add_warning_once(world, fmt::format(
+        "the fluid coupling step {:.4g} s is longer than the drag relaxation time m/β_p = {:.4g} s "
+        "of particle {} at t = {:.6g} s: the frozen drag coefficient lags the slip; use fewer "
+        "DEM steps per fluid step",
+        coupling_step, 1.0 / rate(lagging), p.id[lagging], world.time));
+  }
+  if (too_fast < n)
+    throw PhysicsError(fmt::format(
+        "step {}, t = {:.6g} s: particle {} has a drag relaxation time m/β_p = {:.4g} s shorter "
+        "than the DEM time step {:.4g} s (β_p = {:.4g} kg/s, m = {:.4g} kg); the drag would "
+        "overshoot. hint: a smaller time_step, or larger particles",
+        world.step_count, world.time, p.id[too_fast], 1.0 / rate(too_fast), world.dt,
+        forces_[too_fast].coefficient, 1.0 / p.inv_mass[too_fast]));
 }
 
 void FluidCoupling::exchange(World& world) {
@@ -265,20 +275,33 @@ void FluidCoupling::exchange(World& world) {
   // The previous interval's drag beyond what its fluid step took: the particles felt
   // β_p (u_p − v_p) at each force evaluation, the fluid β_p (u_p − v_p at the exchange).
   follow_layout(world);
+  // Deposits on several threads go by an order of the particles that gives the bits of one
+  // (cell_kernel.h); one thread needs none.
+  const int threads = world.threading.team(p.size());
+  DepositOrder* const order = threads > 1 ? &scratch_.order : nullptr;
+  DepositOrder* const old_order = threads > 1 ? &scratch_.old_order : nullptr;
+  // The last exchange's order is that of the old weights unless the particles moved since.
+  const bool old_order_ready = order && order_is_current_ && scratch_.order.threads == threads;
+  if (old_order_ready) std::swap(scratch_.order, scratch_.old_order);
+  order_is_current_ = false;
   // Per-particle scratch kept from exchange to exchange (not allocated and faulted in anew).
   std::vector<CellWeights>& old_weights = scratch_.old_weights;
   std::vector<Vec3>& correction = scratch_.correction;  // N
-  old_weights.resize(frozen_.size());
+  old_weights.swap(weights_);  // the last exchange's, each particle's since follow_layout
   correction.assign(frozen_.size(), Vec3{});
-  for (std::size_t i = 0; i < frozen_.size(); ++i) {
-    const FrozenParticle& f = frozen_[i];
-    old_weights[i] = f.weights;
-    if (f.samples > 0)
-      correction[i] = (f.velocity_sum / f.samples - f.exchange_velocity) * f.coefficient;
+  const auto n = static_cast<std::ptrdiff_t>(p.size());
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::ptrdiff_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const VelocitySum& v = velocity_sums_[i];
+    if (v.samples > 0)
+      correction[i] = (v.sum / v.samples - frozen_[i].exchange_velocity) * forces_[i].coefficient;
   }
   compute_weights(world);
   warn_particles_among_blocked_cells(world);
-  const double smallest = cfdem::void_fraction(g, weights_, p.radius, void_fraction_);
+  if (order) order_deposits(g, weights_, threads, *order);
+  order_is_current_ = order != nullptr;
+  const double smallest = cfdem::void_fraction(g, weights_, p.radius, void_fraction_, order);
   if (smallest < options_.minimum_void_fraction) {
     const auto crowded = static_cast<std::size_t>(
         std::min_element(void_fraction_.begin(), void_fraction_.end()) - void_fraction_.begin());
@@ -292,15 +315,12 @@ void FluidCoupling::exchange(World& world) {
   lap(kVoidFractionStage);
 
   // β_p at the slip now, with u, ε and ∇p at the particle by the same weights.
-  frozen_.resize(p.size());
   std::span<double> beta = fluid_->drag_coefficient();
   std::span<Vec3> force = fluid_->force_density();
   std::fill(beta.begin(), beta.end(), 0.0);
   std::fill(force.begin(), force.end(), Vec3{});
   std::vector<double>& coefficient = scratch_.coefficient;
-  std::vector<Vec3>& momentum = scratch_.momentum;  // β_p v_p (N)
   coefficient.assign(p.size(), 0.0);
-  momentum.resize(p.size());
   // Each particle on its own (threads); a law or UDF that throws is evaluated again after the
   // loop for the lowest such index, so the error is the same for any thread count.
   std::vector<char>& failed = scratch_.failed;
@@ -310,8 +330,7 @@ void FluidCoupling::exchange(World& world) {
                          interpolate(weights_[i], void_fraction_),
                          interpolate(weights_[i], cell_pressure_gradient_));
   };
-  const auto n = static_cast<std::ptrdiff_t>(p.size());
-#pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
+#pragma omp parallel for schedule(static) num_threads(threads)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(k);
     try {
@@ -319,16 +338,15 @@ void FluidCoupling::exchange(World& world) {
     } catch (...) {
       failed[i] = 1;
     }
-    frozen_[i].coefficient = coefficient[i];
-    momentum[i] = p.velocity[i] * coefficient[i];
+    forces_[i].coefficient = coefficient[i];
   }
   if (const auto first = std::find(failed.begin(), failed.end(), char{1}); first != failed.end())
     drag_of(static_cast<std::size_t>(first - failed.begin()));  // throws as it did in the loop
   // The fluid's share of the drag, −Σ_p β_p (u − v_p) spread by the weights: β u implicit in the
   // fluid step, β_p v_p explicit.
-  deposit(g, weights_, coefficient, beta);
-  deposit(g, weights_, momentum, force);
-  deposit(g, old_weights, correction, force);
+  deposit_drag(g, weights_, coefficient, p.velocity, beta, force, order);
+  if (old_order && !old_order_ready) order_deposits(g, old_weights, threads, *old_order);
+  deposit(g, old_weights, correction, force, old_order);
   if (options_.solver.model == cfd::VolumeAveragedModel::b) {
     // Model B's fluid carries −∇p whole: it takes the reaction of the particles' Archimedes
     // force, +ρ_f V_p g, which they feel instead of −V_p ∇p (constant over the interval).
@@ -336,14 +354,14 @@ void FluidCoupling::exchange(World& world) {
     archimedes.resize(p.size());
     for (std::size_t i = 0; i < p.size(); ++i)
       archimedes[i] = options_.solver.gravity * (options_.properties.density * sphere_volume(p.radius[i]));
-    deposit(g, weights_, archimedes, force);
+    deposit(g, weights_, archimedes, force, order);
   }
   lap(kDragStage);
   coupling_step_ = options_.coupling_steps * world.dt;
   fluid_->set_threading(world.threading);  // the world's team now (the governor may change it)
   fluid_->step(coupling_step_);
   lap(kFluidStage);
-  update_cell_fields();
+  update_cell_fields(world.threading.team(g.cell_count()));
   freeze_fluid_values(world);
   ++exchanges_;
   last_exchange_step_ = world.step_count;
@@ -360,32 +378,37 @@ void FluidCoupling::follow_layout(const World& world) {
   std::unordered_map<ParticleId, std::size_t> previous;
   previous.reserve(frozen_.size());
   for (std::size_t i = 0; i < frozen_.size(); ++i) previous.emplace(frozen_[i].id, i);
-  std::vector<FrozenParticle> moved(p.size());
-  weights_.resize(p.size());
+  std::vector<FrozenParticle> frozen(p.size());
+  std::vector<FrozenForce> forces(p.size());
+  std::vector<VelocitySum> sums(p.size());
+  std::vector<CellWeights> weights(p.size());
+  std::vector<std::size_t> added;
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (const auto found = previous.find(p.id[i]); found != previous.end()) {
-      moved[i] = frozen_[found->second];
-      weights_[i] = moved[i].weights;
-      continue;
+      const std::size_t k = found->second;
+      frozen[i] = frozen_[k], forces[i] = forces_[k], sums[i] = velocity_sums_[k], weights[i] = weights_[k];
+    } else {
+      added.push_back(i);
     }
-    FrozenParticle& f = moved[i];
-    f.id = p.id[i];
-    f.weights = weights_[i] = cell_weights(options_.grid, periodic_, blocked_, p.position[i]);
-    f.fluid_velocity = interpolate(f.weights, cell_velocity_);
-    f.pressure_gradient = interpolate(f.weights, cell_pressure_gradient_);
-    f.volume = sphere_volume(p.radius[i]);
-    f.coefficient = evaluate_drag(world, i, f.fluid_velocity, interpolate(f.weights, void_fraction_),
-                                  f.pressure_gradient)
-                        .coefficient;
-    f.exchange_velocity = p.velocity[i];
   }
-  frozen_ = std::move(moved);
+  frozen_ = std::move(frozen);
+  forces_ = std::move(forces);
+  velocity_sums_ = std::move(sums);
+  weights_ = std::move(weights);
+  order_is_current_ = false;
+  for (const std::size_t i : added) {
+    weights_[i] = cell_weights(options_.grid, periodic_, blocked_, p.position[i]);
+    freeze_particle(world, i);
+    forces_[i].coefficient = evaluate_drag(world, i, forces_[i].fluid_velocity,
+                                           interpolate(weights_[i], void_fraction_), frozen_[i].pressure_gradient)
+                                 .coefficient;
+  }
   layout_epoch_ = p.layout_epoch;
   frozen_count_ = p.size();
 }
 
 Vec3 FluidCoupling::drag_force(const World& world, std::size_t i) const {
-  return (frozen_[i].fluid_velocity - world.particles.velocity[i]) * frozen_[i].coefficient;
+  return (forces_[i].fluid_velocity - world.particles.velocity[i]) * forces_[i].coefficient;
 }
 
 void FluidCoupling::add_forces(World& world) {
@@ -396,10 +419,11 @@ void FluidCoupling::add_forces(World& world) {
 #pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(k);
-    FrozenParticle& f = frozen_[i];
-    p.force[i] += drag_force(world, i) + pressure_force(f);
-    f.velocity_sum += p.velocity[i];
-    f.samples += 1;
+    const FrozenForce& f = forces_[i];
+    p.force[i] += (f.fluid_velocity - p.velocity[i]) * f.coefficient + f.pressure_force;  // drag_force + pressure
+    VelocitySum& v = velocity_sums_[i];
+    v.sum += p.velocity[i];
+    v.samples += 1;
   }
 }
 
@@ -430,8 +454,9 @@ Vec3 FluidCoupling::fluid_momentum() const {
 
 Vec3 FluidCoupling::pending_particle_impulse() const {
   Vec3 force;  // N
-  for (const FrozenParticle& f : frozen_)
-    force += (f.fluid_velocity - f.exchange_velocity) * f.coefficient + pressure_force(f);
+  for (std::size_t i = 0; i < frozen_.size(); ++i)
+    force += (forces_[i].fluid_velocity - frozen_[i].exchange_velocity) * forces_[i].coefficient +
+             forces_[i].pressure_force;
   return force * coupling_step_;
 }
 

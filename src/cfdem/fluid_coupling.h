@@ -44,18 +44,26 @@ struct FluidCouplingOptions {
 };
 
 // The coupling's state between exchanges, per particle (engine index at `layout_epoch`; kept
-// with its particle by id when the particles are reordered).
+// with its particle by id when the particles are reordered), in three arrays: what add_forces
+// reads at every DEM step (FrozenForce, 56 B), what it adds up there (VelocitySum, 32 B), and
+// the rest, read at exchanges, layout changes and checkpoints (FrozenParticle; the exchange's
+// weights are weights()). The DEM-step loop then reads no byte it does not use.
+struct FrozenForce {
+  Vec3 fluid_velocity;       // u at the particle after the fluid step (m/s)
+  double coefficient = 0.0;  // β_p (kg/s), frozen over the coupling step
+  Vec3 pressure_force;       // −V_p ∇p_p (model A) or −ρ_f V_p g (model B), constant (N)
+};
+struct VelocitySum {
+  Vec3 sum;         // Σ v_p over the DEM steps' force evaluations since the exchange (m/s)
+  int samples = 0;  // how many
+};
 struct FrozenParticle {
   ParticleId id = 0;
-  double coefficient = 0.0;  // β_p (kg/s), frozen over the coupling step
-  Vec3 fluid_velocity;       // u at the particle after the fluid step (m/s)
-  Vec3 pressure_gradient;    // ∇p at the particle after the fluid step (Pa/m)
-  double volume = 0.0;       // V_p (m³)
-  Vec3 exchange_velocity;    // v_p the fluid step took (m/s)
-  Vec3 velocity_sum;         // Σ v_p over the DEM steps' force evaluations since (m/s)
-  int samples = 0;           // how many
-  CellWeights weights;       // of the exchange
+  double volume = 0.0;     // V_p (m³)
+  Vec3 pressure_gradient;  // ∇p at the particle after the fluid step (Pa/m)
+  Vec3 exchange_velocity;  // v_p the fluid step took (m/s)
 };
+static_assert(sizeof(FrozenForce) == 56 && sizeof(VelocitySum) == 32, "the sizes the comment gives");
 
 class FluidCoupling {
  public:
@@ -91,9 +99,12 @@ class FluidCoupling {
 
   const cfd::FluidSolver& fluid() const { return *fluid_; }
   const FluidCouplingOptions& options() const { return options_; }
-  // This exchange's void fraction per cell and each particle's frozen values.
+  // This exchange's void fraction per cell, and each particle's frozen values and the weights
+  // they were frozen with (at the exchange, or when the particle came in since).
   const std::vector<double>& void_fraction() const { return void_fraction_; }
   const std::vector<FrozenParticle>& frozen() const { return frozen_; }
+  const std::vector<FrozenForce>& frozen_forces() const { return forces_; }
+  const std::vector<VelocitySum>& velocity_sums() const { return velocity_sums_; }
   const std::vector<CellWeights>& weights() const { return weights_; }
   long long exchanges() const { return exchanges_; }
   // Wall time (s) of the coupling's parts, summed over the run: "void fraction" (weights and ε),
@@ -133,9 +144,10 @@ class FluidCoupling {
   void compute_weights(const World& world);
   void warn_particles_among_blocked_cells(World& world);  // after compute_weights
   void freeze_fluid_values(const World& world);  // u_p, ∇p_p from the fluid now
+  void freeze_particle(const World& world, std::size_t i);  // particle i's values but β_p, from weights_[i]
   void follow_layout(const World& world);        // after a layout change: frozen values by id
   void check_relaxation(World& world);
-  void update_cell_fields();                     // cell velocities and ∇p from the fluid
+  void update_cell_fields(int threads = 1);      // cell velocities and ∇p from the fluid
   cfd::DragResult to_model(cfd::DragResult drag, double porosity) const;  // ÷ ε in model B
   Vec3 pressure_force(const FrozenParticle& f) const;  // −V_p ∇p (A) or −ρ_f V_p g (B), N
 
@@ -144,9 +156,10 @@ class FluidCoupling {
   StageTimers timers_;
   struct Scratch {  // exchange()'s per-particle work arrays, reused
     std::vector<CellWeights> old_weights;
-    std::vector<Vec3> correction, momentum, archimedes;
+    std::vector<Vec3> correction, archimedes;
     std::vector<double> coefficient;
     std::vector<char> failed;
+    DepositOrder order, old_order;  // of weights_ and old_weights, when deposited on threads
   } scratch_;
   FluidCouplingOptions options_;
   std::unique_ptr<cfd::FluidSolver> fluid_;
@@ -157,7 +170,10 @@ class FluidCoupling {
   bool blocked_warned_ = false;         // the warning about such a particle, once per run
   std::vector<double> void_fraction_;
   std::vector<FrozenParticle> frozen_;
+  std::vector<FrozenForce> forces_;
+  std::vector<VelocitySum> velocity_sums_;
   std::vector<Vec3> cell_velocity_, cell_pressure_gradient_;
+  bool order_is_current_ = false;  // scratch_.order is that of weights_ (particles not moved since)
   std::uint64_t layout_epoch_ = ~std::uint64_t{0};
   std::size_t frozen_count_ = 0;
   long long exchanges_ = 0;

@@ -100,12 +100,13 @@ double flow_rate(const cfd::FluidSolver& fluid, const std::vector<double>& void_
 
 Vec3 mean_slip_velocity(const FluidCoupling& coupling, const World& world) {
   const std::vector<FrozenParticle>& frozen = coupling.frozen();
+  const std::vector<FrozenForce>& forces = coupling.frozen_forces();
   const std::size_t n = std::min(frozen.size(), world.particles.size());
   Vec3 sum;
   std::size_t counted = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (frozen[i].id != world.particles.id[i]) continue;
-    sum += frozen[i].fluid_velocity - world.particles.velocity[i];
+    sum += forces[i].fluid_velocity - world.particles.velocity[i];
     ++counted;
   }
   return counted == 0 ? Vec3{} : sum / static_cast<double>(counted);
