@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "cfdem/fluid_setup.h"
+#include "fsi/structure_run.h"
 #include "coupling/sample_points.h"
 #include "io/deck.h"
 #include "io/deck_writer.h"
@@ -50,15 +51,12 @@ auto translated(F&& f) -> decltype(f()) {
   }
 }
 
-// The deck's built-in shells are attached by `quarry run` (the CLI) only; a run without them
-// would be another simulation than the deck says: refused, not run silently without them.
-void refuse_built_in_structures(const SimulationSpec& spec, const std::string& file) {
-  if (!spec.structures.empty())
-    fail(QUARRY_ERROR_UNSUPPORTED,
-         fmt::format("{}: the deck's structures: section (the built-in shell solver) runs with `quarry run`; "
-                     "through the C ABI it is not attached yet. Run it with the command, or couple your own "
-                     "structural solver through the ABI and remove the section",
-                     file));
+// Where the structures' lines go through the ABI (the coupling messages, the end-of-run
+// summary): nowhere; a library does not print. Their frames and monitors go to the handle's
+// output folder, as the fluid's.
+std::ostream& discarded_lines() {
+  static std::ostream nowhere(nullptr);
+  return nowhere;
 }
 
 // The periodic axes of `settings` against the types (docs/deck.md's checks, io/deck.h): BAD_VALUE
@@ -82,15 +80,15 @@ LocalBackend::LocalBackend(const quarry_open_info& info) {
     fail(QUARRY_ERROR_BAD_VALUE, "give deck_path or checkpoint_path, not both");
   if (info.deck_path) {
     world_ = build_world(parse_deck(info.deck_path));
-    refuse_built_in_structures(world_.spec, info.deck_path);
-    attached_ = cfdem::attach_fluid_from_spec(world_);  // the deck's fluid: section, as `quarry run`
+    attach_built_in();
     if (threads_ > 0) world_.threading.threads = threads_;
     start();
   } else if (info.checkpoint_path) {
     sim::RestoredWorld restored = sim::read_checkpoint(info.checkpoint_path);
     world_ = std::move(restored.world);
-    // The fluid the run had, made again from the checkpoint's deck and given its state back.
-    attached_ = cfdem::attach_fluid_from_spec(world_);
+    // The fluid and structures the run had, made again from the checkpoint's deck and given
+    // their state back.
+    attach_built_in();
     sim::restore_sections(world_, restored.sections, info.checkpoint_path);
     if (threads_ > 0) world_.threading.threads = threads_;
     if (output_directory_) attach_output(world_.time, restored.frame_index);
@@ -104,7 +102,17 @@ LocalBackend::LocalBackend(const quarry_open_info& info) {
 
 LocalBackend::~LocalBackend() = default;
 
+// The deck's fluid: and structures: sections, attached as `quarry run` attaches them (the
+// fluid first), so that stepping through the ABI runs the same simulation.
+void LocalBackend::attach_built_in() {
+  attached_ = cfdem::attach_fluid_from_spec(world_);
+  if (!world_.spec.structures.empty())
+    structures_ = std::make_unique<fsi::CoupledStructures>(world_, discarded_lines());
+}
+
 void LocalBackend::close() {
+  // The structures' last frame and monitor row, as at the end of `quarry run`.
+  if (started_ && structures_) structures_->finish(discarded_lines());
   if (started_ && world_.output) {
     world_.output->finish(world_, false);
     world_.output.reset();
@@ -322,9 +330,10 @@ void LocalBackend::restore_state(const void* bytes, std::uint64_t size) {
   require_outside_hook("quarry_restore_state");
   sim::RestoredWorld restored =
       sim::read_checkpoint_bytes(std::string(static_cast<const char*>(bytes), size), "quarry_restore_state");
-  // The handle's own settings stay: threads, hooks (the fluid's among them), the output stream.
-  // The attached fluid takes its saved state (checked whole before it changes anything); a
-  // state from a deck with another fluid, or none, is refused and the handle left as it was.
+  // The handle's own settings stay: threads, hooks (the fluid's and structures' among them), the
+  // output stream. The attached fluid and structures take their saved state (each section
+  // checked whole before it changes anything); a state from a deck with another fluid or other
+  // structures, or none, is refused and the handle left as it was.
   restored.world.threading = world_.threading;
   restored.world.hooks = std::move(world_.hooks);
   restored.world.checkpoint_sections = std::move(world_.checkpoint_sections);

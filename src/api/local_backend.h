@@ -12,6 +12,10 @@
 #include "sim/exchange.h"
 #include "sim/world.h"
 
+namespace quarry::fsi {
+class CoupledStructures;  // fsi/structure_run.h
+}
+
 namespace quarry::api {
 
 class LocalBackend final : public Backend {
@@ -89,6 +93,7 @@ class LocalBackend final : public Backend {
   void require_not_started(const char* call) const;
   void require_outside_hook(const char* call) const;
   void attach_output(std::optional<double> resume_time, std::uint64_t frame_index);
+  void attach_built_in();
   // Type order and id index of the current particles (remade when the epoch changed).
   const sim::TypeOrder& order();
   std::size_t surface_index(std::uint32_t surface) const;
@@ -98,6 +103,7 @@ class LocalBackend final : public Backend {
   SimulationSpec spec_;              // before start: the definition built by calls
   World world_;
   std::shared_ptr<void> attached_;   // the deck's built-in fluid (its hooks share it), as `quarry run`
+  std::unique_ptr<fsi::CoupledStructures> structures_;  // the deck's structures (its hooks hold them)
   int threads_ = 0;
   std::optional<std::filesystem::path> output_directory_;
   sim::TypeOrder order_;

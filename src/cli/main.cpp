@@ -68,20 +68,26 @@ sim::RunOptions run_options(const Common& c) {
 int exit_code(const sim::RunSummary& s) { return s.interrupted() ? 130 : 0; }
 
 // What `run` attaches to a deck's world beyond build_world: the fluid of a fluid: section (with
-// its frames, monitors and checkpoint sections). `estimate` calibrates with it; `restart` makes
-// it again on the restored world and gives it its state from the checkpoint.
-std::shared_ptr<void> attach_to_world(World& world) { return cfdem::attach_fluid_from_spec(world); }
+// its frames, monitors and checkpoint sections), then the structures of a structures: section
+// (two-way shell coupling as end-of-step hooks, their frames and monitors, their checkpoint
+// section; their summary lines at the end of the run). `estimate` calibrates with them;
+// `restart` makes them again on the restored world and gives them their state from the
+// checkpoint.
+std::shared_ptr<void> attach_to_world(World& world) {
+  struct Attached {
+    std::shared_ptr<cfdem::FluidCoupling> fluid;
+    std::unique_ptr<fsi::CoupledStructures> structures;
+  };
+  auto attached = std::make_shared<Attached>();
+  attached->fluid = cfdem::attach_fluid_from_spec(world);  // null without a fluid: section
+  if (!world.spec.structures.empty()) attached->structures = std::make_unique<fsi::CoupledStructures>(world, std::cerr);
+  return attached;
+}
 
 int command_run(const std::string& deck, const Common& c) {
-  SimulationSpec spec = parse_deck(deck);
-  World world = build_world(spec);
-  const auto fluid = cfdem::attach_fluid_from_spec(world);  // null without a fluid: section
-  // The deck's structures (two-way shell coupling) run as end-of-step hooks of the run loop.
-  fsi::CoupledStructures structures(world, std::cerr,
-                                    c.output_dir.empty() ? spec.output.directory.value : c.output_dir);
-  const sim::RunSummary summary = sim::run(world, run_options(c));
-  structures.finish(std::cerr);
-  return exit_code(summary);
+  World world = build_world(parse_deck(deck));
+  const auto attached = attach_to_world(world);
+  return exit_code(sim::run(world, run_options(c)));
 }
 
 int command_check(const std::string& deck) {

@@ -350,6 +350,84 @@ void ShellSolver::step(double dt) {
   }
 }
 
+ShellSolverState ShellSolver::state() const {
+  return {positions_, velocities_, angular_velocities_, rotations_, loads_, internal_force_, reactions_,
+          previous_reactions_, prescribed_velocity_, stress_, plastic_, shear_, hourglass_, options_.damping,
+          time_, steps_, energies_};
+}
+
+namespace {
+
+void expect_count(std::size_t given, std::size_t expected, const char* what) {
+  if (given != expected)
+    throw std::invalid_argument(fmt::format("shell solver state: {} has {} entries, the model {}", what, given, expected));
+}
+
+bool finite_values(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite_values(double v) { return std::isfinite(v); }
+bool finite_values(const NodalLoad& l) { return finite_values(l.force) && finite_values(l.moment); }
+bool finite_values(const std::array<double, 6>& a) {
+  return std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); });
+}
+
+template <class T>
+void expect_finite(const std::vector<T>& values, std::size_t expected, const char* what) {
+  expect_count(values.size(), expected, what);
+  for (std::size_t k = 0; k < values.size(); ++k)
+    if (!finite_values(values[k]))
+      throw std::invalid_argument(fmt::format("shell solver state: {} entry {} is not finite", what, k));
+}
+
+}  // namespace
+
+void ShellSolver::check_state(const ShellSolverState& s) const {
+  const std::size_t nodes = positions_.size(), elements = model_.elements.size();
+  const std::size_t points = plastic_.size();
+  expect_finite(s.positions, nodes, "the nodal positions");
+  expect_finite(s.velocities, nodes, "the nodal velocities");
+  expect_finite(s.angular_velocities, nodes, "the nodal angular velocities");
+  expect_finite(s.rotations, nodes, "the nodal rotations");
+  expect_finite(s.loads, nodes, "the nodal loads");
+  expect_finite(s.internal_force, nodes, "the internal forces");
+  expect_finite(s.reactions, nodes, "the reactions");
+  expect_finite(s.previous_reactions, nodes, "the previous reactions");
+  expect_finite(s.prescribed_velocity, nodes, "the prescribed velocities");
+  expect_finite(s.stress, 3 * points, "the stresses");
+  expect_finite(s.plastic, points, "the plastic strains");
+  expect_finite(s.shear, 3 * elements, "the shear resultants");
+  expect_finite(s.hourglass, 5 * elements, "the hourglass resultants");
+  for (std::size_t k = 0; k < points; ++k)
+    if (s.plastic[k] < 0.0)
+      throw std::invalid_argument(fmt::format("shell solver state: plastic strain {} is {} < 0", k, s.plastic[k]));
+  const ShellEnergies& e = s.energies;
+  for (const double v : {e.kinetic, e.internal, e.hourglass, e.damping, e.external_work, e.constraint_work, s.time})
+    if (!std::isfinite(v)) throw std::invalid_argument("shell solver state: an energy or the time is not finite");
+  if (!(s.damping >= 0.0) || !std::isfinite(s.damping) || s.steps < 0 || s.time < 0.0)
+    throw std::invalid_argument(fmt::format("shell solver state: damping {} 1/s, {} steps or time {} s out of range",
+                                            s.damping, s.steps, s.time));
+}
+
+void ShellSolver::set_state(ShellSolverState s) {
+  check_state(s);
+  positions_ = std::move(s.positions);
+  velocities_ = std::move(s.velocities);
+  angular_velocities_ = std::move(s.angular_velocities);
+  rotations_ = std::move(s.rotations);
+  loads_ = std::move(s.loads);
+  internal_force_ = std::move(s.internal_force);
+  reactions_ = std::move(s.reactions);
+  previous_reactions_ = std::move(s.previous_reactions);
+  prescribed_velocity_ = std::move(s.prescribed_velocity);
+  stress_ = std::move(s.stress);
+  plastic_ = std::move(s.plastic);
+  shear_ = std::move(s.shear);
+  hourglass_ = std::move(s.hourglass);
+  options_.damping = s.damping;
+  time_ = s.time;
+  steps_ = s.steps;
+  energies_ = s.energies;
+}
+
 ElementResult ShellSolver::element_result(int element) const {
   const int points = model_.sections[model_.elements.at(element).section].integration_points;
   const int first = state_offset_[element];

@@ -65,6 +65,24 @@ struct ElementResult {
   double plastic_strain_max = 0.0;  // largest ε̄_p over the points (1)
 };
 
+// Everything a step reads that is not fixed by the model and options: a run continued from
+// this state (set_state) takes the same steps, to the bit, as the run it was taken from
+// (checkpoints: fsi/structure_checkpoint.cpp). The per-element scratch of a step is not in it.
+struct ShellSolverState {
+  std::vector<Vec3> positions, velocities, angular_velocities, rotations;  // per node
+  std::vector<NodalLoad> loads;                                            // per node
+  // Per node: internal force and moment of the last step (the next step's first half kick),
+  // reactions of the last step and the one before, prescribed velocities (set_prescribed_velocity).
+  std::vector<std::array<double, 6>> internal_force, reactions, previous_reactions, prescribed_velocity;
+  // Per through-thickness point: stress (3) and plastic strain; per element: shear (3) and
+  // hourglass (5) resultants (shell_element.h ElementState).
+  std::vector<double> stress, plastic, shear, hourglass;
+  double damping = 0.0;  // α (1/s), as set_damping left it
+  double time = 0.0;     // s
+  std::int64_t steps = 0;
+  ShellEnergies energies;
+};
+
 class ShellSolver {
  public:
   // Validates the model (validate_shell_model, throws std::invalid_argument naming the element,
@@ -106,6 +124,14 @@ class ShellSolver {
   std::span<const std::array<double, 6>> reactions() const { return reactions_; }
   std::span<const double> nodal_masses() const { return mass_; }
   const ShellEnergies& energies() const { return energies_; }
+
+  // The state (ShellSolverState) as it is now, and set back. set_state checks every size
+  // against the model and every value (finite, plastic strain ≥ 0, steps ≥ 0, α ≥ 0) and throws
+  // std::invalid_argument naming what is wrong before it changes anything.
+  ShellSolverState state() const;
+  void set_state(ShellSolverState state);
+  // set_state's checks alone (a caller that takes several states checks them all first).
+  void check_state(const ShellSolverState& state) const;
 
   ElementResult element_result(int element) const;
   // Stress at a through-thickness point in the element's co-rotational frame (σxx, σyy, σxy; Pa)

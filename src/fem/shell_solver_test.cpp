@@ -267,3 +267,58 @@ TEST(ShellModelValidation, NamesTheElementAndTheValue) {
 
 }  // namespace
 }  // namespace quarry::fem
+
+namespace quarry::fem {
+namespace {
+
+// Checkpoints (fsi/structure_checkpoint.cpp): a solver given another's state mid-run (plastic
+// points, reactions, loads, a damping changed on the way) takes the next steps to the same bits;
+// a state that does not fit the model is refused and changes nothing.
+TEST(ShellSolverState, ASolverGivenTheStateStepsToTheSameBits) {
+  ShellModel model = testing::rectangle(6, 2, 0.06, 0.02, 0.001, testing::MeshKind::quads, 5,
+                                        ThicknessRule::lobatto, testing::steel(5.0e7, 1.0e9));
+  const auto root = testing::nodes_where(model, [](const Vec3& x) { return x.x == 0.0; });
+  const auto tip = testing::nodes_where(model, [](const Vec3& x) { return std::abs(x.x - 0.06) < 1e-12; });
+  model.boundary_conditions = {{root, dof::all, {}}, {tip, dof::uz, {0.0, 0.0, -10.0}}};
+  ShellSolverOptions options;
+  options.damping = 100.0;
+  ShellSolver first(model, options);
+  const double dt = 0.8 * first.stable_time_step().time_step;
+  std::vector<NodalLoad> loads(model.nodes.size());
+  loads[3].force = {0.0, 5.0, -1.0};
+  first.set_loads(loads);
+  for (int s = 0; s < 300; ++s) first.step(dt);
+  first.set_damping(50.0);
+  const ShellSolverState saved = first.state();
+  for (int s = 0; s < 200; ++s) first.step(dt);
+
+  ShellSolver second(model, options);
+  ShellSolverState wrong = saved;
+  wrong.plastic.pop_back();
+  EXPECT_THROW(second.set_state(wrong), std::invalid_argument);
+  wrong = saved;
+  wrong.velocities[2].y = std::nan("");
+  EXPECT_THROW(second.set_state(wrong), std::invalid_argument);
+  EXPECT_EQ(second.step_count(), 0);  // refused: unchanged
+  second.set_state(saved);
+  for (int s = 0; s < 200; ++s) second.step(dt);
+
+  const ShellSolverState a = first.state(), b = second.state();
+  double plastic = 0.0;
+  for (const double p : a.plastic) plastic = std::max(plastic, p);
+  EXPECT_GT(plastic, 0.0);  // the plastic points are part of what is carried
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.time, b.time);
+  EXPECT_EQ(std::memcmp(a.positions.data(), b.positions.data(), a.positions.size() * sizeof(Vec3)), 0);
+  EXPECT_EQ(std::memcmp(a.velocities.data(), b.velocities.data(), a.velocities.size() * sizeof(Vec3)), 0);
+  EXPECT_EQ(a.stress, b.stress);
+  EXPECT_EQ(a.plastic, b.plastic);
+  EXPECT_EQ(a.hourglass, b.hourglass);
+  EXPECT_EQ(a.energies.internal, b.energies.internal);
+  EXPECT_EQ(a.energies.external_work, b.energies.external_work);
+  EXPECT_EQ(a.energies.damping, b.energies.damping);
+  EXPECT_EQ(a.energies.constraint_work, b.energies.constraint_work);
+}
+
+}  // namespace
+}  // namespace quarry::fem

@@ -60,4 +60,24 @@ void CouplingSchedule::synchronised() {
   ++synchronisations_;
 }
 
+ScheduleState CouplingSchedule::state() const {
+  return {period_, filter_, requested_, previous_request_, reset_done_, synchronisations_};
+}
+
+void CouplingSchedule::set_state(const ScheduleState& s) {
+  const bool finite = std::isfinite(s.period) && std::isfinite(s.filter) && std::isfinite(s.requested) &&
+                      std::isfinite(s.previous_request);
+  if (!finite || !(s.period > 0.0) || !(s.filter >= s.period) || !(s.previous_request >= 0.0) ||
+      !(s.requested > s.previous_request) || s.synchronisations < 0)
+    throw std::invalid_argument(fmt::format(
+        "the coupling schedule (PERIOD {} s, FILTER {} s, request {} s after {} s, {} syncs) is out of range",
+        s.period, s.filter, s.requested, s.previous_request, s.synchronisations));
+  period_ = s.period;
+  filter_ = s.filter;
+  requested_ = s.requested;
+  previous_request_ = s.previous_request;
+  reset_done_ = s.reset_done;
+  synchronisations_ = s.synchronisations;
+}
+
 }  // namespace quarry::fsi

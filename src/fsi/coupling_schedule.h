@@ -22,6 +22,14 @@ struct ScheduleSettings {
 ScheduleSettings resolve_schedule(std::optional<double> period, std::optional<double> filter,
                                   double end_time);
 
+// What a schedule holds between calls (checkpoints: structure_checkpoint.cpp).
+struct ScheduleState {
+  double period = 0.0, filter = 0.0;              // s, DT_user and FILTER now
+  double requested = 0.0, previous_request = 0.0;  // s
+  bool reset_done = false;                        // the cycle-2 reset has been made
+  std::int64_t synchronisations = 0;
+};
+
 class CouplingSchedule {
  public:
   // Pre: settings as resolve_schedule gives them. The first requested point is t = period.
@@ -50,6 +58,11 @@ class CouplingSchedule {
 
   // Both solvers have synchronised: the next request is this one plus DT_user.
   void synchronised();
+
+  ScheduleState state() const;
+  // Throws std::invalid_argument for times that are not finite or out of order (0 < period ≤
+  // filter, 0 ≤ previous request < request) or a negative count; changes nothing then.
+  void set_state(const ScheduleState& state);
 
  private:
   double period_ = 0.0, filter_ = 0.0;

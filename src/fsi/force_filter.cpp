@@ -2,6 +2,10 @@
 #include "fsi/force_filter.h"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
 
 namespace quarry::fsi {
 
@@ -33,6 +37,22 @@ void ForceFilter::mean(std::vector<Vec3>& force) const {
   }
   if (covered > 0.0)
     for (Vec3& f : force) f = f / covered;
+}
+
+void ForceFilter::set_state(double window, std::deque<Period> periods) {
+  if (!(window > 0.0) || !std::isfinite(window))
+    throw std::invalid_argument(fmt::format("the force filter's window {} s is not a time > 0", window));
+  for (std::size_t k = 0; k < periods.size(); ++k) {
+    const Period& p = periods[k];
+    if (!(p.duration >= 0.0) || !std::isfinite(p.duration) || p.impulse.size() != periods.front().impulse.size())
+      throw std::invalid_argument(fmt::format("the force filter's period {} lasts {} s over {} nodes (the first: {})", k,
+                                              p.duration, p.impulse.size(), periods.front().impulse.size()));
+    for (const Vec3& j : p.impulse)
+      if (!std::isfinite(j.x) || !std::isfinite(j.y) || !std::isfinite(j.z))
+        throw std::invalid_argument(fmt::format("the force filter's period {} holds an impulse that is not finite", k));
+  }
+  window_ = window;
+  periods_ = std::move(periods);
 }
 
 }  // namespace quarry::fsi

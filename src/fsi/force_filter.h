@@ -25,11 +25,18 @@ class ForceFilter {
   // before the first period.
   void mean(std::vector<Vec3>& force) const;
 
- private:
   struct Period {
     std::vector<Vec3> impulse;  // N·s
     double duration = 0.0;      // s
   };
+  // The window and the periods it holds, oldest first (checkpoints). set_state throws
+  // std::invalid_argument, changing nothing, for a window ≤ 0, a duration < 0 or a value that
+  // is not finite, or periods of different sizes.
+  double window() const { return window_; }
+  const std::deque<Period>& periods() const { return periods_; }
+  void set_state(double window, std::deque<Period> periods);
+
+ private:
   double window_ = 0.0;
   std::deque<Period> periods_;  // oldest first
 };

@@ -32,6 +32,7 @@ StructureCoupler::StructureCoupler(World& world, std::size_t surface, fem::Shell
       throw std::invalid_argument(fmt::format("coupling node {} is not a node of the structure", n));
   pending_impulse_.assign(node_of_vertex_.size(), Vec3{});
   loads_.assign(static_cast<std::size_t>(solver_.node_count()), fem::NodalLoad{});
+  if (options_.resume) return;  // the surface as the checkpoint left it; set_state follows
   // The sync at t = 0: the surface where the structure is; its window starts empty.
   std::vector<Vec3> x(node_of_vertex_.size()), v(node_of_vertex_.size());
   for (std::size_t k = 0; k < node_of_vertex_.size(); ++k) {
@@ -159,6 +160,53 @@ void StructureCoupler::check_period_stability() {
         "a node of {:.4g} kg (S_n {:.4g} N/m at {:.3g} m/s) is stable only for PERIOD < 2/ω = {:.4g} s; "
         "use PERIOD ≤ {:.4g} s (research notes §1.3)",
         schedule_.period(), radius, node_mass, stiffness, speed, limit, 0.2 * limit));
+}
+
+CouplerState StructureCoupler::state() const {
+  return {schedule_.state(), filter_.window(),    filter_.periods(),  pending_impulse_,    loads_,
+          structure_dt_,     period_steps_,       period_steps_done_, structure_steps_,    stability_checked_,
+          messages_};
+}
+
+void StructureCoupler::check_state(const CouplerState& s) const {
+  const std::size_t vertices = node_of_vertex_.size();
+  if (s.pending_impulse.size() != vertices || s.loads.size() != loads_.size())
+    throw std::invalid_argument(fmt::format("the coupler holds {} impulses and {} loads for {} vertices and {} nodes",
+                                            s.pending_impulse.size(), s.loads.size(), vertices, loads_.size()));
+  for (const ForceFilter::Period& p : s.filter_periods)
+    if (p.impulse.size() != vertices)
+      throw std::invalid_argument(fmt::format("the force filter holds {} impulses for {} vertices", p.impulse.size(), vertices));
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  for (const Vec3& j : s.pending_impulse)
+    if (!finite(j)) throw std::invalid_argument("the coupler's pending impulse is not finite");
+  for (const fem::NodalLoad& l : s.loads)
+    if (!finite(l.force) || !finite(l.moment)) throw std::invalid_argument("the coupler's nodal loads are not finite");
+  if (!(s.structure_dt > 0.0) || !std::isfinite(s.structure_dt) || s.period_steps < 1 || s.period_steps_done < 0 ||
+      s.period_steps_done > s.period_steps || s.structure_steps < s.period_steps_done)
+    throw std::invalid_argument(fmt::format("the coupler's step {} s, period of {} steps ({} done, {} in all) is out of range",
+                                            s.structure_dt, s.period_steps, s.period_steps_done, s.structure_steps));
+  CouplingSchedule schedule = schedule_;
+  schedule.set_state(s.schedule);
+  ForceFilter filter(s.filter_window);
+  filter.set_state(s.filter_window, {});
+  for (const ForceFilter::Period& p : s.filter_periods)
+    if (!(p.duration >= 0.0) || !std::isfinite(p.duration) ||
+        !std::all_of(p.impulse.begin(), p.impulse.end(), finite))
+      throw std::invalid_argument("the force filter holds a period that is not finite or lasts less than 0 s");
+}
+
+void StructureCoupler::set_state(CouplerState s) {
+  check_state(s);
+  schedule_.set_state(s.schedule);
+  filter_.set_state(s.filter_window, std::move(s.filter_periods));
+  pending_impulse_ = std::move(s.pending_impulse);
+  loads_ = std::move(s.loads);
+  structure_dt_ = s.structure_dt;
+  period_steps_ = s.period_steps;
+  period_steps_done_ = s.period_steps_done;
+  structure_steps_ = s.structure_steps;
+  stability_checked_ = s.stability_checked;
+  messages_ = std::move(s.messages);
 }
 
 Vec3 StructureCoupler::impulse_in_transit() const {

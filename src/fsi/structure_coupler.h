@@ -21,6 +21,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,24 @@ struct CouplerOptions {
   // The structure's step as a fraction of its stable estimate (fem::ShellSolver: 0.9 on regular
   // meshes as LS-DYNA and Radioss, 0.8 on irregular ones).
   double structure_step_fraction = 0.9;
+  // The world comes from a checkpoint: its surface and load window hold the coupled state the
+  // run left, which the constructor then leaves alone (no sync at t = 0); set_state gives the
+  // coupler its own state next.
+  bool resume = false;
+};
+
+// What a coupler holds between steps (checkpoints: structure_checkpoint.cpp), besides the
+// solver's state and the world's surface.
+struct CouplerState {
+  ScheduleState schedule;
+  double filter_window = 0.0;  // s
+  std::deque<ForceFilter::Period> filter_periods;
+  std::vector<Vec3> pending_impulse;  // N·s per surface vertex
+  std::vector<fem::NodalLoad> loads;  // per solver node
+  double structure_dt = 0.0;          // s
+  std::int64_t period_steps = 0, period_steps_done = 0, structure_steps = 0;
+  bool stability_checked = false;
+  std::vector<std::string> messages;
 };
 
 class StructureCoupler {
@@ -70,6 +89,13 @@ class StructureCoupler {
   const std::vector<fem::NodalLoad>& loads() const { return loads_; }
   double structure_step() const { return structure_dt_; }  // s, of the last period
   std::int64_t structure_steps() const { return structure_steps_; }
+
+  CouplerState state() const;
+  // Checks every size against the surface and the solver and every value, then takes the
+  // state; throws std::invalid_argument naming what is wrong before it changes anything.
+  void set_state(CouplerState state);
+  void check_state(const CouplerState& state) const;  // set_state's checks alone
+  std::size_t surface() const { return surface_; }  // the world's coupled surface
 
  private:
   void begin_structure_period();

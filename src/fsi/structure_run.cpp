@@ -8,16 +8,36 @@
 
 #include "fsi/structure_vtu.h"
 #include "io/atomic_file.h"
+#include "sim/output.h"
 
 namespace quarry::fsi {
 
-CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::filesystem::path output_directory)
-    : output_directory_(std::move(output_directory)),
+namespace {
+
+const std::vector<std::string> kMonitorColumns = {"time_s",   "max_displacement_m", "reaction_x_N", "reaction_y_N",
+                                                  "reaction_z_N", "load_x_N",       "load_y_N",     "load_z_N",
+                                                  "kinetic_J",    "internal_J",     "hourglass_J",  "external_work_J"};
+
+// The world's surface that is structure `spec`'s coupling surface, if it has one by that name.
+std::optional<std::size_t> surface_named(const World& world, const std::string& name) {
+  for (std::size_t k = 0; k < world.surfaces.size(); ++k)
+    if (world.surfaces[k].mesh.name == name) return k;
+  return std::nullopt;
+}
+
+}  // namespace
+
+CoupledStructures::CoupledStructures(World& world, std::ostream& log)
+    : world_(world),
+      log_(log),
       interval_(world.spec.output.interval.value),
       next_output_(world.time + world.spec.output.interval.value),
       monitor_interval_(world.spec.output.monitor_interval.value),
       next_monitor_(world.time + world.spec.output.monitor_interval.value) {
   const double end_time = world.spec.simulation.end_time.value;  // s
+  // A world restored from a checkpoint has the coupling surfaces (its deck lists them) with the
+  // state the run left; restore_sections gives the structures theirs.
+  const bool restored = world.initialized;
   for (const StructureSpec& spec : world.spec.structures) {
     auto entry = std::make_unique<Entry>();
     entry->name = spec.name.value;
@@ -27,7 +47,28 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::files
         spec.model.value, adapter, spec.surface ? std::optional<int>(spec.surface->value) : std::nullopt);
     const CoupledStructure& structure = entry->structure;
 
-    const std::size_t surface = add_surface(world, coupling_surface_spec(structure.mesh, spec.name.value, spec.material.value));
+    const std::optional<std::size_t> existing = surface_named(world, spec.name.value);
+    std::size_t surface = 0;
+    if (restored) {
+      const bool same = existing && world.surfaces[*existing].driver.kind == SurfaceDriverKind::coupled &&
+                        world.surfaces[*existing].mesh.reference_vertices == structure.mesh.vertices;
+      if (!same)
+        throw UserError(spec.where,
+                        fmt::format("structure \"{}\": the checkpoint's world has no coupling surface of that name "
+                                    "with the model's {} coupled nodes",
+                                    spec.name.value, structure.mesh.vertices.size()),
+                        "the model file changed since the checkpoint was written: restore it, or rerun from the deck");
+      surface = *existing;
+    } else {
+      if (existing)
+        throw UserError(spec.where,
+                        fmt::format("structure \"{}\": the deck has a surface of that name already (a deck written "
+                                    "into a checkpoint lists the structures' coupling surfaces)",
+                                    spec.name.value),
+                        "continue such a run with `quarry restart CHECKPOINT`; in a deck of your own give the "
+                        "structure a name no surface has");
+      surface = add_surface(world, coupling_surface_spec(structure.mesh, spec.name.value, spec.material.value));
+    }
     fem::ShellSolverOptions options;
     options.mass_scaling_time_step = spec.mass_scaling_time_step.value;
     options.damping = spec.damping.value;
@@ -47,8 +88,9 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::files
       throw UserError(spec.where, fmt::format("structure \"{}\": {}", spec.name.value, e.what()),
                       "set period: and filter: in the deck's structures: entry, or the EDEM card's");
     }
-    entry->coupler = std::make_unique<StructureCoupler>(world, surface, *entry->solver,
-                                                        structure.mesh.node_of_vertex, CouplerOptions{.schedule = schedule});
+    entry->coupler = std::make_unique<StructureCoupler>(
+        world, surface, *entry->solver, structure.mesh.node_of_vertex,
+        CouplerOptions{.schedule = schedule, .resume = restored});
     const fem::StableTimeStep stable = entry->solver->stable_time_step();
     log << fmt::format(
         "structure \"{}\": {} nodes, {} shells ({} on the coupling surface), mass {:.4g} kg (added {:.4g} kg); "
@@ -57,23 +99,21 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::files
         structure.mesh.triangles.size() + structure.mesh.quads.size(), entry->solver->total_mass(),
         entry->solver->added_mass(), stable.time_step, structure.adapted.element_id.at(static_cast<std::size_t>(stable.element)),
         schedule.period, schedule.filter);
-    entry->series.emplace(output_directory_ / ("structure_" + entry->name + ".pvd"));
-    entry->monitors.emplace(output_directory_ / ("structure_" + entry->name + ".csv"),
-                            std::vector<std::string>{"time_s", "max_displacement_m", "reaction_x_N", "reaction_y_N",
-                                                     "reaction_z_N", "load_x_N", "load_y_N", "load_z_N",
-                                                     "kinetic_J", "internal_J", "hourglass_J", "external_work_J"});
     Entry* raw = entry.get();
-    world.hooks.push_back({HookStage::end_of_step, "structure " + entry->name, [raw, &log](World&) {
+    world.hooks.push_back({HookStage::end_of_step, "structure " + entry->name, [raw, this](World&) {
                              raw->coupler->after_dem_step();
                              const auto& lines = raw->coupler->messages();
                              for (; raw->messages_printed < lines.size(); ++raw->messages_printed)
-                               log << "structure \"" << raw->name << "\": " << lines[raw->messages_printed] << "\n";
+                               log_ << "structure \"" << raw->name << "\": " << lines[raw->messages_printed] << "\n";
                            }});
     entries_.push_back(std::move(entry));
   }
-  // Monitor rows and frames, after every structure has run its part of the step.
+  // Monitor rows and frames, after every structure has run its part of the step; none while
+  // the world has no output (an ABI handle without an output folder, as the fluid's).
   if (entries_.empty()) return;
   world.hooks.push_back({HookStage::end_of_step, "structure output", [this](World& w) {
+                           if (!w.output) return;
+                           if (output_directory_.empty()) output_directory_ = w.output->directory();
                            const double due = 1e-6 * w.dt;  // s, clock round-off
                            if (monitor_interval_ > 0.0 && w.time >= next_monitor_ - due) {
                              for (auto& entry : entries_) add_monitor_row(*entry);
@@ -87,9 +127,15 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log, std::files
                              next_output_ += interval_;
                            }
                          }});
+  world.hooks.push_back({HookStage::end_of_run, "structure output", [this](World&) { finish(log_); }});
+  CheckpointSection section;
+  section.name = "structures";
+  section.save = [this](const World&, BinaryWriter& out) { save_state(out); };
+  section.load = [this](World& w, BinaryReader& in) { load_state(in, w); };
+  world.checkpoint_sections.push_back(std::move(section));
 }
 
-void CoupledStructures::add_monitor_row(Entry& entry) {
+std::vector<double> CoupledStructures::monitor_row(const Entry& entry) const {
   const fem::ShellSolver& solver = *entry.solver;
   double largest = 0.0;  // m
   for (int n = 0; n < solver.node_count(); ++n) {
@@ -101,17 +147,38 @@ void CoupledStructures::add_monitor_row(Entry& entry) {
   for (const auto& r : solver.reactions()) reaction += Vec3{r[0], r[1], r[2]};
   for (const fem::NodalLoad& l : entry.coupler->loads()) load += l.force;
   const fem::ShellEnergies& e = solver.energies();
-  const std::vector<double> row = {solver.time(), largest,    reaction.x, reaction.y, reaction.z, load.x,
-                                   load.y,        load.z,     e.kinetic,  e.internal, e.hourglass, e.external_work};
-  entry.monitors->add_row(row);
+  return {solver.time(), largest, reaction.x, reaction.y, reaction.z, load.x,
+          load.y,        load.z,  e.kinetic,  e.internal, e.hourglass, e.external_work};
+}
+
+// The series and the table in the output folder, with what a checkpoint carried.
+void CoupledStructures::open_output(Entry& entry) {
+  if (entry.series && entry.monitors) return;
+  entry.series.emplace(output_directory_ / ("structure_" + entry.name + ".pvd"));
+  entry.series->set_entries(std::move(entry.listed));
+  entry.listed.clear();
+  entry.monitors.emplace(output_directory_ / ("structure_" + entry.name + ".csv"), kMonitorColumns);
+  for (const std::vector<double>& row : entry.rows) entry.monitors->add_row(row);
+  entry.rows.clear();
+  if (world_.output) {  // in the folder's manifest, so that --overwrite removes them
+    world_.output->wrote("structure_" + entry.name + ".pvd");
+    world_.output->wrote("structure_" + entry.name + ".csv");
+  }
+}
+
+void CoupledStructures::add_monitor_row(Entry& entry) {
+  open_output(entry);
+  entry.monitors->add_row(monitor_row(entry));
 }
 
 // The structure as it is now (its own time, which is within a sync period of the DEM's).
 void CoupledStructures::write_frame(Entry& entry) {
   const fem::ShellSolver& solver = *entry.solver;
   if (solver.time() == entry.last_frame_time) return;
+  open_output(entry);
   const std::string file = fmt::format("structure_{}_{:04d}.vtu", entry.name, entry.frames++);
   std::filesystem::create_directories(output_directory_);
+  if (world_.output) world_.output->wrote(file);
   write_file_atomically(output_directory_ / file,
                         structure_vtu(solver, entry.structure.adapted.model, entry.coupler->loads()));
   entry.series->add(solver.time(), file);
@@ -121,11 +188,15 @@ void CoupledStructures::write_frame(Entry& entry) {
 
 void CoupledStructures::finish(std::ostream& out) {
   for (const auto& entry : entries_) {
-    if (entry->monitors->rows().empty() || entry->monitors->rows().back()[0] != entry->solver->time())
-      add_monitor_row(*entry);
-    write_frame(*entry);
-    entry->monitors->flush();
-    const std::vector<double>& r = entry->monitors->rows().back();
+    std::vector<double> r = monitor_row(*entry);
+    if (!output_directory_.empty()) {
+      open_output(*entry);
+      const auto& rows = entry->monitors->rows();
+      if (rows.empty() || rows.back()[0] != entry->solver->time()) add_monitor_row(*entry);
+      write_frame(*entry);
+      entry->monitors->flush();
+      r = entry->monitors->rows().back();
+    }
     out << fmt::format(
         "structure \"{}\": t {:.4g} s, {} steps of {:.4g} s, {} syncs; largest displacement {:.4g} m; "
         "reactions [{:.4g}, {:.4g}, {:.4g}] N, coupled load [{:.4g}, {:.4g}, {:.4g}] N; energies (J): kinetic {:.4g}, "

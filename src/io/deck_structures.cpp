@@ -53,12 +53,11 @@ void read_structures_section(MapReader& root, const DeckParseOptions& options, c
     StructureSpec structure;
     structure.where = map.location();
     DeckContext& context = map.context();
+    // A coupled mesh surface of the structure's name is its coupling surface as a checkpoint's
+    // deck lists it (added when the run started): fsi::CoupledStructures takes it on a restored
+    // world and refuses it in a new run.
     if (map.read("name", structure.name, Presence::required) && coupled_meshes.contains(structure.name.value))
-      context.error(structure.name.where,
-                    fmt::format("structure \"{}\" is also a coupled surface of this deck: a deck written into a "
-                                "checkpoint of a run with structures, which cannot be restarted yet",
-                                structure.name.value),
-                    "the structures' state (displacements, stresses) is not in the checkpoint; run the deck again");
+      coupled_meshes.erase(structure.name.value);
     else if (!structure.name.value.empty() && !taken.insert(structure.name.value).second)
       context.error(structure.name.where,
                     fmt::format("the name \"{}\" is taken by another surface or structure", structure.name.value),

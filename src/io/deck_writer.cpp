@@ -440,8 +440,8 @@ void write_export(DeckText& deck, const ExportSpec& fem_export) {
 }
 
 // The structures: entries (deck_structures.cpp). Their coupled surfaces are in `surfaces:` as
-// well (added when the run started), which a parse refuses as a restart (the structures' state
-// is not in a checkpoint).
+// well (added when the run started): a restart takes them as the structures' coupling surfaces
+// (fsi::CoupledStructures), their state from the checkpoint's "structures" section.
 void write_structures(DeckText& deck, const std::vector<StructureSpec>& structures) {
   if (structures.empty()) return;
   deck.line(0, "structures:");

@@ -34,6 +34,10 @@ class PvdSeries {
   // Throws std::runtime_error naming the file if it exists but cannot be read or parsed.
   void load_existing(double up_to_time);
 
+  // Replaces the in-memory entries (a restart that carries them in its checkpoint); the file
+  // changes at the next add().
+  void set_entries(std::vector<PvdEntry> entries) { entries_ = std::move(entries); }
+
   const std::vector<PvdEntry>& entries() const { return entries_; }
   const std::filesystem::path& path() const { return pvd_path_; }
 

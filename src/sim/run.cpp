@@ -174,9 +174,8 @@ RunSummary run(World& world, const RunOptions& options) {
 RunSummary restart(const std::string& checkpoint_path, const RunOptions& options, const AttachToWorld& attach) {
   RestoredWorld restored = read_checkpoint(checkpoint_path);
   World& world = restored.world;
-  // What the run attached beyond the deck's world (a fluid), made again from the checkpoint's
-  // deck, then given the state it had; kept alive while the world runs. (A deck with
-  // structures: is refused by read_checkpoint: their shell state is not in the checkpoint.)
+  // What the run attached beyond the deck's world (a fluid, structures), made again from the
+  // checkpoint's deck, then given the state it had; kept alive while the world runs.
   const std::shared_ptr<void> attached = attach ? attach(world) : nullptr;
   restore_sections(world, restored.sections, checkpoint_path);
   const double end_time = options.end_time ? *options.end_time : world.spec.simulation.end_time.value;

@@ -49,8 +49,8 @@ RunSummary run(World& world, const RunOptions& options);
 // unless options say otherwise. The deck's files are not needed (the checkpoint holds the
 // effective deck and the meshes); if the deck or an STL file still exists and has changed, that
 // is an error: a restart continues the same simulation. `attach` makes on the restored world
-// what the run attached beyond build_world (the CLI: the fluid of a fluid: section, as `quarry
-// run` does); its checkpoint sections then get their state back (restore_sections) before the
+// what the run attached beyond build_world (the CLI: the fluid of a fluid: section and the
+// structures of a structures: section, as `quarry run` does); its checkpoint sections then get their state back (restore_sections) before the
 // first step. A checkpoint with a section nothing attached takes, or an attachment with no
 // section in the checkpoint, is a UserError.
 RunSummary restart(const std::string& checkpoint_path, const RunOptions& options,

@@ -1,8 +1,8 @@
 // A deck with a fluid: section through the C ABI (issue #16/#18): quarry_open attaches the
 // built-in fluid as `quarry run` does, quarry_save_state / quarry_restore_state carry its state
 // (a second handle restored from the first one's state steps to the same bits), a fluid state
-// is refused by a handle without that fluid, and a deck with structures: is refused (the shells
-// are attached by `quarry run` only). Nothing but quarry.h and libquarry.so.
+// is refused by a handle without that fluid (a deck's structures: the same way:
+// structure_deck_test.cpp). Nothing but quarry.h and libquarry.so.
 #include <gtest/gtest.h>
 #include <quarry/quarry.h>
 
@@ -84,15 +84,6 @@ TEST(FluidDeckThroughTheAbi, RestoredStateStepsToTheSameBitsAsTheHandleItCameFro
   ASSERT_EQ(quarry_num_particles(dry, -1, &count), QUARRY_OK);  // left as it was
   EXPECT_EQ(quarry_close(dry), QUARRY_OK);
   EXPECT_EQ(quarry_close(first), QUARRY_OK);
-}
-
-TEST(FluidDeckThroughTheAbi, ADeckWithStructuresIsRefused) {
-  quarry_open_info info = QUARRY_OPEN_INFO_INIT;
-  const std::string deck = std::string(QUARRY_SOURCE_DIR) + "/tests/fsi/plate_bed.yaml";
-  info.deck_path = deck.c_str();
-  quarry_sim sim{};
-  EXPECT_EQ(quarry_open(&info, &sim), QUARRY_ERROR_UNSUPPORTED);
-  EXPECT_NE(error_of(QUARRY_NO_SIM).find("structures: section"), std::string::npos) << error_of(QUARRY_NO_SIM);
 }
 
 }  // namespace
