@@ -1,12 +1,13 @@
 // quarry_fluidised_bed: the CFD-DEM benchmark of issue #18 ("Performance"). Glass beads of 1 mm
 // in water, periodic across (beads and fluid), on a distributor plate at the inlet, fed at
-// 3 times Wen & Yu's minimum fluidisation velocity (24 mm/s), Gidaspow drag, a fluid step of 10
-// DEM steps of 25 µs: the bed of src/cfdem/fluidised_bed_test.cpp, wider. The beads start on a
+// 3 times Wen & Yu's minimum fluidisation velocity (24 mm/s), Gidaspow drag, a fluid step of
+// --coupling-steps (default 10) DEM steps of 25 µs: the bed of src/cfdem/fluidised_bed_test.cpp, wider. The beads start on a
 // loose lattice resting on the plate; the first coupled steps (untimed) lift the bed, the next
 // ones are timed. Prints one line "QUARRY_FLUID_BENCH key=value ..." with the time per coupled
 // step split into the coupling's parts (void fraction, drag, fluid step, fluid values, particle
 // forces) and the DEM (everything else), the particles' state hash (the same bits for any thread
-// count), plus the run's stage table.
+// count), the fluid's step and the least stable step it had (stable_time_step), plus the run's
+// stage table.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -30,7 +31,6 @@ namespace bench = quarry::bench;
 constexpr double kDiameter = 1e-3;          // m
 constexpr double kCell = 2.1e-3;            // m: 9.3 bead volumes per cell
 constexpr double kSuperficial = 0.0239;     // m/s: 3 x 7.97 mm/s (Wen & Yu 1966)
-constexpr int kCouplingSteps = 10;
 
 struct Options {
   long particles = 10000;
@@ -39,6 +39,7 @@ struct Options {
   int threads = 1;
   int warmup = 50;          // coupled steps, untimed
   int coupled_steps = 100;  // timed
+  int coupling_steps = 10;  // DEM steps per fluid step
 };
 
 World bed_world(const Options& o) {
@@ -100,7 +101,7 @@ std::shared_ptr<cfdem::FluidCoupling> attach_fluid(World& world, const Options& 
   options.boundaries.face(2, 1).kind = cfd::BoundaryKind::pressure_outlet;
   options.boundaries.face(2, 1).reference_point = {0.0, 0.0, o.cells_up * kCell};
   options.drag_law = cfd::DragLaw::gidaspow;
-  options.coupling_steps = kCouplingSteps;
+  options.coupling_steps = o.coupling_steps;
   return cfdem::FluidCoupling::attach(world, std::move(options));
 }
 
@@ -115,13 +116,15 @@ int run(const Options& o) {
   World world = bed_world(o);
   const auto coupling = attach_fluid(world, o);
   sim::initialize(world);
-  sim::advance(world, static_cast<std::uint64_t>(o.warmup) * kCouplingSteps);
+  sim::advance(world, static_cast<std::uint64_t>(o.warmup) * static_cast<std::uint64_t>(o.coupling_steps));
   const std::vector<double> before = coupling_seconds(*coupling);
   world.timers.reset();
   int iterations = 0, momentum_iterations = 0;
+  double stable_dt = coupling->fluid().stable_time_step();  // s: the least over the timed steps
   const auto start = std::chrono::steady_clock::now();
   for (int n = 0; n < o.coupled_steps; ++n) {
-    sim::advance(world, kCouplingSteps);
+    sim::advance(world, static_cast<std::uint64_t>(o.coupling_steps));
+    stable_dt = std::min(stable_dt, coupling->fluid().stable_time_step());
     iterations += coupling->fluid().last_report().pressure.iterations;
     for (const cfd::SolveReport& m : coupling->fluid().last_report().momentum) momentum_iterations += m.iterations;
   }
@@ -139,13 +142,13 @@ int run(const Options& o) {
   }
   const double dem = wall - fluid_side;
   std::cout << fmt::format(
-      "QUARRY_FLUID_BENCH particles={} cells={} threads={} coupled_steps={} wall_s={:.4f} step_ms={:.4f}{} "
-      "dem_ms={:.4f} fluid_over_dem={:.4f} pressure_iterations={:.2f} momentum_iterations={:.2f} rss_mb={:.1f} "
-      "state_hash={:016x}\n",
-      world.particles.size(), coupling->options().grid.cell_count(), o.threads, o.coupled_steps, wall,
+      "QUARRY_FLUID_BENCH particles={} cells={} threads={} coupling_steps={} coupled_steps={} wall_s={:.4f} "
+      "step_ms={:.4f}{} dem_ms={:.4f} fluid_over_dem={:.4f} pressure_iterations={:.2f} momentum_iterations={:.2f} "
+      "fluid_dt_ms={:.4f} fluid_stable_dt_ms={:.4f} rss_mb={:.1f} state_hash={:016x}\n",
+      world.particles.size(), coupling->options().grid.cell_count(), o.threads, o.coupling_steps, o.coupled_steps, wall,
       wall * per_step, parts, dem * per_step, fluid_side / dem,
       static_cast<double>(iterations) / o.coupled_steps, static_cast<double>(momentum_iterations) / o.coupled_steps,
-      bench::peak_rss_bytes() / 1048576.0, sim::state_hash(world));
+      o.coupling_steps * world.dt * 1e3, stable_dt * 1e3, bench::peak_rss_bytes() / 1048576.0, sim::state_hash(world));
   std::cerr << world.timers.table(wall);
   return 0;
 }
@@ -162,6 +165,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "threads")->check(CLI::PositiveNumber);
   app.add_option("--warmup", o.warmup, "coupled steps before the timed ones")->check(CLI::NonNegativeNumber);
   app.add_option("--coupled-steps", o.coupled_steps, "timed coupled steps")->check(CLI::PositiveNumber);
+  app.add_option("--coupling-steps", o.coupling_steps, "DEM steps per fluid step (default 10)")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   try {
     return run(o);

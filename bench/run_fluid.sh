@@ -1,21 +1,29 @@
 #!/usr/bin/env bash
 # The CFD-DEM fluidised bed (issue 18, "Performance"): quarry_fluidised_bed at 10k beads in
 # 16 x 16 x 200 cells and 100k beads in 40 x 40 x 40 cells (both >= 50k cells), 1 and 2 threads
-# interleaved, REPEATS times (default 3). Each run's QUARRY_FLUID_BENCH line goes to
+# interleaved, REPEATS times (default 3), at each coupling interval of COUPLING (DEM steps per
+# fluid step; default "10 20": 0.25 and 0.5 ms, a quarter and two thirds of the fluid's own
+# stable step on this bed, which the runs print as fluid_stable_dt_ms). Each run's QUARRY_FLUID_BENCH line goes to
 # bench/results/DATE-CPU-fluid.txt with the machine line; the summary (medians per size and
 # thread count: ms per coupled step, the fluid side's parts, the DEM, fluid/DEM) is printed and
 # appended. Copy the figures into docs/performance.md.
-# usage: bench/run_fluid.sh   (BUILD_DIR=build/release, REPEATS=3, SKIP_BUILD=1, QUIET_WAIT=30)
+# usage: bench/run_fluid.sh   (BUILD_DIR=build/release, REPEATS=3, COUPLING="10 20", SKIP_BUILD=1,
+#                             QUIET_WAIT=30)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 BUILD_DIR=${BUILD_DIR:-build/release}
 REPEATS=${REPEATS:-3}
+COUPLING=${COUPLING:-10 20}
 QUIET_WAIT=${QUIET_WAIT:-30}
 source bench/lib.sh
 build_bench quarry_fluidised_bed
 bin=$BUILD_DIR/bench/quarry_fluidised_bed
 out=bench/results/$(date -u +%F)-$(cpu_slug)-fluid.txt
+for n in 2 3 4 5 6 7 8 9; do  # a second run on the same day keeps the first one's file
+  [[ -e $out ]] || break
+  out=bench/results/$(date -u +%F)-$(cpu_slug)-fluid-$n.txt
+done
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 {
@@ -26,24 +34,27 @@ sizes=("10000 16 200 50 100" "100000 40 40 30 60")  # beads, cells across, cells
 for repeat in $(seq 1 "$REPEATS"); do
   for size in "${sizes[@]}"; do
     read -r beads across up warmup steps <<<"$size"
-    for threads in 1 2; do
-      wait_quiet
-      b0=$(busy); t0=$(date +%s.%N)
-      line=$(cd "$work" && "$ROOT/$bin" --particles "$beads" --cells-across "$across" --cells-up "$up" \
-               --warmup "$warmup" --coupled-steps "$steps" --threads "$threads" 2>/dev/null | grep '^QUARRY_FLUID_BENCH')
-      b1=$(busy); t1=$(date +%s.%N)
-      # Cores the others used during the run: all busy jiffies less this run's own CPU time.
-      load=$(awk -v b=$((b1-b0)) -v hz="$(getconf CLK_TCK)" -v t0="$t0" -v t1="$t1" -v n="$threads" \
-               'BEGIN { o = b / hz / (t1 - t0) - n; if (o < 0) o = 0; printf "%.2f", o }')
-      echo "$line repeat=$repeat busy_cores_beyond_own=$load" | tee -a "$out"
+    for interval in $COUPLING; do
+      for threads in 1 2; do
+        wait_quiet
+        b0=$(busy); t0=$(date +%s.%N)
+        line=$(cd "$work" && "$ROOT/$bin" --particles "$beads" --cells-across "$across" --cells-up "$up" \
+                 --warmup "$warmup" --coupled-steps "$steps" --coupling-steps "$interval" --threads "$threads" \
+                 2>/dev/null | grep '^QUARRY_FLUID_BENCH')
+        b1=$(busy); t1=$(date +%s.%N)
+        # Cores the others used during the run: all busy jiffies less this run's own CPU time.
+        load=$(awk -v b=$((b1-b0)) -v hz="$(getconf CLK_TCK)" -v t0="$t0" -v t1="$t1" -v n="$threads" \
+                 'BEGIN { o = b / hz / (t1 - t0) - n; if (o < 0) o = 0; printf "%.2f", o }')
+        echo "$line repeat=$repeat busy_cores_beyond_own=$load" | tee -a "$out"
+      done
     done
   done
 done
-# Medians per (beads, threads).
+# Medians per (beads, interval, threads).
 summary=$(awk '
   /^QUARRY_FLUID_BENCH/ {
     delete kv; for (i = 2; i <= NF; ++i) { split($i, f, "="); kv[f[1]] = f[2] }
-    key = kv["particles"] " " kv["threads"]; keys[key] = 1; n[key]++
+    key = kv["particles"] " " kv["coupling_steps"] " " kv["threads"]; keys[key] = 1; n[key]++
     for (name in kv) v[key, name, n[key]] = kv[name]
   }
   function median(key, name,   m, i, j, t, a) {
@@ -52,14 +63,15 @@ summary=$(awk '
     return m % 2 ? a[(m + 1) / 2] : (a[m / 2] + a[m / 2 + 1]) / 2
   }
   END {
-    printf "| beads | cells | threads | ms per coupled step | fluid step | void fraction | drag | fluid values | particle forces | DEM (10 steps) | fluid side / DEM |\n"
-    printf "|---|---|---|---|---|---|---|---|---|---|---|\n"
+    printf "| beads | cells | DEM steps per fluid step | threads | ms per coupled step | fluid step | void fraction | drag | fluid values | particle forces | DEM | fluid side / DEM | fluid dt / its stable dt |\n"
+    printf "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
     for (key in keys) {
       split(key, k, " ")
-      printf "| %s | %s | %s | %.1f | %.1f | %.2f | %.2f | %.2f | %.2f | %.1f | %.2f |\n", k[1], v[key, "cells", 1], k[2],
+      printf "| %s | %s | %s | %s | %.1f | %.1f | %.2f | %.2f | %.2f | %.2f | %.1f | %.2f | %.2f |\n", k[1], v[key, "cells", 1], k[2], k[3],
         median(key, "step_ms"), median(key, "fluid_step_ms"), median(key, "void_fraction_ms"), median(key, "drag_ms"),
-        median(key, "fluid_values_ms"), median(key, "particle_forces_ms"), median(key, "dem_ms"), median(key, "fluid_over_dem")
+        median(key, "fluid_values_ms"), median(key, "particle_forces_ms"), median(key, "dem_ms"), median(key, "fluid_over_dem"),
+        median(key, "fluid_dt_ms") / median(key, "fluid_stable_dt_ms")
     }
-  }' "$out" | sort -t'|' -k2,2n -k4,4n)
+  }' "$out" | sort -t'|' -k2,2n -k4,4n -k5,5n)
 printf '\nMedians of %s runs:\n%s\n' "$REPEATS" "$summary" | tee -a "$out"
 echo "results: $out"
