@@ -9,7 +9,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -44,8 +46,26 @@ ShellModel plate(int n) {
   return model;
 }
 
-// Seconds for `steps` steps on `threads` threads (the set-up is not timed).
-double time_steps(int n, int steps, int threads, double& dt) {
+// FNV-1a over the bytes of the solver's whole state (nodal fields, stresses, resultants,
+// energies): equal hashes prove that two builds or thread counts took bit-identical steps.
+std::uint64_t state_hash(const ShellSolverState& s) {
+  std::uint64_t h = 1469598103934665603ull;
+  const auto add = [&h](const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ p[k]) * 1099511628211ull;
+  };
+  const auto add_vector = [&add](const auto& v) { add(v.data(), v.size() * sizeof(v[0])); };
+  add_vector(s.positions), add_vector(s.velocities), add_vector(s.angular_velocities), add_vector(s.rotations);
+  add_vector(s.internal_force), add_vector(s.reactions), add_vector(s.stress), add_vector(s.plastic);
+  add_vector(s.shear), add_vector(s.hourglass);
+  const double energies[] = {s.energies.kinetic, s.energies.internal, s.energies.hourglass, s.energies.damping,
+                             s.energies.external_work, s.energies.constraint_work, s.time};
+  add(energies, sizeof energies);
+  return h;
+}
+
+// Seconds for `steps` steps on `threads` threads (the set-up is not timed); `hash` the final state's.
+double time_steps(int n, int steps, int threads, double& dt, std::uint64_t& hash) {
   ShellSolverOptions options;
   options.threading.threads = threads;
   ShellSolver solver(plate(n), options);
@@ -57,7 +77,9 @@ double time_steps(int n, int steps, int threads, double& dt) {
   solver.step(dt);  // first touch of every array
   const auto start = std::chrono::steady_clock::now();
   for (int s = 0; s < steps; ++s) solver.step(dt);
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  hash = state_hash(solver.state());
+  return seconds;
 }
 
 void write_ccx_deck(const std::string& path, int n, int steps, double dt) {
@@ -96,17 +118,24 @@ int main(int argc, char** argv) {
   app.add_option("--ccx-input", ccx_input, "also write the same plate as a CalculiX explicit deck");
   CLI11_PARSE(app, argc, argv);
   std::vector<std::vector<double>> rates(threads.size());
+  std::vector<std::uint64_t> hashes(threads.size());
+  bool repeatable = true;  // every run of a thread count ended in the same state
   double dt = 0.0;
   for (int r = 0; r < repeats; ++r)
     for (std::size_t t = 0; t < threads.size(); ++t) {
-      const double seconds = time_steps(n, steps, threads[t], dt);
+      std::uint64_t hash = 0;
+      const double seconds = time_steps(n, steps, threads[t], dt, hash);
       rates[t].push_back(static_cast<double>(n) * n * steps / seconds);
+      if (r > 0 && hash != hashes[t]) repeatable = false;
+      hashes[t] = hash;
     }
   for (std::size_t t = 0; t < threads.size(); ++t) {
     std::vector<double> v = rates[t];
     std::sort(v.begin(), v.end());
-    std::printf("QUARRY_SHELL elements=%d threads=%d steps=%d dt=%.4g median_element_steps_per_s=%.4g min=%.4g max=%.4g\n",
-                n * n, threads[t], steps, dt, v[v.size() / 2], v.front(), v.back());
+    std::printf("QUARRY_SHELL elements=%d threads=%d steps=%d dt=%.4g median_element_steps_per_s=%.4g min=%.4g max=%.4g "
+                "state_hash=%016llx%s\n",
+                n * n, threads[t], steps, dt, v[v.size() / 2], v.front(), v.back(),
+                static_cast<unsigned long long>(hashes[t]), repeatable ? "" : " NOT_REPEATABLE");
   }
   if (!ccx_input.empty()) write_ccx_deck(ccx_input, n, steps, dt);
   return 0;

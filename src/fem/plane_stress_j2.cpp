@@ -6,29 +6,11 @@
 
 namespace quarry::fem {
 
-double von_mises(const Voigt3& stress) {
-  const double xx = stress[0], yy = stress[1], xy = stress[2];
-  return std::sqrt(xx * xx - xx * yy + yy * yy + 3.0 * xy * xy);
-}
-
-Voigt3 plane_stress_elastic(const PlaneStressMaterial& material, const Voigt3& strain) {
-  const double e = material.youngs_modulus, nu = material.poisson_ratio;
-  const double factor = e / (1.0 - nu * nu);
-  return {factor * (strain[0] + nu * strain[1]), factor * (nu * strain[0] + strain[1]),
-          factor * 0.5 * (1.0 - nu) * strain[2]};
-}
-
-void update_plane_stress(const PlaneStressMaterial& material, const Voigt3& strain_increment,
-                         Voigt3& stress, double& plastic_strain) {
-  const Voigt3 increment = plane_stress_elastic(material, strain_increment);
-  const Voigt3 trial{stress[0] + increment[0], stress[1] + increment[1],
-                     stress[2] + increment[2]};
-  stress = trial;
+void plane_stress_return_map(const PlaneStressMaterial& material, Voigt3& stress,
+                             double& plastic_strain) {
+  const Voigt3 trial = stress;
   const double yield0 = material.yield_stress;
-  if (!(yield0 > 0.0) || !std::isfinite(yield0)) return;
   const double hardening = material.hardening_modulus;
-  const double trial_yield = yield0 + hardening * plastic_strain;
-  if (von_mises(trial) <= trial_yield) return;
 
   // In the common eigenbasis of C and of the projection P (Simo & Hughes eq. 3.4.6):
   // a = (σxx + σyy)/√2 (C: E/(1 − ν), P: 1/3), b = (σyy − σxx)/√2 (C: 2G, P: 1),

@@ -266,6 +266,9 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
   // M = ∫z σ dz (per unit length), stress work ∫ ½(σ_n + σ_n+1)·Δε dz per unit area.
   Voigt3 force{}, moment{};
   double work = 0.0;
+  // A local copy: the stores through state.stress below could alias the section's fields as
+  // far as the compiler knows, which would make it reload E, ν and recompute E/(1 − ν²) per point.
+  const PlaneStressMaterial material = section.material;
   for (int p = 0; p < section.points; ++p) {
     const double z = section.coordinate[p] * half;
     const double w = section.weight[p] * half;
@@ -274,7 +277,7 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
                            membrane[2] + z * curvature[2]};
     Voigt3 stress{s[0], s[1], s[2]};
     const Voigt3 old = stress;
-    update_plane_stress(section.material, increment, stress, state.plastic_strain[p]);
+    update_plane_stress(material, increment, stress, state.plastic_strain[p]);
     for (int k = 0; k < 3; ++k) {
       s[k] = stress[k];
       work += 0.5 * (old[k] + stress[k]) * increment[k] * w;
@@ -285,6 +288,9 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
   // Transverse shear, elastic: Q = κ G t γ.
   const double shear_stiffness = section.shear_factor * section.shear_modulus * t;
   std::array<std::array<double, 6>, 4> local{};
+  // Edge-tied quads: the covariant edge shears, computed once for the shear and the w
+  // hourglass mode below (both read the same vl, wl and geometry).
+  QuadShearRates edge_shear;
   if (n == 4 && section.quad_shear == QuadShear::centre) {
     // Belytschko–Tsay: γ at the centre, γ = B ŵ + N θ̂, conjugate resultants Q_x, Q_y.
     const double old_qx = state.shear[0], old_qy = state.shear[1];
@@ -297,8 +303,8 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
       local[i][4] += g.area * shape * state.shear[0];
     }
   } else if (n == 4) {
-    work += quad_shear(g, quad_shear_rates(g, vl, wl), dt, shear_stiffness, state.shear, local) /
-            g.area;
+    edge_shear = quad_shear_rates(g, vl, wl);
+    work += quad_shear(g, edge_shear, dt, shear_stiffness, state.shear, local) / g.area;
   } else {
     work += triangle_shear(g, vl, wl, dt, shear_stiffness, state.shear, local) / g.area;
   }
@@ -349,9 +355,8 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
       const double along_xi = 0.5 * (hx * geta_y - hy * geta_x) / det;
       const double along_eta = 0.5 * (-hx * gxi_y + hy * gxi_x) / det;
       w_weight = {-1.0 - along_xi, 1.0 - along_xi, -1.0 - along_eta, 1.0 - along_eta};
-      const QuadShearRates shear = quad_shear_rates(g, vl, wl);
       rate[2] = 0.0;
-      for (int k = 0; k < 4; ++k) rate[2] += w_weight[k] * shear.covariant[k];
+      for (int k = 0; k < 4; ++k) rate[2] += w_weight[k] * edge_shear.covariant[k];
     }
     const PlaneStressMaterial& m = section.material;
     // Stiffnesses (BLT 1984 eq. 30): r_m E t A B·B/8, r_w κ G t³ B·B/12, r_θ E t³ A B·B/192.
