@@ -21,34 +21,12 @@ test -s split/fluid_monitors.csv
 test "$(grep -c 'fluid_0000[0-9][0-9].vti' split/fluid.pvd)" -eq 9
 echo "restarted at step 228 (inside a coupling interval): every file as the run that went through"
 
-# damage.py IN OUT WHAT: the fluid section's version, or its first pressure value made NaN; the
-# header's CRC-32 of the payload written again.
-cat > damage.py <<'PY'
-import math, struct, sys, zlib
-data = bytearray(open(sys.argv[1], "rb").read())
-header = 32
-name = struct.pack("<Q", 5) + b"fluid"
-at = data.index(name, header) + len(name) + 8  # the section's bytes follow its length
-if sys.argv[3] == "version":
-    struct.pack_into("<I", data, at, 7)
-else:
-    padded = struct.unpack_from("<Q", data, at + 4)[0]
-    struct.pack_into("<d", data, at + 4 + 3 * (8 + 8 * padded) + 8, math.nan)
-struct.pack_into("<I", data, 24, zlib.crc32(bytes(data[header:])) & 0xffffffff)
-open(sys.argv[2], "wb").write(data)
-PY
-expect_refused() {  # FILE PATTERN
-  set +e
-  message=$("$quarry" restart "$1" --quiet --output-dir refused 2>&1)
-  code=$?
-  set -e
-  echo "$message"
-  test "$code" -eq 2 || { echo "expected exit code 2, got $code"; exit 1; }
-  grep -q "$2" <<< "$message" || { echo "expected: $2"; exit 1; }
-}
-"$python" damage.py step228.qck bad_version.qck version
+# The fluid section's version, or its first pressure value made NaN (after the version and three
+# padded velocity arrays, each its length and values, and the pressure's length).
+source "$(dirname "$0")/restart_checks.sh"
+damage step228.qck bad_version.qck fluid 0 "<I" 7
 expect_refused bad_version.qck "bad_version.qck: error: cannot restore checkpoint: its 'fluid' section: version 7"
-"$python" damage.py step228.qck bad_pressure.qck pressure
+damage step228.qck bad_pressure.qck fluid "4 + 3 * (8 + 8 * u64(4)) + 8" "<d" nan
 expect_refused bad_pressure.qck "cannot restore checkpoint: its 'fluid' section: the fluid's pressure value 0 is not a finite number"
 cp step228.qck flipped.qck
 printf '\x55' | dd of=flipped.qck bs=1 seek=5000 conv=notrunc status=none

@@ -31,32 +31,11 @@ for file in straight/structure_plate* straight/particles_*.vtu straight/checkpoi
 done
 echo "restarted into another folder: the structure's series, frames and monitors, the particle frames after the checkpoint and the last checkpoint as the run that went through"
 
-# damage.py IN OUT WHAT: the structures section's version, or its first nodal position made NaN;
-# the header's CRC-32 of the payload written again.
-cat > damage.py <<'PY'
-import math, struct, sys, zlib
-data = bytearray(open(sys.argv[1], "rb").read())
-header = 32
-name = struct.pack("<Q", 10) + b"structures"
-at = data.index(name, header) + len(name) + 8  # the section's bytes follow its length
-if sys.argv[3] == "version":
-    struct.pack_into("<I", data, at, 9)
-else:  # version, count, name "plate", surface index, then the positions' length and values
-    struct.pack_into("<d", data, at + 4 + 8 + 8 + 5 + 8 + 8, math.nan)
-struct.pack_into("<I", data, 24, zlib.crc32(bytes(data[header:])) & 0xffffffff)
-open(sys.argv[2], "wb").write(data)
-PY
-expect_refused() {  # FILE PATTERN
-  set +e
-  message=$("$quarry" restart "$1" --quiet --output-dir refused 2>&1)
-  code=$?
-  set -e
-  echo "$message"
-  test "$code" -eq 2 || { echo "expected exit code 2, got $code"; exit 1; }
-  grep -q "$2" <<< "$message" || { echo "expected: $2"; exit 1; }
-}
-"$python" damage.py step117.qck bad_version.qck version
+# The structures section's version, or its first nodal position made NaN (after the version, the
+# count, the name "plate", the surface index and the positions' length).
+source "$(dirname "$0")/restart_checks.sh"
+damage step117.qck bad_version.qck structures 0 "<I" 9
 expect_refused bad_version.qck "bad_version.qck: error: cannot restore checkpoint: its 'structures' section: version 9"
-"$python" damage.py step117.qck bad_position.qck position
+damage step117.qck bad_position.qck structures "4 + 8 + 8 + 5 + 8 + 8" "<d" nan
 expect_refused bad_position.qck "cannot restore checkpoint: its 'structures' section: .*nodal positions entry 0 is not finite"
 echo "damaged checkpoints refused: ok"
