@@ -199,7 +199,7 @@ class MultigridCgSolver final : public PressureSolver {
     std::vector<double>& direction = work_[4];
     std::vector<double>& q = work_[5];
     for (std::size_t w = 2; w < work_.size(); ++w) work_[w].resize(n);
-    apply(fine, x, q);
+    (void)apply_dot(fine, x, q);
     for_each(n, [&](std::size_t p) { r[p] = s.active[p] ? b[p] - q[p] : 0.0; });
     double r_norm = std::sqrt(dot(r, r));
     if (r_norm > tolerance * b_norm) {
@@ -239,24 +239,31 @@ class MultigridCgSolver final : public PressureSolver {
     for (std::size_t p = 0; p < n; ++p) f(p);
   }
 
-  // Σ_rows (Σ_i in row f(p)), the rows summed in order: identical bits for any team.
+  // Σ over the grid rows of row_total(row), each row's total computed on the team and the
+  // rows added in order: identical bits for any team.
   template <class F>
-  double row_sum(const StencilSystem& s, F&& f) const {
-    const std::size_t rows =
-        static_cast<std::size_t>(s.size[1]) * static_cast<std::size_t>(s.size[2]);
-    const std::size_t row_length = static_cast<std::size_t>(s.size[0]);
+  double sum_over_rows(const StencilSystem& s, F&& row_total) const {
+    const int rows = s.size[1] * s.size[2];
     std::vector<double>& partial = partial_;
-    partial.assign(rows, 0.0);
+    partial.assign(static_cast<std::size_t>(rows), 0.0);
     const int team = threading_.team(s.count());
 #pragma omp parallel for schedule(static) num_threads(team)
-    for (std::size_t row = 0; row < rows; ++row) {
-      double sum = 0.0;
-      for (std::size_t i = 0; i < row_length; ++i) sum += f(row * row_length + i);
-      partial[row] = sum;
-    }
+    for (int row = 0; row < rows; ++row) partial[static_cast<std::size_t>(row)] = row_total(row);
     double total = 0.0;
     for (double value : partial) total += value;
     return total;
+  }
+
+  // Σ_rows (Σ_i in row f(p)), the rows summed in order: identical bits for any team.
+  template <class F>
+  double row_sum(const StencilSystem& s, F&& f) const {
+    const std::size_t row_length = static_cast<std::size_t>(s.size[0]);
+    return sum_over_rows(s, [&](int row) {
+      const std::size_t first = static_cast<std::size_t>(row) * row_length;
+      double sum = 0.0;
+      for (std::size_t i = 0; i < row_length; ++i) sum += f(first + i);
+      return sum;
+    });
   }
 
   double dot(const std::vector<double>& u, const std::vector<double>& v) const {
@@ -493,44 +500,20 @@ class MultigridCgSolver final : public PressureSolver {
     level.direct = true;
   }
 
-  void apply(const Level& level, const std::vector<double>& x, std::vector<double>& y) const {
-    const StencilSystem& s = level.system;
-    const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
-    const int rows = ny * nz;
-    const int team = threading_.team(s.count());
-#pragma omp parallel for schedule(static) num_threads(team)
-    for (int row = 0; row < rows; ++row) {
-      const RowStencil r = row_stencil(level, row % ny, row / ny, zeros_.data());
-      for (int i = 0; i < nx; ++i) {
-        const std::size_t p = r.start + static_cast<std::size_t>(i);
-        y[p] = s.active[p] ? level.diagonal[p] * x[p] - neighbour_sum(r, x.data(), i) : x[p];
-      }
-    }
-  }
-
   // y = A x on the active unknowns (0 on the held ones); returns Σ x·y summed per row and the
   // rows in order (as row_sum).
   double apply_dot(const Level& level, const std::vector<double>& x, std::vector<double>& y) const {
     const StencilSystem& s = level.system;
-    const int nx = s.size[0], ny = s.size[1], nz = s.size[2];
-    const int rows = ny * nz;
-    std::vector<double>& partial = partial_;
-    partial.assign(static_cast<std::size_t>(rows), 0.0);
-    const int team = threading_.team(s.count());
-#pragma omp parallel for schedule(static) num_threads(team)
-    for (int row = 0; row < rows; ++row) {
-      const RowStencil r = row_stencil(level, row % ny, row / ny, zeros_.data());
+    return sum_over_rows(s, [&](int row) {
+      const RowStencil r = row_stencil(level, row % s.size[1], row / s.size[1], zeros_.data());
       double sum = 0.0;
-      for (int i = 0; i < nx; ++i) {
+      for (int i = 0; i < s.size[0]; ++i) {
         const std::size_t p = r.start + static_cast<std::size_t>(i);
         y[p] = s.active[p] ? level.diagonal[p] * x[p] - neighbour_sum(r, x.data(), i) : 0.0;
         sum += x[p] * y[p];
       }
-      partial[static_cast<std::size_t>(row)] = sum;
-    }
-    double total = 0.0;
-    for (double value : partial) total += value;
-    return total;
+      return sum;
+    });
   }
 
   // One Gauss-Seidel half sweep over the unknowns of colour (i + j + k) mod 2.
