@@ -419,8 +419,7 @@ void FluidCoupling::add_forces(World& world) {
 #pragma omp parallel for schedule(static) num_threads(world.threading.team(p.size()))
   for (std::ptrdiff_t k = 0; k < n; ++k) {
     const auto i = static_cast<std::size_t>(k);
-    const FrozenForce& f = forces_[i];
-    p.force[i] += (f.fluid_velocity - p.velocity[i]) * f.coefficient + f.pressure_force;  // drag_force + pressure
+    p.force[i] += drag_force(world, i) + forces_[i].pressure_force;
     VelocitySum& v = velocity_sums_[i];
     v.sum += p.velocity[i];
     v.samples += 1;
