@@ -16,18 +16,21 @@
 // force and its moment about any point (Σ λ_i F = F, Σ x_i × λ_i F = p × F); a quad's two
 // triangles share its four nodes. Moments at the nodes are not sent (the contact torques and the
 // shell offset of the contact point are ignored).
-// With FILTER = PERIOD the structure receives each period's impulse exactly: the loads are the
-// impulse divided by the length of the structure's next period (a whole number of its steps).
+// With FILTER = PERIOD the structure receives each period's impulse: the loads are the impulse
+// divided by the length of the structure's next period (a whole number of its steps).
+// The structure's half (its periods, FILTER, the nodes it sends) is StructureSide, which an
+// external partner drives through the C ABI: the DEM's load window goes to it as the window
+// mean and length quarry_get_surface_loads returns (impulse J/d, then ×d again: J to within
+// an ulp), so that the built-in path and such a partner take the same steps to the bit.
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <string>
 #include <vector>
 
 #include "fem/shell_solver.h"
 #include "fsi/coupling_schedule.h"
-#include "fsi/force_filter.h"
+#include "fsi/structure_side.h"
 #include "sim/world.h"
 
 namespace quarry::fsi {
@@ -41,20 +44,6 @@ struct CouplerOptions {
   // run left, which the constructor then leaves alone (no sync at t = 0); set_state gives the
   // coupler its own state next.
   bool resume = false;
-};
-
-// What a coupler holds between steps (checkpoints: structure_checkpoint.cpp), besides the
-// solver's state and the world's surface.
-struct CouplerState {
-  ScheduleState schedule;
-  double filter_window = 0.0;  // s
-  std::deque<ForceFilter::Period> filter_periods;
-  std::vector<Vec3> pending_impulse;  // N·s per surface vertex
-  std::vector<fem::NodalLoad> loads;  // per solver node
-  double structure_dt = 0.0;          // s
-  std::int64_t period_steps = 0, period_steps_done = 0, structure_steps = 0;
-  bool stability_checked = false;
-  std::vector<std::string> messages;
 };
 
 class StructureCoupler {
@@ -78,17 +67,17 @@ class StructureCoupler {
   // Periods until the DEM's time reaches `time` (s).
   void advance_to(double time);
 
-  const CouplingSchedule& schedule() const { return schedule_; }
+  const CouplingSchedule& schedule() const { return side_.schedule(); }
   // Lines to print: the cycle-2 reset, the PERIOD stability warning (each once).
-  const std::vector<std::string>& messages() const { return messages_; }
+  const std::vector<std::string>& messages() const { return side_.messages(); }
   // The impulse (N·s, summed over nodes) the exchange holds: given by the particles but not yet
   // applied to the structure. Particles + structure + this is conserved (gravity off, free
   // structure) with FILTER = PERIOD.
   Vec3 impulse_in_transit() const;
   // The nodal loads (N) of the structure's current period (set at the last exchange).
-  const std::vector<fem::NodalLoad>& loads() const { return loads_; }
-  double structure_step() const { return structure_dt_; }  // s, of the last period
-  std::int64_t structure_steps() const { return structure_steps_; }
+  const std::vector<fem::NodalLoad>& loads() const { return side_.loads(); }
+  double structure_step() const { return side_.structure_step(); }  // s, of the last period
+  std::int64_t structure_steps() const { return side_.structure_steps(); }
 
   CouplerState state() const;
   // Checks every size against the surface and the solver and every value, then takes the
@@ -98,28 +87,14 @@ class StructureCoupler {
   std::size_t surface() const { return surface_; }  // the world's coupled surface
 
  private:
-  void begin_structure_period();
-  void step_structure();
-  bool structure_at_sync() const { return period_steps_done_ == period_steps_; }
   void exchange();
   void check_period_stability();
 
   World& world_;
   std::size_t surface_;
-  fem::ShellSolver& solver_;
-  std::vector<std::int32_t> node_of_vertex_;
-  CouplerOptions options_;
-  CouplingSchedule schedule_;
-  ForceFilter filter_;
-  // N·s per vertex, for the structure's next period; zero once that period has applied it.
-  std::vector<Vec3> pending_impulse_;
-  std::vector<Vec3> filtered_force_;      // N per vertex, scratch
-  std::vector<fem::NodalLoad> loads_;     // per solver node
-  double structure_dt_ = 0.0;
-  std::int64_t period_steps_ = 0, period_steps_done_ = 0;  // the structure's, this period
-  std::int64_t structure_steps_ = 0;
+  StructureSide side_;
+  LoadFrame means_;  // scratch: the window's means at the exchange
   bool stability_checked_ = false;
-  std::vector<std::string> messages_;
 };
 
 }  // namespace quarry::fsi
