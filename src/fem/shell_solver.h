@@ -12,6 +12,7 @@
 #include "core/threading.h"
 #include "core/vec3.h"
 #include "fem/shell_element.h"
+#include "fem/shell_element_batch.h"
 #include "fem/shell_model.h"
 
 namespace quarry::fem {
@@ -25,6 +26,10 @@ struct ShellSolverOptions {
   double shear_factor = 5.0 / 6.0;  // κ, transverse shear correction (1)
   double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
   QuadShear quad_shear = QuadShear::edge_tied;
+  // Quads of one section (edge-tied shear) four at a time through the vector kernel
+  // (shell_element_batch.h); false: every element through the scalar kernel. Same bits either
+  // way (shell_solver_test checks it); the switch is there for that test and for timing.
+  bool batched_quads = true;
   Threading threading;
 };
 
@@ -167,6 +172,10 @@ class ShellSolver {
   std::vector<std::array<std::array<double, 6>, 4>> element_forces_;
   std::vector<double> element_internal_energy_, element_hourglass_energy_;
   std::vector<int> incidence_offset_, incidence_;  // incidence_: 4 * element + slot
+  // The element loop's work: groups of kQuadLanes quads of one section for the vector kernel (in
+  // element order as they fill up, per section), and the elements left to the scalar kernel.
+  std::vector<std::array<std::int32_t, kQuadLanes>> quad_batches_;
+  std::vector<std::int32_t> scalar_elements_;
 
   double added_mass_ = 0.0, total_mass_ = 0.0;
   double time_ = 0.0;
