@@ -128,6 +128,8 @@ class ShellSolver {
   // f_int − f_ext at the prescribed DOFs.
   std::span<const std::array<double, 6>> reactions() const { return reactions_; }
   std::span<const double> nodal_masses() const { return mass_; }
+  // Per node, the DOFs (dof:: bits) that boundary conditions prescribe.
+  std::span<const std::uint8_t> prescribed_dofs() const { return prescribed_mask_; }
   const ShellEnergies& energies() const { return energies_; }
 
   // The state (ShellSolverState) as it is now, and set back. set_state checks every size

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "fsi/period_stability.h"
 #include "sim/step.h"
 
 namespace quarry::fsi {
@@ -72,41 +73,95 @@ void StructureCoupler::exchange() {
   side_.synchronised();
 }
 
-// Research notes §1.3: a force held for a period P on a particle–node pair (a two-mass spring
-// of Hertz tangent stiffness S_n) is stable only for P < 2/ω, ω = √(S_n / m*), 1/m* = 1/m_p +
-// 1/m_node. S_n = 2E*√(R δ) (DESIGN §4) at the Hertz impact overlap for the deck's impact speed V
-// (1 m/s if not given): δ = (15 m* V² / (16 E* √R))^(2/5) (Johnson, Contact Mechanics, §11.4).
-// The smallest particle and the lightest coupled node give the largest ω. Warned once, with the
-// research note's margin P ≤ 0.2 · 2/ω.
+// The exchange lags the node's force by a period (the mean over period k acts during k + 1) and
+// the surface's velocity by up to one: a particle on a node is a two-mass oscillator, ω =
+// √(S_n/m*), 1/m* = 1/m_p + 1/m_node, whose lag acts as a negative damping of about
+// S_n·P·m_p/(m_p + m_node) against the contact's dashpot. The per-period map's stability
+// (period_stability.h; docs/fem.md "Stability of PERIOD") gives the limit ω·P_crit(ζ, m_node/m_p).
+// S_n: Hertz tangent stiffness 2E*√(R δ) (DESIGN §4) at the impact overlap for the deck's impact
+// speed V (1 m/s if not given), δ = (15 m* V² / (16 E* √R))^(2/5) (Johnson, Contact Mechanics,
+// §11.4); the linear law's k. ζ: the DEM's dashpot against a wall, c/(2√(S_n m_p)) = √(5/6)|β|
+// for Hertz–Mindlin (c = −2√(5/6) β √(S_n m_p)), |β| for the linear law. The smallest particle
+// and the lightest coupled node that can move give the largest ω, the largest particle the
+// smallest m_node/m_p: the shorter of their limits counts. The ratio is taken at most 1: a node heavier than one particle is, under a bed, loaded by
+// the column above it through several contacts, and a bed of 1.8–2.2 mm beads on a clamped
+// plate (tests/fsi/plate_bed.yaml without mass scaling, ratio 7 for one bead, where the model
+// is stable at any PERIOD) grew at ω·P ≈ 1.1 (at ratio 1 and e = 0.3 the limit is 0.94).
+// Warned once, above half the limit: S_n, the overlap and the ratio are estimates (ω·P_crit
+// 0.70 at m_node/m_p = 0.48, 0.60 at 0.23, 0.49 at 0.1 for e = 0.4).
 void StructureCoupler::check_period_stability() {
   if (stability_checked_ || world_.particles.size() == 0) return;
   stability_checked_ = true;
   const ParticleStore& p = world_.particles;
-  std::size_t smallest = 0;
-  for (std::size_t i = 1; i < p.size(); ++i)
+  // The smallest particle has the largest ω, the largest the smallest mass ratio: both are tried.
+  std::size_t smallest = 0, largest = 0;
+  for (std::size_t i = 1; i < p.size(); ++i) {
     if (p.radius[i] < p.radius[smallest]) smallest = i;
+    if (p.radius[i] > p.radius[largest]) largest = i;
+  }
+  // The lightest node that can move along any axis: a node whose translations are all
+  // prescribed (a clamped edge) takes any force without moving, an infinite mass here.
   double node_mass = 1e300;  // kg
-  for (std::int32_t n : side_.node_of_vertex())
-    node_mass = std::min(node_mass, side_.solver().nodal_masses()[static_cast<std::size_t>(n)]);
-  const MaterialSpec& particle_material = world_.spec.materials.at(p.material[smallest]);
-  const MaterialSpec& wall_material = world_.spec.materials.at(world_.surfaces[surface_].mesh.material);
+  const fem::ShellSolver& solver = side_.solver();
+  for (std::int32_t n : side_.node_of_vertex()) {
+    const auto node = static_cast<std::size_t>(n);
+    if ((solver.prescribed_dofs()[node] & fem::dof::translations) != fem::dof::translations)
+      node_mass = std::min(node_mass, solver.nodal_masses()[node]);
+  }
+  if (node_mass == 1e300) return;  // nothing coupled moves
+  const std::size_t wall = world_.surfaces[surface_].mesh.material;
   const auto compliance = [](const MaterialSpec& m) {
     return (1.0 - m.poisson_ratio.value * m.poisson_ratio.value) / m.youngs_modulus.value;
   };
-  const double effective_modulus = 1.0 / (compliance(particle_material) + compliance(wall_material));  // Pa
-  const double radius = p.radius[smallest];                                                          // m
-  const double effective_mass = 1.0 / (p.inv_mass[smallest] + 1.0 / node_mass);                     // kg
   const double speed = world_.spec.simulation.impact_speed ? world_.spec.simulation.impact_speed->value : 1.0;
-  const double overlap = std::pow(15.0 * effective_mass * speed * speed / (16.0 * effective_modulus * std::sqrt(radius)), 0.4);
-  const double stiffness = 2.0 * effective_modulus * std::sqrt(radius * overlap);  // N/m
-  const double limit = 2.0 / std::sqrt(stiffness / effective_mass);                 // s
+  struct Estimate {
+    double radius = 0.0, particle_mass = 0.0;  // m, kg
+    double stiffness = 0.0, omega = 0.0;        // N/m, rad/s
+    double damping_ratio = 0.0, mass_ratio = 0.0, critical = 0.0;  // 1, 1, s
+  };
+  const auto estimate = [&](std::size_t i) {
+    const InteractionParameters& pair = world_.materials.between(p.material[i], wall);
+    const double effective_modulus =
+        1.0 / (compliance(world_.spec.materials.at(p.material[i])) + compliance(world_.spec.materials.at(wall)));  // Pa
+    Estimate e;
+    e.radius = p.radius[i];
+    e.particle_mass = 1.0 / p.inv_mass[i];
+    const double effective_mass = 1.0 / (p.inv_mass[i] + 1.0 / node_mass);  // kg
+    const bool linear = pair.normal_model == NormalModel::linear;
+    e.stiffness = pair.linear_normal_stiffness;
+    if (!linear) {
+      const double overlap =
+          std::pow(15.0 * effective_mass * speed * speed / (16.0 * effective_modulus * std::sqrt(e.radius)), 0.4);  // m
+      e.stiffness = 2.0 * effective_modulus * std::sqrt(e.radius * overlap);
+    }
+    e.damping_ratio = (linear ? 1.0 : std::sqrt(5.0 / 6.0)) * -pair.damping_ratio_beta;
+    e.omega = std::sqrt(e.stiffness / effective_mass);
+    e.mass_ratio = std::min(node_mass / e.particle_mass, 1.0);
+    e.critical = critical_omega_period(e.damping_ratio, e.mass_ratio) / e.omega;
+    return e;
+  };
+  Estimate worst = estimate(smallest);
+  if (largest != smallest) {
+    const Estimate other = estimate(largest);
+    if (other.critical < worst.critical) worst = other;
+  }
+  constexpr double margin = 0.5;
   const CouplingSchedule& schedule = side_.schedule();
-  if (schedule.period() > 0.2 * limit)
+  if (worst.critical == 0.0) {  // restitution 1: nothing opposes the lag's negative damping
     side_.add_message(fmt::format(
-        "warning: coupling PERIOD {:.4g} s is long for the contact stiffness: a particle of radius {:.4g} m on "
-        "a node of {:.4g} kg (S_n {:.4g} N/m at {:.3g} m/s) is stable only for PERIOD < 2/ω = {:.4g} s; "
-        "use PERIOD ≤ {:.4g} s (research notes §1.3)",
-        schedule.period(), radius, node_mass, stiffness, speed, limit, 0.2 * limit));
+        "warning: coupling PERIOD {:.4g} s: the particle–structure contact has no damping (restitution 1), so the "
+        "exchange's lag grows its oscillation at any PERIOD (docs/fem.md, \"Stability of PERIOD\")",
+        schedule.period()));
+    return;
+  }
+  if (schedule.period() > margin * worst.critical)
+    side_.add_message(fmt::format(
+        "warning: coupling PERIOD {:.4g} s is long for the contact: a particle of radius {:.4g} m ({:.4g} kg) on a "
+        "node of {:.4g} kg (S_n {:.4g} N/m at {:.3g} m/s, ω {:.4g} rad/s, damping ratio {:.3g}, mass ratio {:.3g}) "
+        "makes the exchange unstable (growing) for PERIOD > {:.4g} s (ω·PERIOD > {:.3g}); use PERIOD ≤ {:.4g} s, "
+        "with a smaller DEM step if that is under 2 DEM steps (docs/fem.md, \"Stability of PERIOD\")",
+        schedule.period(), worst.radius, worst.particle_mass, node_mass, worst.stiffness, speed, worst.omega,
+        worst.damping_ratio, worst.mass_ratio, worst.critical, worst.critical * worst.omega, margin * worst.critical));
 }
 
 CouplerState StructureCoupler::state() const {
