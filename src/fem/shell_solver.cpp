@@ -68,6 +68,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   }
 
   positions_ = model_.nodes;
+  midpoint_positions_ = model_.nodes;
   velocities_.assign(nodes, Vec3{});
   angular_velocities_.assign(nodes, Vec3{});
   rotations_.assign(nodes, Vec3{});
@@ -270,7 +271,7 @@ void ShellSolver::compute_internal_forces(double dt) {
         out.internal_energy_increment[l] = &element_internal_energy_[batch[l]];
         out.hourglass_energy_increment[l] = &element_hourglass_energy_[batch[l]];
       }
-      shell_internal_forces_quads(positions_.data(), velocities_.data(),
+      shell_internal_forces_quads(midpoint_positions_.data(), velocities_.data(),
                                   angular_velocities_.data(), nodes, dt,
                                   properties_[model_.elements[batch[0]].section], states, out);
     }
@@ -282,7 +283,7 @@ void ShellSolver::compute_internal_forces(double dt) {
       std::array<Vec3, 4> x{}, v{}, omega{};
       for (int i = 0; i < element.node_count; ++i) {
         const std::int32_t node = element.nodes[i];
-        x[i] = positions_[node];
+        x[i] = midpoint_positions_[node];
         v[i] = velocities_[node];
         omega[i] = angular_velocities_[node];
       }
@@ -371,12 +372,16 @@ void ShellSolver::step(double dt) {
   for (int n = 0; n < nodes; ++n) {
     const Vec3 displacement = dt * velocities_[n];
     const Vec3 rotation = dt * angular_velocities_[n];
+    midpoint_positions_[n] = positions_[n] + 0.5 * displacement;  // x(t + dt/2)
     positions_[n] += displacement;
     rotations_[n] += rotation;
     external_work += dot(loads_[n].force, displacement) + dot(loads_[n].moment, rotation);
   }
 
-  // 3. Internal forces on x(t + dt), stresses advanced with the midpoint velocities.
+  // 3. Internal forces at t + dt: stresses advanced with the midpoint velocities, each element
+  // evaluated on the mid-step configuration x(t + dt/2), where a rigid rotation has no strain
+  // rate (Hughes & Winget 1980); on x(t + dt) it had ½(Ω dt)², which ratcheted membrane stress
+  // under vibration (docs/fem.md "Elements").
   compute_internal_forces(dt);
 
   // 4. Half kick to t + dt; reactions at the prescribed DOFs.

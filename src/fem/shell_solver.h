@@ -164,6 +164,7 @@ class ShellSolver {
   std::vector<double> stress_, plastic_, shear_, hourglass_;
 
   std::vector<Vec3> positions_, velocities_, angular_velocities_, rotations_;
+  std::vector<Vec3> midpoint_positions_;  // x(t + dt/2) of the last step: the elements' configuration
   std::vector<double> mass_, rotary_inertia_;  // kg, kg·m²
   std::vector<NodalLoad> loads_;
   std::vector<std::array<double, 6>> internal_force_, reactions_, previous_reactions_;
