@@ -106,6 +106,9 @@ class ShellSolver {
   void set_loads(std::span<const NodalLoad> loads);
   // Changes the mass-proportional damping α (1/s, ≥ 0) from the next step on.
   void set_damping(double alpha);
+  // The team of the following steps (a coupled run passes its world's at every exchange, so that
+  // the run loop's thread governor applies here too). Results do not depend on it.
+  void set_threading(const Threading& threading) { options_.threading = threading; }
   // Changes the prescribed velocity of a node's constrained DOFs (components outside the
   // node's DOF mask are ignored): a time-dependent boundary condition, set between steps.
   void set_prescribed_velocity(int node, const std::array<double, 6>& velocity);

@@ -48,6 +48,7 @@ bool StructureCoupler::after_dem_step() {
   side_.keep_up(world_.time, world_.dt);
   // 2. The DEM at its sync point: the structure finishes its period, then 3. the exchange.
   if (!side_.schedule().reached(world_.time, world_.dt)) return false;
+  side_.set_threading(world_.threading);  // for the next period: the governor's team now
   side_.finish_period(world_.dt);
   exchange();
   check_period_stability();

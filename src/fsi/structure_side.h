@@ -66,6 +66,8 @@ class StructureSide {
   // Both solvers are at the sync point and have exchanged: the next request is set.
   void synchronised() { schedule_.synchronised(); }
 
+  // The solver's team from now on (the world's, which the thread governor may change).
+  void set_threading(const Threading& threading) { solver_.set_threading(threading); }
   const CouplingSchedule& schedule() const { return schedule_; }
   const std::vector<fem::NodalLoad>& loads() const { return loads_; }  // N per node, this period
   double structure_step() const { return structure_dt_; }             // s, of this period
