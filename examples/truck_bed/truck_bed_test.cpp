@@ -11,12 +11,13 @@
 
 #include "geometry/mesh_topology.h"
 #include "geometry/stl_reader.h"
+#include "truck_bed_areas.h"
 
 namespace quarry {
 namespace {
 
 constexpr double degree = std::numbers::pi / 180.0;
-const double tan_flare = std::tan(10 * degree), tan_lean = std::tan(15 * degree), tan_tail = std::tan(12 * degree);
+const double tan_flare = std::tan(10 * degree), tan_lean = std::tan(15 * degree);
 constexpr double float_tolerance = 1e-6;  // m, coordinates are float32 in the file
 
 std::string stl_path() {
@@ -46,21 +47,10 @@ TEST_F(TruckBed, SizeAndExtentsMatchTheReadme) {
 }
 
 TEST_F(TruckBed, TotalAreaIsTheSumOfThePlanarPanels) {
-  // Floor: 0.95 × 0.7 flat; tail of slope length 0.25/cos 12° and mean width
-  // 2(0.35 + ½ · 0.25 tan 12° · tan 10°) (its edges follow the flared walls).
-  const double tail_top = 0.25 * tan_tail;
-  const double floor = 0.95 * 0.7 + 0.25 / std::cos(12 * degree) * 2 * (0.35 + 0.5 * tail_top * tan_flare);
-  // Side wall: its x–z projection (shoelace over (0,0), (0.95,0), (1.2,tail_top), (1.2,0.35),
-  // (−0.35 tan 15°, 0.35)) divided by cos 10° (the wall is tilted 10° from the x–z plane).
-  const double xs[5] = {0, 0.95, 1.2, 1.2, -0.35 * tan_lean}, zs[5] = {0, 0, tail_top, 0.35, 0.35};
-  double twice_projected = 0.0;
-  for (int i = 0; i < 5; ++i) twice_projected += xs[i] * zs[(i + 1) % 5] - xs[(i + 1) % 5] * zs[i];
-  const double side = 0.5 * twice_projected / std::cos(10 * degree);
-  // Front wall: y–z trapezoid of widths 0.7 and 2(0.35 + 0.45 tan 10°), height 0.45, over cos 15°.
-  const double front = 0.45 * (0.7 + 2 * (0.35 + 0.45 * tan_flare)) / 2 / std::cos(15 * degree);
+  const truck_bed::PanelAreas panels = truck_bed::panel_areas();
   double area = 0.0;
   for (const double a : bed_->triangle_areas) area += a;
-  EXPECT_NEAR(area, floor + 2 * side + front, 1e-5);  // m², float32 coordinates
+  EXPECT_NEAR(area, panels.floor + 2 * panels.side + panels.front, 1e-5);  // m², float32 coordinates
 }
 
 TEST_F(TruckBed, NormalsPointIntoTheBed) {
