@@ -116,6 +116,14 @@ TEST_F(TruckBedShells, FloorPinnedOverTheRails) {
     }
   }
   EXPECT_EQ(pinned_nodes.size(), expected);
+  // Two supports for the monitors' reactions: the left rail (y < 0, its nodes come first), then
+  // the right, 3 lines of 27 nodes each.
+  const std::vector<std::vector<std::int32_t>> rails = fem::support_groups(model());
+  ASSERT_EQ(rails.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(rails[k].size(), 81u);
+    for (const std::int32_t n : rails[k]) EXPECT_EQ(model().nodes[static_cast<std::size_t>(n)].y < 0.0, k == 0);
+  }
   EXPECT_EQ(shortest, 0.0);   // from the front wall
   EXPECT_EQ(longest, 0.95);   // to the start of the tail
 }

@@ -1,6 +1,7 @@
 // Validation of a ShellModel: every user error reported with the item's index and value.
 #include "fem/shell_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -124,6 +125,40 @@ void validate_shell_model(const ShellModel& model) {
       }
     }
   }
+}
+
+std::vector<std::vector<std::int32_t>> support_groups(const ShellModel& model) {
+  const std::size_t nodes = model.nodes.size();
+  std::vector<char> held(nodes, 0);
+  for (const BoundaryCondition& bc : model.boundary_conditions)
+    if (bc.dofs != 0)
+      for (const std::int32_t n : bc.nodes) held[static_cast<std::size_t>(n)] = 1;
+  // Union–find over the held nodes, joined along element edges; the root is the smallest node.
+  std::vector<std::int32_t> parent(nodes);
+  for (std::size_t n = 0; n < nodes; ++n) parent[n] = static_cast<std::int32_t>(n);
+  const auto root = [&parent](std::int32_t n) {
+    while (parent[static_cast<std::size_t>(n)] != n) n = parent[static_cast<std::size_t>(n)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(n)])];
+    return n;
+  };
+  for (const ShellElement& e : model.elements)
+    for (int i = 0; i < e.node_count; ++i) {
+      const std::int32_t a = e.nodes[static_cast<std::size_t>(i)], b = e.nodes[static_cast<std::size_t>((i + 1) % e.node_count)];
+      if (!held[static_cast<std::size_t>(a)] || !held[static_cast<std::size_t>(b)]) continue;
+      const std::int32_t ra = root(a), rb = root(b);
+      if (ra != rb) parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+    }
+  std::vector<std::vector<std::int32_t>> groups;
+  std::vector<std::int32_t> group_of_root(nodes, -1);
+  for (std::size_t n = 0; n < nodes; ++n) {
+    if (!held[n]) continue;
+    const auto r = static_cast<std::size_t>(root(static_cast<std::int32_t>(n)));
+    if (group_of_root[r] < 0) {
+      group_of_root[r] = static_cast<std::int32_t>(groups.size());
+      groups.emplace_back();
+    }
+    groups[static_cast<std::size_t>(group_of_root[r])].push_back(static_cast<std::int32_t>(n));
+  }
+  return groups;
 }
 
 }  // namespace quarry::fem

@@ -67,4 +67,9 @@ struct ShellModel {
 // ν outside (−1, 0.5), ρ ≤ 0, σ_y0 < 0, H < 0, non-finite numbers. Cost: O(size of the model).
 void validate_shell_model(const ShellModel& model);
 
+// The model's supports: the nodes with a prescribed DOF, grouped where an element edge joins
+// two of them (a rail, a clamped edge: each group one support whose reaction a monitor sums).
+// Groups in the order of their smallest node, nodes ascending. Pre: a valid model. O(size).
+std::vector<std::vector<std::int32_t>> support_groups(const ShellModel& model);
+
 }  // namespace quarry::fem

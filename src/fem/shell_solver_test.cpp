@@ -183,6 +183,29 @@ TEST(ShellEnergy, TransverseImpulsesCreateNoEnergy) {
   EXPECT_NEAR(held, e.external_work, 0.02 * e.external_work);
 }
 
+// Supports are the constrained nodes joined by element edges: two clamped opposite edges are
+// two supports (in the order of their smallest node), a lone pinned node its own, a clamped
+// ring one with every constrained node an element edge joins to it; nodes without a
+// constraint belong to none.
+TEST(ShellModelSupports, ConstrainedNodesJoinedByElementEdges) {
+  ShellModel model = testing::rectangle(4, 2, 0.4, 0.2, 0.005);  // node (i, j) = 5 j + i
+  EXPECT_TRUE(support_groups(model).empty());
+  model.boundary_conditions.push_back({testing::nodes_where(model, [](const Vec3& p) { return near(p.x, 0.4); }), dof::all, {}});
+  model.boundary_conditions.push_back({testing::nodes_where(model, [](const Vec3& p) { return near(p.x, 0.0); }), dof::translations, {}});
+  model.boundary_conditions.push_back({{7}, dof::translations, {}});  // (2, 1), the middle
+  const std::vector<std::vector<std::int32_t>> groups = support_groups(model);
+  ASSERT_EQ(groups.size(), 3u);
+  EXPECT_EQ(groups[0], (std::vector<std::int32_t>{0, 5, 10}));  // x = 0
+  EXPECT_EQ(groups[1], (std::vector<std::int32_t>{4, 9, 14}));  // x = 0.4
+  EXPECT_EQ(groups[2], (std::vector<std::int32_t>{7}));
+  model.boundary_conditions.push_back({testing::nodes_where(model, [](const Vec3& p) { return near(p.y, 0.0) || near(p.y, 0.2); }), dof::all, {}});
+  // The whole edge clamped: one ring of 12 nodes, and the middle node joins it along the
+  // element edges (2, 0)–(2, 1)–(2, 2): one support of 13.
+  const std::vector<std::vector<std::int32_t>> ring = support_groups(model);
+  ASSERT_EQ(ring.size(), 1u);
+  EXPECT_EQ(ring[0].size(), 13u);
+}
+
 TEST(ShellCorotation, RigidSpinAboutAnInPlaneAxisStrainsNothing) {
   // A free 2 × 2 plate (quads, or triangles) spun at 10 rad/s about the x axis through its
   // centre for a quarter turn: the co-rotational frames must see no strain. The only physical

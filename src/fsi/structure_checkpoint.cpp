@@ -18,9 +18,10 @@ namespace quarry::fsi {
 
 namespace {
 
-// 1: the first layout. A section of another version is refused.
-constexpr std::uint32_t kSectionVersion = 1;
-constexpr std::size_t kMonitorColumnCount = 12;  // structure_run.cpp's monitor columns
+// 2: the monitor rows carry each support's reaction after the totals (1: the totals alone;
+// written before the elements moved to the mid-step configuration, so its state would not
+// continue the run it came from either). A section of another version is refused.
+constexpr std::uint32_t kSectionVersion = 2;
 constexpr std::uint64_t kMostItems = std::uint64_t{1} << 32;  // counts beyond are damage
 
 [[noreturn]] void bad(const std::string& what) { throw std::runtime_error(what); }
@@ -148,7 +149,7 @@ void CoupledStructures::save_state(BinaryWriter& out) const {
 void CoupledStructures::load_state(BinaryReader& in, const World& world) {
   const auto version = in.value<std::uint32_t>();
   if (version != kSectionVersion)
-    bad(fmt::format("version {} (this Quarry reads version {})", version, kSectionVersion));
+    bad(fmt::format("version {} (this Quarry reads version {}); rerun from the deck", version, kSectionVersion));
   const std::uint64_t count = read_count(in, "structures");
   if (count != entries_.size())
     bad(fmt::format("it holds {} structures, the deck has {}", count, entries_.size()));
@@ -186,10 +187,11 @@ void CoupledStructures::load_state(BinaryReader& in, const World& world) {
         bad(fmt::format("structure \"{}\": a series entry names \"{}\" at {} s", name, e.file, e.time));
     }
     s.rows.resize(read_count(in, "monitor rows"));
+    const std::size_t columns = monitor_columns(entry).size();
     for (std::vector<double>& row : s.rows) {
       in.vector(row);
-      if (row.size() != kMonitorColumnCount)
-        bad(fmt::format("structure \"{}\": a monitor row has {} values, not {}", name, row.size(), kMonitorColumnCount));
+      if (row.size() != columns)
+        bad(fmt::format("structure \"{}\": a monitor row has {} values, not {}", name, row.size(), columns));
     }
     if (s.messages_printed > s.coupler.messages.size() || s.frames < 0 || !std::isfinite(s.last_frame_time) ||
         s.listed.size() > static_cast<std::uint64_t>(s.frames))

@@ -14,6 +14,7 @@ namespace quarry::fsi {
 
 namespace {
 
+// The columns every structure's table has; each support's reaction follows (monitor_columns).
 const std::vector<std::string> kMonitorColumns = {"time_s",   "max_displacement_m", "reaction_x_N", "reaction_y_N",
                                                   "reaction_z_N", "load_x_N",       "load_y_N",     "load_z_N",
                                                   "kinetic_J",    "internal_J",     "hourglass_J",  "external_work_J"};
@@ -46,6 +47,7 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
     entry->structure = read_coupled_structure(
         spec.model.value, adapter, spec.surface ? std::optional<int>(spec.surface->value) : std::nullopt);
     const CoupledStructure& structure = entry->structure;
+    entry->supports = fem::support_groups(structure.adapted.model);
 
     const std::optional<std::size_t> existing = surface_named(world, spec.name.value);
     std::size_t surface = 0;
@@ -135,6 +137,13 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
   world.checkpoint_sections.push_back(std::move(section));
 }
 
+std::vector<std::string> CoupledStructures::monitor_columns(const Entry& entry) {
+  std::vector<std::string> columns = kMonitorColumns;
+  for (std::size_t k = 1; k <= entry.supports.size(); ++k)
+    for (const char* axis : {"x", "y", "z"}) columns.push_back(fmt::format("support_{}_reaction_{}_N", k, axis));
+  return columns;
+}
+
 std::vector<double> CoupledStructures::monitor_row(const Entry& entry) const {
   const fem::ShellSolver& solver = *entry.solver;
   double largest = 0.0;  // m
@@ -147,8 +156,17 @@ std::vector<double> CoupledStructures::monitor_row(const Entry& entry) const {
   for (const auto& r : solver.reactions()) reaction += Vec3{r[0], r[1], r[2]};
   for (const fem::NodalLoad& l : entry.coupler->loads()) load += l.force;
   const fem::ShellEnergies& e = solver.energies();
-  return {solver.time(), largest, reaction.x, reaction.y, reaction.z, load.x,
-          load.y,        load.z,  e.kinetic,  e.internal, e.hourglass, e.external_work};
+  std::vector<double> row = {solver.time(), largest, reaction.x, reaction.y, reaction.z, load.x,
+                             load.y,        load.z,  e.kinetic,  e.internal, e.hourglass, e.external_work};
+  for (const std::vector<std::int32_t>& support : entry.supports) {
+    Vec3 sum;  // N
+    for (const std::int32_t n : support) {
+      const auto& r = solver.reactions()[static_cast<std::size_t>(n)];
+      sum += Vec3{r[0], r[1], r[2]};
+    }
+    row.insert(row.end(), {sum.x, sum.y, sum.z});
+  }
+  return row;
 }
 
 // The series and the table in the output folder, with what a checkpoint carried.
@@ -157,7 +175,7 @@ void CoupledStructures::open_output(Entry& entry) {
   entry.series.emplace(output_directory_ / ("structure_" + entry.name + ".pvd"));
   entry.series->set_entries(std::move(entry.listed));
   entry.listed.clear();
-  entry.monitors.emplace(output_directory_ / ("structure_" + entry.name + ".csv"), kMonitorColumns);
+  entry.monitors.emplace(output_directory_ / ("structure_" + entry.name + ".csv"), monitor_columns(entry));
   for (const std::vector<double>& row : entry.rows) entry.monitors->add_row(row);
   entry.rows.clear();
   if (world_.output) {  // in the folder's manifest, so that --overwrite removes them

@@ -65,6 +65,7 @@ class CoupledStructures {
     std::unique_ptr<fem::ShellSolver> solver;
     std::unique_ptr<StructureCoupler> coupler;
     std::size_t messages_printed = 0;
+    std::vector<std::vector<std::int32_t>> supports;  // fem::support_groups of the model
     // Output: the series and the table are made in the output folder at their first use,
     // starting with `listed` and `rows`, which then empty: a checkpoint's entries and rows (a
     // restart carries them, so its folder may be another one and still gets the whole series
@@ -76,6 +77,8 @@ class CoupledStructures {
     std::int64_t frames = 0;
     double last_frame_time = -1.0;  // s
   };
+  // The monitor table's columns: the totals, then each support's reaction.
+  static std::vector<std::string> monitor_columns(const Entry& entry);
   std::vector<double> monitor_row(const Entry& entry) const;
   void open_output(Entry& entry);
   void add_monitor_row(Entry& entry);
