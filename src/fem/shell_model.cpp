@@ -137,7 +137,11 @@ std::vector<std::vector<std::int32_t>> support_groups(const ShellModel& model) {
   std::vector<std::int32_t> parent(nodes);
   for (std::size_t n = 0; n < nodes; ++n) parent[n] = static_cast<std::int32_t>(n);
   const auto root = [&parent](std::int32_t n) {
-    while (parent[static_cast<std::size_t>(n)] != n) n = parent[static_cast<std::size_t>(n)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(n)])];
+    auto up = [&parent](std::int32_t k) -> std::int32_t& { return parent[static_cast<std::size_t>(k)]; };
+    while (up(n) != n) {
+      up(n) = up(up(n));  // path halving
+      n = up(n);
+    }
     return n;
   };
   for (const ShellElement& e : model.elements)

@@ -111,9 +111,6 @@ void StructureCoupler::check_period_stability() {
   }
   if (node_mass == 1e300) return;  // nothing coupled moves
   const std::size_t wall = world_.surfaces[surface_].mesh.material;
-  const auto compliance = [](const MaterialSpec& m) {
-    return (1.0 - m.poisson_ratio.value * m.poisson_ratio.value) / m.youngs_modulus.value;
-  };
   const double speed = world_.spec.simulation.impact_speed ? world_.spec.simulation.impact_speed->value : 1.0;
   struct Estimate {
     double radius = 0.0, particle_mass = 0.0;  // m, kg
@@ -122,8 +119,7 @@ void StructureCoupler::check_period_stability() {
   };
   const auto estimate = [&](std::size_t i) {
     const InteractionParameters& pair = world_.materials.between(p.material[i], wall);
-    const double effective_modulus =
-        1.0 / (compliance(world_.spec.materials.at(p.material[i])) + compliance(world_.spec.materials.at(wall)));  // Pa
+    const double effective_modulus = pair.effective_youngs_modulus;  // E* (Pa), a rigid wall's compliance 0
     Estimate e;
     e.radius = p.radius[i];
     e.particle_mass = 1.0 / p.inv_mass[i];
