@@ -21,9 +21,15 @@ std::string aster_comm_text(const AsterCommInput& input) {
       "#   '{}'  per node, N, FX FY FZ: consistent nodal forces of the particles on the surface\n"
       "#   '{}'  per cell, Pa, PRES: compressive normal stress (mean over the cell)\n"
       "#   '{}'  per cell, Pa, FX FY FZ: tangential traction (shear stress vector)\n"
-      "#   '{}'  per cell, N, FX FY FZ: total force on the cell\n\n",
+      "#   '{}'  per cell, N, FX FY FZ: total force on the cell\n",
       input.surface, input.med_file, kAsterMedUnit, input.med_file, kAsterMedUnit,
       kMedNodalForceField, kMedPressureField, kMedShearField, kMedForceField);
+  if (input.displacement)
+    text += fmt::format(
+        "#   '{}'  per node, m, DX DY DZ: the surface's displacement from the mesh (its reference\n"
+        "#                  positions), the mean over the interval: the surface moved during the run\n",
+        kMedDisplacementField);
+  text += "\n";
   text += "DEBUT(LANG='EN')\n\n";
   text += fmt::format("mesh = LIRE_MAILLAGE(UNITE={}, FORMAT='MED', NOM_MED='{}')\n", kAsterMedUnit,
                       input.mesh_name);
@@ -38,6 +44,7 @@ std::string aster_comm_text(const AsterCommInput& input) {
   text += "]\n\n";
   text += "nodal_forces = []  # cham_no FORC_R (N) per record\n";
   text += "pressures = []     # cham_elem PRES_R (Pa) per record\n";
+  if (input.displacement) text += "displacements = []  # cham_no DEPL_R (m) per record\n";
   text += "for instant in instants:\n";
   text += fmt::format(
       "    nodal_forces.append(LIRE_CHAMP(UNITE={}, FORMAT='MED', MAILLAGE=mesh, NOM_MED='{}',\n"
@@ -47,8 +54,20 @@ std::string aster_comm_text(const AsterCommInput& input) {
   text += fmt::format(
       "    pressures.append(LIRE_CHAMP(UNITE={}, FORMAT='MED', MAILLAGE=mesh, MODELE=model,\n"
       "                                NOM_MED='{}', TYPE_CHAM='ELEM_PRES_R', NOM_CMP_IDEM='OUI',\n"
-      "                                INST=instant))\n\n",
+      "                                INST=instant))\n",
       kAsterMedUnit, kMedPressureField);
+  if (input.displacement)
+    text += fmt::format(
+        "    displacements.append(LIRE_CHAMP(UNITE={}, FORMAT='MED', MAILLAGE=mesh, NOM_MED='{}',\n"
+        "                                    TYPE_CHAM='NOEU_DEPL_R', NOM_CMP_IDEM='OUI', "
+        "INST=instant))\n",
+        kAsterMedUnit, kMedDisplacementField);
+  text += "\n";
+  if (input.displacement) {
+    text +=
+        "# The deformed surface of record k, if the study wants it (the loads act on it):\n"
+        "# MODI_MAILLAGE(reuse=mesh, MAILLAGE=mesh, DEFORME=_F(OPTION='TRAN', DEPL=displacements[k]))\n\n";
+  }
   text += "# To complete: material and shell thickness, the supports, the analysis, e.g.\n";
   text += "# steel = DEFI_MATERIAU(ELAS=_F(E=2.1e11, NU=0.3, RHO=7850.0))\n";
   text += "# material = AFFE_MATERIAU(MAILLAGE=mesh, AFFE=_F(TOUT='OUI', MATER=steel))\n";

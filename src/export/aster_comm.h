@@ -1,6 +1,7 @@
 // code_aster command file (.comm) written beside an exported surface's MED file: it reads the
-// mesh (LIRE_MAILLAGE) and, for every export record, the nodal forces and the pressure
-// (LIRE_CHAMP at the record's instant), so a structural study starts from the loads as written.
+// mesh (LIRE_MAILLAGE) and, for every export record, the nodal forces and the pressure (and the
+// displacement of a moving surface) (LIRE_CHAMP at the record's instant), so a structural study
+// starts from the loads as written.
 // A template: material, supports and the analysis are left for the user (commented outline).
 #pragma once
 
@@ -15,6 +16,7 @@ struct AsterCommInput {
   std::string mesh_name;                 // mesh name inside the MED file (NOM_MED of the mesh)
   std::vector<double> times;             // s, the instant of each record (MED computing step k+1)
   std::vector<std::string> node_groups;  // GROUP_NO names in the MED file (the supports)
+  bool displacement = false;             // the MED file has the node field displacement
 };
 
 // Logical unit the MED file is attached to in the study (.export: "F mmed FILE D 20").

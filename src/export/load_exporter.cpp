@@ -29,6 +29,9 @@ struct LoadExporter::SurfaceOutput {
   LoadWindow window;
   LoadFrame frame;                       // reused for every record
   std::vector<Vec3> mesh_vertices;       // m, as at the start of the export
+  // A moving surface (surface.moving): ∫ (x − x_ref) dt per vertex over the running interval
+  // (m·s), with the loads' rectangle rule, and its mean at the last record (m).
+  std::vector<Vec3> displacement_integral, displacement;
   std::unique_ptr<NodalHistoryWriter> history;
   std::unique_ptr<MedLoadWriter> med;
   std::vector<std::string> med_groups;   // node group names in the MED file
@@ -91,6 +94,7 @@ LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* cons
     output->mesh_vertices =
         surface.reference_vertices.size() == surface.vertex_count() ? surface.reference_vertices
                                                                     : surface.vertices;
+    if (surface.moving) output->displacement_integral.assign(surface.vertex_count(), Vec3{});
     const fs::path base = directory_ / surface.name;
     output->history = std::make_unique<NodalHistoryWriter>(
         fs::path(base.string() + "_nodal_forces.bin"), surface.vertex_count(), resume_time);
@@ -103,7 +107,7 @@ LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* cons
                                                              support.min.value, support.max.value)});
       output->med = std::make_unique<MedLoadWriter>(base.string() + ".med", surface.name,
                                                     output->mesh_vertices, surface.triangles,
-                                                    resume_time.has_value(), groups);
+                                                    resume_time.has_value(), groups, surface.moving);
       for (const MedNodeGroup& group : groups) output->med_groups.push_back(group.name);
     }
     if (wants(spec, ExportFormat::vtu)) {
@@ -130,12 +134,21 @@ LoadExporter::LoadExporter(const ExportSpec& spec, std::span<const Surface* cons
 LoadExporter::~LoadExporter() = default;
 
 void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, double time) {
+  if (!output.displacement_integral.empty()) {
+    // The mean over the same steps as the loads' (before take_means restarts the window).
+    const double duration = output.window.duration;  // s
+    output.displacement.resize(output.displacement_integral.size());
+    for (std::size_t v = 0; v < output.displacement.size(); ++v) {
+      output.displacement[v] = duration > 0.0 ? output.displacement_integral[v] / duration : Vec3{};
+      output.displacement_integral[v] = Vec3{};
+    }
+  }
   output.window.take_means(surface, time, output.frame);
   const LoadFrame& frame = output.frame;
   output.history->append(time, frame.nodal_force);
   output.history->flush();
   const std::size_t record = output.history->frame_count();  // 1-based number of this record
-  if (output.med) output.med->write(static_cast<int>(record), frame);
+  if (output.med) output.med->write(static_cast<int>(record), frame, output.displacement);
   if (output.csv.is_open()) {
     std::string rows;
     for (std::size_t e = 0; e < frame.pressure.size(); ++e) {
@@ -156,7 +169,7 @@ void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, d
                                              : std::vector<double>{};
     write_file_atomically(directory_ / file,
                           surface_vtu(surface, frame.pressure, frame.shear_stress, frame.force, frame.nodal_force,
-                                      nodal, smoothed));
+                                      nodal, smoothed, output.displacement));
     output.vtu_series->add(time, file);
   }
 }
@@ -172,6 +185,10 @@ void LoadExporter::after_step(std::span<const Surface* const> surfaces, double t
   for (auto& output : outputs_) {
     const Surface& surface = *surfaces[output->surface_index];
     output->window.accumulate(surface, dt);
+    // The vertices the step's loads were found on, up to a coupling partner's correction at
+    // its synchronisation (the extrapolated surface then moves to where the partner says).
+    for (std::size_t v = 0; v < output->displacement_integral.size(); ++v)
+      output->displacement_integral[v] += (surface.vertices[v] - output->mesh_vertices[v]) * dt;
     if (step_count % every_steps_ == 0 && !absorb_remainder) write_record(surface, *output, time);
   }
 }
@@ -200,7 +217,7 @@ void LoadExporter::finish(std::span<const Surface* const> surfaces, double time,
       // The code_aster template beside the MED file, naming its mesh, fields and instants.
       NodalHistoryReader history(output->history->path());
       const AsterCommInput comm{output->name, output->name + ".med", output->med->mesh_name(),
-                                history.times(), output->med_groups};
+                                history.times(), output->med_groups, output->med->has_displacement()};
       write_file_atomically(directory_ / (output->name + ".comm"), aster_comm_text(comm));
     }
     if (!wants(spec_, ExportFormat::calculix) || !spec_.calculix) continue;

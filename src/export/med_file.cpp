@@ -58,11 +58,24 @@ constexpr FieldLayout kFields[] = {
     {kMedNodalForceField, MED_NODE, MED_NONE, 3, "N"},
 };
 
-// Blank-separated MED component names of a field with `components` components.
-std::string component_names(int components) {
-  return components == 1 ? short_names({kMedPressureComponent})
-                         : short_names({kMedForceComponents[0], kMedForceComponents[1],
-                                        kMedForceComponents[2]});
+// A moving surface's displacement, m: code_aster's DX DY DZ.
+constexpr FieldLayout kDisplacementLayout = {kMedDisplacementField, MED_NODE, MED_NONE, 3, "m"};
+
+// Blank-separated MED component names of `field`.
+std::string component_names(const FieldLayout& field) {
+  if (field.components == 1) return short_names({kMedPressureComponent});
+  const char* const* names =
+      std::strcmp(field.name, kMedDisplacementField) == 0 ? kMedDisplacementComponents : kMedForceComponents;
+  return short_names({names[0], names[1], names[2]});
+}
+
+void create_field(med_idt file, const std::string& path, const std::string& mesh_name, const FieldLayout& field) {
+  const std::string names = component_names(field);
+  const std::string units =
+      field.components == 1 ? short_names({field.unit}) : short_names({field.unit, field.unit, field.unit});
+  check(MEDfieldCr(file, field.name, MED_FLOAT64, field.components, names.c_str(), units.c_str(), "s",
+                   mesh_name.c_str()),
+        path, std::string("MEDfieldCr ") + field.name);
 }
 
 std::vector<double> flatten(std::span<const Vec3> values) {
@@ -125,9 +138,9 @@ void write_node_groups(med_idt file, const std::string& path, const std::string&
 MedLoadWriter::MedLoadWriter(const std::string& path, const std::string& mesh_name,
                              std::span<const Vec3> nodes,
                              std::span<const std::array<std::uint32_t, 3>> triangles, bool resume,
-                             std::span<const MedNodeGroup> groups)
+                             std::span<const MedNodeGroup> groups, bool displacement)
     : path_(path), mesh_name_(mesh_name.substr(0, MED_NAME_SIZE)),
-      node_count_(nodes.size()), element_count_(triangles.size()) {
+      node_count_(nodes.size()), element_count_(triangles.size()), displacement_(displacement) {
   std::error_code ignored;
   if (resume && std::filesystem::exists(path, ignored)) return;
   const med_idt file = MEDfileOpen(path.c_str(), MED_ACC_CREAT);
@@ -158,15 +171,8 @@ MedLoadWriter::MedLoadWriter(const std::string& path, const std::string& mesh_na
                                      static_cast<med_int>(triangles.size()), connectivity.data()),
         path, "MEDmeshElementConnectivityWr");
   write_node_groups(file, path, mesh_name_, nodes.size(), groups);
-  for (const FieldLayout& field : kFields) {
-    const std::string names = component_names(field.components);
-    const std::string units = field.components == 1
-                                  ? short_names({field.unit})
-                                  : short_names({field.unit, field.unit, field.unit});
-    check(MEDfieldCr(file, field.name, MED_FLOAT64, field.components, names.c_str(),
-                     units.c_str(), "s", mesh_name_.c_str()),
-          path, std::string("MEDfieldCr ") + field.name);
-  }
+  for (const FieldLayout& field : kFields) create_field(file, path, mesh_name_, field);
+  if (displacement_) create_field(file, path, mesh_name_, kDisplacementLayout);
 }
 
 MedLoadWriter::~MedLoadWriter() { close(); }
@@ -182,8 +188,9 @@ void MedLoadWriter::close() {
   H5close();
 }
 
-void MedLoadWriter::write(int step_number, const LoadFrame& frame) {
-  if (frame.pressure.size() != element_count_ || frame.nodal_force.size() != node_count_)
+void MedLoadWriter::write(int step_number, const LoadFrame& frame, std::span<const Vec3> displacement) {
+  if (frame.pressure.size() != element_count_ || frame.nodal_force.size() != node_count_ ||
+      displacement.size() != (displacement_ ? node_count_ : 0))
     fail(path_, "frame sizes do not match the mesh");
   // Open, write, close: the file on disk is complete after every record (MED has no flush), so
   // a crash loses at most the record being written.
@@ -207,6 +214,7 @@ void MedLoadWriter::write(int step_number, const LoadFrame& frame) {
   write_field(kFields[1], flatten(frame.shear_stress));
   write_field(kFields[2], flatten(frame.force));
   write_field(kFields[3], flatten(frame.nodal_force));
+  if (displacement_) write_field(kDisplacementLayout, flatten(displacement));
 }
 
 MedLoadFile read_med_loads(const std::string& path) {
@@ -314,6 +322,8 @@ MedLoadFile read_med_loads(const std::string& path) {
     if (std::find(result.field_names.begin(), result.field_names.end(), field.name) ==
         result.field_names.end())
       fail(path, std::string("no field \"") + field.name + "\"");
+  const bool has_displacement = std::find(result.field_names.begin(), result.field_names.end(),
+                                          kMedDisplacementField) != result.field_names.end();
 
   // Computing steps, from the pressure field; the other fields must have the same steps.
   char names[MED_SNAME_SIZE + 1], units[MED_SNAME_SIZE + 1], field_dt_unit[MED_SNAME_SIZE + 1];
@@ -344,6 +354,15 @@ MedLoadFile read_med_loads(const std::string& path) {
       else if (std::strcmp(field.name, kMedShearField) == 0) frame.shear_stress = unflatten(values);
       else if (std::strcmp(field.name, kMedForceField) == 0) frame.force = unflatten(values);
       else frame.nodal_force = unflatten(values);
+    }
+    if (has_displacement) {
+      const med_int count = MEDfieldnValue(file, kMedDisplacementField, numdt, numit, MED_NODE, MED_NONE);
+      if (count < 0) fail(path, std::string("field ") + kMedDisplacementField + " lacks a step");
+      std::vector<double> values(3 * static_cast<std::size_t>(count));
+      check(MEDfieldValueRd(file, kMedDisplacementField, numdt, numit, MED_NODE, MED_NONE, MED_FULL_INTERLACE,
+                            MED_ALL_CONSTITUENT, reinterpret_cast<unsigned char*>(values.data())),
+            path, std::string("MEDfieldValueRd ") + kMedDisplacementField);
+      result.displacements.push_back(unflatten(values));
     }
     result.step_numbers.push_back(numdt);
     result.frames.push_back(std::move(frame));

@@ -69,7 +69,9 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
                                     spec.name.value),
                         "continue such a run with `quarry restart CHECKPOINT`; in a deck of your own give the "
                         "structure a name no surface has");
-      surface = add_surface(world, coupling_surface_spec(structure.mesh, spec.name.value, spec.material.value));
+      SurfaceSpec surface_spec = coupling_surface_spec(structure.mesh, spec.name.value, spec.material.value);
+      surface_spec.export_loads = spec.export_loads;  // the deformed surface in the FEM load export
+      surface = add_surface(world, surface_spec);
     }
     fem::ShellSolverOptions options;
     options.mass_scaling_time_step = spec.mass_scaling_time_step.value;

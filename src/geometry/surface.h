@@ -25,6 +25,9 @@ struct Surface {
   std::vector<double> triangle_areas;            // m²
   Vec3 conveyor_velocity;                        // tangential surface velocity added at contacts
   bool export_loads = false;
+  // Driven (prescribed motion or a coupling partner): the vertices leave reference_vertices
+  // during the run, so the load export also writes their displacement.
+  bool moving = false;
 
   // ---- per-step contact loads (reset each step, filled by the particle–surface stage) ----
   std::vector<Vec3> triangle_force;              // N, force the particles exert on the triangle

@@ -248,9 +248,11 @@ void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
   // An export: section with no surface to export is a mistake, not a silent no-op.
   if (spec.fem_export.enabled &&
       std::none_of(spec.surfaces.begin(), spec.surfaces.end(),
-                   [](const SurfaceSpec& surface) { return surface.export_loads.value; }))
+                   [](const SurfaceSpec& surface) { return surface.export_loads.value; }) &&
+      std::none_of(spec.structures.begin(), spec.structures.end(),
+                   [](const StructureSpec& structure) { return structure.export_loads.value; }))
     context.error(spec.fem_export.where, "the export: section applies to no surface",
-                  "flag the surfaces to export with export: true");
+                  "flag the surfaces (or structures) to export with export: true");
 }
 
 // Errors in the order of the file (the first line of the output is the first mistake in the

@@ -455,6 +455,7 @@ void write_structures(DeckText& deck, const std::vector<StructureSpec>& structur
     if (s.filter) deck.line(4, "filter: {}", number(*s.filter));
     deck.line(4, "mass_scaling_time_step: {}", number(s.mass_scaling_time_step));
     deck.line(4, "damping: {}", number(s.damping));
+    if (s.export_loads.value) deck.line(4, "export: true");
   }
 }
 

@@ -265,7 +265,8 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
                         std::span<const Vec3> shear, std::span<const Vec3> force,
                         std::span<const Vec3> nodal_force,
                         std::span<const double> pressure_nodal,
-                        std::span<const double> pressure_smoothed) {
+                        std::span<const double> pressure_smoothed,
+                        std::span<const Vec3> displacement) {
   const std::size_t triangle_count = surface.triangle_count();
   const std::size_t vertex_count = surface.vertex_count();
   require_size(pressure, triangle_count, "surface pressure");
@@ -276,6 +277,7 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
   if (!nodal_force.empty()) require_size(nodal_force, vertex_count, "surface nodal_force");
   if (!pressure_nodal.empty()) require_size(pressure_nodal, vertex_count, "surface pressure_nodal");
   if (!pressure_smoothed.empty()) require_size(pressure_smoothed, vertex_count, "surface pressure_smoothed");
+  if (!displacement.empty()) require_size(displacement, vertex_count, "surface displacement");
   if (!surface.vertex_velocities.empty()) {
     require_size(surface.vertex_velocities, vertex_count, "surface vertex_velocities");
   }
@@ -317,6 +319,7 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
     point_data += arrays.element("Float64", "pressure_nodal", 1, scalar_payload<double>(pressure_nodal));
   if (!pressure_smoothed.empty())
     point_data += arrays.element("Float64", "pressure_smoothed", 1, scalar_payload<double>(pressure_smoothed));
+  if (!displacement.empty()) point_data += arrays.element("Float64", "displacement", 3, vec3_payload(displacement));
 
   const std::string points = arrays.element("Float64", "Points", 3, vec3_payload(surface.vertices));
 

@@ -54,7 +54,7 @@ std::string contacts_vtu(std::span<const ContactLine> contacts);
 // `nodal_force`), velocity (m/s, 3, from surface.vertex_velocities).
 // `pressure`, `shear`, `force`, `nodal_force` are the window means of a LoadWindow. When
 // given (vertex_count() entries), `pressure_nodal` and `pressure_smoothed` (Pa, from
-// geometry/surface_pressure.h) become point data of those names.
+// geometry/surface_pressure.h) and `displacement` (m, 3) become point data of those names.
 // Pre: the three per-triangle spans have triangle_count() entries; triangle_normals has
 // triangle_count() entries; nodal_force and vertex_velocities have vertex_count() entries or are
 // empty (then zeros are written); every vertex index is in range. Throws std::invalid_argument
@@ -63,6 +63,7 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
                         std::span<const Vec3> shear, std::span<const Vec3> force,
                         std::span<const Vec3> nodal_force,
                         std::span<const double> pressure_nodal = {},
-                        std::span<const double> pressure_smoothed = {});
+                        std::span<const double> pressure_smoothed = {},
+                        std::span<const Vec3> displacement = {});
 
 }  // namespace quarry

@@ -246,6 +246,7 @@ std::size_t add_surface(World& world, const SurfaceSpec& s, const Surface* given
   } else if (s.coupled.value) {
     record.driver.kind = SurfaceDriverKind::coupled;  // at rest until the partner sets its vertices
   }
+  surface.moving = record.driver.kind != SurfaceDriverKind::fixed;
   report_geometry_outside_domain(world, s, record);
   record.topology = build_topology(surface);
   // Search grid: cells about one particle diameter plus skin (fixed surfaces keep theirs for

@@ -156,5 +156,70 @@ TEST(ExportRecords, MedComponentsAndAsterCommandFileMatchTheMedFile) {
   for (std::size_t k = 0; k < instants.size(); ++k) EXPECT_EQ(instants[k], med.frames[k].time) << k;
 }
 
+// A moving surface (a prescribed motion or a coupling partner's, Surface::moving): each record
+// also carries the mean displacement of the vertices from the mesh written (their reference
+// positions) over the record's steps, by the loads' rectangle rule, as the MED node field
+// `displacement` (DX DY DZ, read by the .comm as NOEU_DEPL_R) and a VTU point array. The plate
+// translates at v = (0.2, 0, −0.5) m/s: u(t_n) = v t_n at t_n = n dt, so the mean over the steps
+// n = a+1 … b of a record is v dt (a + b + 1)/2 = v (t_start + t_end + dt)/2 exactly. A fixed
+// surface gets no displacement field.
+TEST(ExportRecords, MovingSurfaceRecordsItsMeanDisplacement) {
+  const fs::path folder = fs::path(::testing::TempDir()) / "quarry_export_records_moving";
+  fs::remove_all(folder);
+  std::vector<Surface> surfaces = {square_plate(0.4, 2)};
+  surfaces[0].export_loads = true;
+  surfaces[0].moving = true;
+  ExportSpec spec;
+  spec.enabled = true;
+  spec.interval = kInterval;
+  spec.formats = {Located<ExportFormat>(ExportFormat::med), Located<ExportFormat>(ExportFormat::vtu)};
+  const std::vector<const Surface*> meshes = {&surfaces[0]};
+  const Vec3 velocity{0.2, 0.0, -0.5};  // m/s
+  const int steps = 250;                // records at 0.1, 0.2 and 0.25 s (a remainder of half an interval)
+  LoadExporter exporter(spec, meshes, folder, kDt, kDt * steps, std::nullopt);
+  for (int n = 1; n <= steps; ++n) {
+    for (std::size_t v = 0; v < surfaces[0].vertex_count(); ++v)
+      surfaces[0].vertices[v] = surfaces[0].reference_vertices[v] + velocity * (kDt * n);
+    surfaces[0].update_normals_and_areas();
+    surfaces[0].vertex_force[0] = {0.0, 0.0, -1.0};
+    exporter.after_step(meshes, kDt * n, static_cast<std::uint64_t>(n), kDt);
+  }
+  exporter.finish(meshes, kDt * steps, false);
+
+  const MedLoadFile med = read_med_loads((folder / "fem_export" / "plate.med").string());
+  ASSERT_EQ(med.frames.size(), 3u);
+  ASSERT_EQ(med.displacements.size(), 3u);
+  EXPECT_EQ(med.nodes, surfaces[0].reference_vertices);  // the mesh is the reference one
+  const auto field = std::find(med.field_names.begin(), med.field_names.end(), kMedDisplacementField);
+  ASSERT_NE(field, med.field_names.end());
+  const auto f = static_cast<std::size_t>(field - med.field_names.begin());
+  EXPECT_EQ(med.field_components[f], (std::vector<std::string>{"DX", "DY", "DZ"}));
+  EXPECT_EQ(med.field_units[f], "m");
+  const double starts[3] = {0.0, 0.1, 0.2};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Vec3 expected = velocity * (0.5 * (starts[k] + med.frames[k].time + kDt));  // m
+    ASSERT_EQ(med.displacements[k].size(), surfaces[0].vertex_count());
+    for (const Vec3& u : med.displacements[k]) {
+      EXPECT_NEAR(u.x, expected.x, 1e-15) << "record " << k;
+      EXPECT_NEAR(u.y, expected.y, 1e-15) << "record " << k;
+      EXPECT_NEAR(u.z, expected.z, 1e-15) << "record " << k;
+    }
+  }
+  const std::string vtu = read_text(folder / "fem_export" / "plate_loads_000002.vtu");
+  EXPECT_NE(vtu.find("Name=\"displacement\""), std::string::npos);
+  const std::string comm = read_text(folder / "fem_export" / "plate.comm");
+  EXPECT_EQ(quoted_after(comm, "TYPE_CHAM='"),
+            (std::vector<std::string>{"NOEU_FORC_R", "ELEM_PRES_R", "NOEU_DEPL_R"}));
+  const std::vector<std::string> names = quoted_after(comm, "NOM_MED='");
+  EXPECT_NE(std::find(names.begin(), names.end(), std::string(kMedDisplacementField)), names.end());
+
+  // The same run of a fixed plate: no displacement field, nothing about it in the .comm.
+  const Export fixed = run_export("fixed_has_no_displacement", 200);
+  const MedLoadFile fixed_med = read_med_loads((fixed.folder / "fem_export" / "plate.med").string());
+  EXPECT_TRUE(fixed_med.displacements.empty());
+  EXPECT_EQ(std::count(fixed_med.field_names.begin(), fixed_med.field_names.end(), kMedDisplacementField), 0);
+  EXPECT_EQ(read_text(fixed.folder / "fem_export" / "plate.comm").find("DEPL"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace quarry::fem_export
