@@ -54,7 +54,7 @@ TEST_F(TruckBedShells, SteelSectionsAndTheEdemCard) {
   ASSERT_TRUE(bed_->period.has_value());
   EXPECT_EQ(*bed_->period, 2.0e-4);  // s, about two DEM steps of the flagship
   EXPECT_FALSE(bed_->filter.has_value());
-  EXPECT_EQ(bed_->label, "truck_bed");
+  EXPECT_EQ(bed_->labels, (std::vector<std::string>{"truck_bed"}));
   // Every element is on the coupling surface, as quads (contacted as two triangles each).
   EXPECT_EQ(bed_->mesh.quads.size(), model().elements.size());
   EXPECT_TRUE(bed_->mesh.triangles.empty());

@@ -127,21 +127,25 @@ AdaptedStructure adapt_structure(const StructureModel& structure, const AdapterO
 }
 
 CouplingMesh coupling_mesh(const StructureModel& structure, const AdaptedStructure& adapted,
-                           int surface_id) {
-  const auto surface = structure.surfaces.find(surface_id);
-  if (surface == structure.surfaces.end())
-    throw UserError({}, fmt::format("coupling surface SURF {} is not in the model", surface_id));
+                           const std::vector<int>& surface_ids) {
   std::map<int, std::size_t> element_of_id;
   for (std::size_t e = 0; e < adapted.element_id.size(); ++e) element_of_id[adapted.element_id[e]] = e;
 
-  // Vertices: the surface's nodes in ascending solver index.
+  // Vertices: the surfaces' nodes in ascending solver index.
   std::vector<std::size_t> elements;
+  std::set<std::size_t> taken;
   std::set<std::int32_t> nodes;
-  for (int id : surface->second.elements) {
-    const std::size_t e = element_of_id.at(id);
-    elements.push_back(e);
-    const fem::ShellElement& element = adapted.model.elements[e];
-    for (int k = 0; k < element.node_count; ++k) nodes.insert(element.nodes[static_cast<std::size_t>(k)]);
+  for (int surface_id : surface_ids) {
+    const auto surface = structure.surfaces.find(surface_id);
+    if (surface == structure.surfaces.end())
+      throw UserError({}, fmt::format("coupling surface SURF {} is not in the model", surface_id));
+    for (int id : surface->second.elements) {
+      const std::size_t e = element_of_id.at(id);
+      if (!taken.insert(e).second) continue;  // in an earlier SURF too: one shell, one contact face
+      elements.push_back(e);
+      const fem::ShellElement& element = adapted.model.elements[e];
+      for (int k = 0; k < element.node_count; ++k) nodes.insert(element.nodes[static_cast<std::size_t>(k)]);
+    }
   }
   CouplingMesh mesh;
   std::map<std::int32_t, std::uint32_t> vertex_of_node;
@@ -182,12 +186,18 @@ CoupledStructure prepare_coupling(const StructureModel& structure, const Adapter
                     "the model has no EDEM card with a COUPLING surface",
                     "add `EDEM,<id>,CONTROL,<PERIOD>,<FILTER>,COUPLING,SURF,<surf id>,<label>`");
   const EdemCoupling& edem = structure.couplings.front();
-  const CouplingSurfaceRef& first = edem.surfaces.front();
-  const int surface = surface_id ? *surface_id : first.surface_id;
   CoupledStructure out;
+  for (const CouplingSurfaceRef& ref : edem.surfaces) {
+    if (surface_id && ref.surface_id != *surface_id) continue;
+    out.surface_ids.push_back(ref.surface_id);
+    out.labels.push_back(ref.label ? *ref.label : default_coupling_label(edem.id, ref.surface_id));
+  }
+  if (surface_id && out.surface_ids.empty()) {  // a SURF of the model the card does not name
+    out.surface_ids.push_back(*surface_id);
+    out.labels.push_back(default_coupling_label(edem.id, *surface_id));
+  }
   out.adapted = adapt_structure(structure, options);
-  out.mesh = coupling_mesh(structure, out.adapted, surface);
-  out.label = surface == first.surface_id && first.label ? *first.label : default_coupling_label(edem.id, surface);
+  out.mesh = coupling_mesh(structure, out.adapted, out.surface_ids);
   out.period = edem.period;
   out.filter = edem.filter;
   return out;

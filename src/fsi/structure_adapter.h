@@ -50,10 +50,11 @@ struct CouplingMesh {
   std::vector<std::array<std::uint32_t, 4>> quads;
 };
 
-// The mesh of SURF `surface_id` of `structure` (its elements as adapted). Throws UserError for a
-// surface id the model does not define.
+// The mesh of the SURFs `surface_ids` of `structure` together (their elements as adapted; an
+// element in several of them once, in the order of the first; nodes they share once). Throws
+// UserError for a surface id the model does not define.
 CouplingMesh coupling_mesh(const StructureModel& structure, const AdaptedStructure& adapted,
-                           int surface_id);
+                           const std::vector<int>& surface_ids);
 
 // A DEM surface entry (type mesh, coupled) for `mesh`, named `name`, with DEM material
 // `material` (the deck's equipment material: the seed's "first equipment material").
@@ -65,17 +66,20 @@ SurfaceSpec coupling_surface_spec(const CouplingMesh& mesh, const std::string& n
 namespace quarry::fsi {
 
 // What the coupling takes from a model file: the adapted structure, the mesh of the first EDEM
-// card's first COUPLING surface, and that card's PERIOD and FILTER (absent: the seed's
-// defaults, resolved against the run's end time by resolve_schedule).
+// card's COUPLING surfaces (the seed repeats the COUPLING line "to define multiple coupling
+// surfaces", all of one DEM material: the DEM contacts them as one coupled surface), and that
+// card's PERIOD and FILTER (absent: the seed's defaults, resolved against the run's end time by
+// resolve_schedule).
 struct CoupledStructure {
   AdaptedStructure adapted;
   CouplingMesh mesh;
-  std::string label;  // the COUPLING line's LABEL, or Quarry's default name for it
+  std::vector<int> surface_ids;     // the SURFs coupled, in the card's order
+  std::vector<std::string> labels;  // their COUPLING lines' LABELs, or Quarry's default names
   std::optional<double> period, filter;  // s
 };
 
-// Pre: the model has an EDEM card (throws UserError otherwise). `surface_id`: the SURF to couple
-// (absent: the card's first COUPLING surface). Throws UserError as adapt_structure and
+// Pre: the model has an EDEM card (throws UserError otherwise). `surface_id`: the one SURF to
+// couple (absent: every COUPLING surface of the card). Throws UserError as adapt_structure and
 // coupling_mesh do.
 CoupledStructure prepare_coupling(const StructureModel& structure, const AdapterOptions& options = {},
                                   std::optional<int> surface_id = std::nullopt);

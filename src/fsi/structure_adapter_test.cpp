@@ -9,6 +9,7 @@
 #include "core/structure_model.h"
 #include "fem/shell_solver.h"
 #include "fsi/plate_bulk_data.h"
+#include "io/atomic_file.h"
 #include "io/bulk_data.h"
 
 namespace quarry::fsi {
@@ -55,7 +56,7 @@ TEST(StructureAdapter, BulkDataPlateToShellModel) {
 TEST(StructureAdapter, CouplingSurfaceKeepsQuadsAndNodes) {
   StructureModel structure = read_test_plate();
   const AdaptedStructure adapted = adapt_structure(structure);
-  const CouplingMesh all = coupling_mesh(structure, adapted, 2);
+  const CouplingMesh all = coupling_mesh(structure, adapted, {2});
   EXPECT_EQ(all.node_of_vertex, (std::vector<std::int32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8}));
   ASSERT_EQ(all.quads.size(), 3u);
   ASSERT_EQ(all.triangles.size(), 2u);
@@ -63,7 +64,7 @@ TEST(StructureAdapter, CouplingSurfaceKeepsQuadsAndNodes) {
   // A part of the plate: CQUAD4 2 (nodes 1 2 5 4) and CTRIA3 4 (nodes 3 4 7): six vertices,
   // renumbered, each knowing its node.
   structure.surfaces.at(2).elements = {2, 4};
-  const CouplingMesh part = coupling_mesh(structure, adapted, 2);
+  const CouplingMesh part = coupling_mesh(structure, adapted, {2});
   EXPECT_EQ(part.node_of_vertex, (std::vector<std::int32_t>{1, 2, 3, 4, 5, 7}));
   ASSERT_EQ(part.quads.size(), 1u);
   EXPECT_EQ(part.quads[0], (std::array<std::uint32_t, 4>{0, 1, 4, 3}));
@@ -74,7 +75,36 @@ TEST(StructureAdapter, CouplingSurfaceKeepsQuadsAndNodes) {
   EXPECT_TRUE(spec.coupled.value);
   EXPECT_EQ(spec.kind.value, SurfaceKind::mesh);
   EXPECT_EQ(spec.mesh_quads.size(), 1u);
-  EXPECT_THROW(coupling_mesh(structure, adapted, 3), UserError);
+  EXPECT_THROW(coupling_mesh(structure, adapted, {3}), UserError);
+}
+
+// The seed's EDEM card repeats its COUPLING line "to define multiple coupling surfaces"; they
+// share the card's one DEM material, so the DEM contacts them as one coupled surface: the union
+// of their elements (an element in two SURFs once) over their nodes (shared ones once). The
+// test plate split into SURF 2 (CQUAD4 1, 2, CTRIA3 5) and SURF 3 (CQUAD4 2, 3, CTRIA3 4):
+// CQUAD4 2 is in both. `surface:` (the deck's) still picks one.
+TEST(StructureAdapter, EveryCouplingSurfaceOfTheCardIsCoupled) {
+  std::string bulk = read_file(std::string(QUARRY_SOURCE_DIR) + "/tests/models/plate_free.bdf").value_or("");
+  const auto replace = [&](const std::string& from, const std::string& to) {
+    ASSERT_NE(bulk.find(from), std::string::npos) << from;
+    bulk.replace(bulk.find(from), from.size(), to);
+  };
+  replace("SURF,2,ELFACE\n,1\n,2\n,3\n,4\n,5\n", "SURF,2,ELFACE\n,1\n,2\n,5\nSURF,3,ELFACE\n,2\n,3\n,4\n");
+  replace("COUPLING,SURF,2,Surf_2\n", "COUPLING,SURF,2,floor\n,COUPLING,SURF,3\n");
+  const StructureModel structure = read_bulk_data_string(bulk, "two_surfaces.bdf");
+  const CoupledStructure both = prepare_coupling(structure);
+  EXPECT_EQ(both.surface_ids, (std::vector<int>{2, 3}));
+  EXPECT_EQ(both.labels, (std::vector<std::string>{"floor", default_coupling_label(100, 3)}));
+  EXPECT_EQ(both.mesh.node_of_vertex, (std::vector<std::int32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8}));
+  ASSERT_EQ(both.mesh.quads.size(), 3u);      // CQUAD4 1, 2 (from SURF 2), 3
+  ASSERT_EQ(both.mesh.triangles.size(), 2u);  // CTRIA3 5, 4
+  EXPECT_EQ(both.mesh.quads[1], (std::array<std::uint32_t, 4>{1, 2, 5, 4}));
+  EXPECT_EQ(both.mesh.triangles[0], (std::array<std::uint32_t, 3>{3, 7, 6}));  // CTRIA3 5: grids 4 8 7
+  const CoupledStructure lid = prepare_coupling(structure, {}, 3);
+  EXPECT_EQ(lid.surface_ids, (std::vector<int>{3}));
+  EXPECT_EQ(lid.mesh.quads.size(), 2u);
+  EXPECT_EQ(lid.mesh.triangles.size(), 1u);
+  EXPECT_EQ(lid.mesh.node_of_vertex, (std::vector<std::int32_t>{1, 2, 3, 4, 5, 7, 8}));
 }
 
 std::string first_error(const std::string& bulk, const AdapterOptions& options = {}) {

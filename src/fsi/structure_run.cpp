@@ -96,11 +96,14 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
         world, surface, *entry->solver, structure.mesh.node_of_vertex,
         CouplerOptions{.schedule = schedule, .resume = restored});
     const fem::StableTimeStep stable = entry->solver->stable_time_step();
+    std::string surfaces;  // "SURF 2 (floor), SURF 3 (walls)"
+    for (std::size_t k = 0; k < structure.surface_ids.size(); ++k)
+      surfaces += fmt::format("{}SURF {} ({})", k == 0 ? "" : ", ", structure.surface_ids[k], structure.labels[k]);
     log << fmt::format(
-        "structure \"{}\": {} nodes, {} shells ({} on the coupling surface), mass {:.4g} kg (added {:.4g} kg); "
+        "structure \"{}\": {} nodes, {} shells ({} on the coupling surface: {}), mass {:.4g} kg (added {:.4g} kg); "
         "stable step {:.4g} s (element {}), PERIOD {:.4g} s, FILTER {:.4g} s\n",
         entry->name, entry->solver->node_count(), entry->solver->element_count(),
-        structure.mesh.triangles.size() + structure.mesh.quads.size(), entry->solver->total_mass(),
+        structure.mesh.triangles.size() + structure.mesh.quads.size(), surfaces, entry->solver->total_mass(),
         entry->solver->added_mass(), stable.time_step, structure.adapted.element_id.at(static_cast<std::size_t>(stable.element)),
         schedule.period, schedule.filter);
     Entry* raw = entry.get();

@@ -224,7 +224,10 @@ int run(const Options& o) {
   const std::vector<double> vertices = flat(mesh.vertices);
   quarry_surface_desc desc{};
   desc.struct_size = sizeof desc;
-  desc.name = structure.label.c_str();
+  // The DEM surface is named by the card's COUPLING label (several coupled as one: joined).
+  std::string name = structure.labels.front();
+  for (std::size_t k = 1; k < structure.labels.size(); ++k) name += "_" + structure.labels[k];
+  desc.name = name.c_str();
   desc.material = o.material.c_str();
   desc.node_count = mesh.vertices.size();
   desc.nodes = vertices.data();
