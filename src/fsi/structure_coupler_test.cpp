@@ -6,19 +6,27 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <string>
 
+#include "fsi/coupled_scene_test_util.h"
 #include "fsi/plate_bulk_data.h"
-#include "fsi/structure_adapter.h"
 #include "io/deck.h"
 #include "sim/step.h"
 
 namespace quarry::fsi {
 namespace {
+
+using testing::bed_weight;
+using testing::centre_node;
+using testing::CoupledScene;
+using testing::critical_damping;
+using testing::kinetic_energy;
+using testing::kirchhoff_clamped_deflection;
+using testing::make_scene;
+using testing::static_deflection_under_loads;
+using testing::static_deflection_under_pressure;
 
 // The DEM side: glass beads (R 1.8–2.2 mm, E 10 MPa) between four frictionless vertical walls
 // standing on the plate's edges, so that the plate carries the bed's whole weight.
@@ -55,97 +63,6 @@ const std::string kFill = R"(  - name: fill
     region: {type: box, min: [0.0025, 0.0025, 0.003], max: [0.0575, 0.0575, 0.095]}
     count: 900)";
 
-struct CoupledScene {
-  AdaptedStructure adapted;
-  CouplingMesh mesh;
-  World world;
-  std::size_t surface = 0;
-};
-
-// Reads the plate's bulk data, adapts it, and builds the DEM world with the EDEM card's SURF 2
-// as its coupled surface (the deck's first equipment material, steel, as the seed says).
-CoupledScene make_scene(const testing::PlateCards& plate, const std::string& deck) {
-  CoupledScene scene;
-  CoupledStructure structure = coupled_structure_from_text(testing::plate_bulk_data(plate), "plate.bdf");
-  scene.adapted = std::move(structure.adapted);
-  scene.mesh = std::move(structure.mesh);
-  SimulationSpec spec = parse_deck_string(deck, "bed.yaml");
-  spec.surfaces.push_back(coupling_surface_spec(scene.mesh, "plate", "steel"));
-  scene.surface = spec.surfaces.size() - 1;
-  scene.world = build_world(spec);
-  sim::initialize(scene.world);
-  return scene;
-}
-
-double bed_weight(const World& world, double g) {
-  double mass = 0.0;  // kg
-  for (double inverse : world.particles.inv_mass) mass += 1.0 / inverse;
-  return mass * g;
-}
-
-double kinetic_energy(const World& world) {
-  const ParticleStore& p = world.particles;
-  double energy = 0.0;  // J
-  for (std::size_t i = 0; i < p.size(); ++i) energy += 0.5 / p.inv_mass[i] * dot(p.velocity[i], p.velocity[i]);
-  return energy;
-}
-
-int centre_node(const fem::ShellModel& model, double side) {
-  for (std::size_t n = 0; n < model.nodes.size(); ++n)
-    if (std::abs(model.nodes[n].x - 0.5 * side) < 1e-9 && std::abs(model.nodes[n].y - 0.5 * side) < 1e-9)
-      return static_cast<int>(n);
-  return -1;
-}
-
-// Mass-proportional damping critical for the plate's first mode: α = 2ω₁, ω₁ = 35.99/a² √(D/(ρt))
-// for a clamped square plate (Leissa, "Vibration of Plates", NASA SP-160, 1969, Table 4.23), ρt
-// from the solver's (mass-scaled) mass. It changes the way to the static state, not the state.
-double critical_damping(const fem::ShellSolver& solver, const testing::PlateCards& plate) {
-  const double rigidity = plate.youngs_modulus * std::pow(plate.thickness, 3.0) /
-                          (12.0 * (1.0 - plate.poisson_ratio * plate.poisson_ratio));
-  const double mass_per_area = solver.total_mass() / (plate.side * plate.side);  // kg/m²
-  return 2.0 * 35.99 / (plate.side * plate.side) * std::sqrt(rigidity / mass_per_area);
-}
-
-// 1D integrals of a linear element's two shape functions on [x0, x1] over [u0, u1] ∩ [x0, x1]:
-// ∫ (x1 − x)/h dx and ∫ (x − x0)/h dx (m).
-std::array<double, 2> shape_integrals(double x0, double x1, double u0, double u1) {
-  const double a = std::max(x0, u0), b = std::min(x1, u1), h = x1 - x0;
-  if (b <= a) return {0.0, 0.0};
-  return {((x1 - a) * (x1 - a) - (x1 - b) * (x1 - b)) / (2.0 * h), ((b - x0) * (b - x0) - (a - x0) * (a - x0)) / (2.0 * h)};
-}
-
-// Centre deflection (m, downward) of the plate alone under nodal `loads`, damped to rest.
-double static_deflection_under_loads(const fem::ShellModel& model, const fem::ShellSolverOptions& options,
-                                     const testing::PlateCards& plate, const std::vector<fem::NodalLoad>& loads,
-                                     int centre) {
-  fem::ShellSolver solver(model, options);
-  solver.set_damping(critical_damping(solver, plate));
-  solver.set_loads(loads);
-  const double dt = 0.9 * solver.stable_time_step().time_step;
-  while (solver.time() < 0.1) solver.step(dt);
-  return -solver.positions()[static_cast<std::size_t>(centre)].z;
-}
-
-// Centre deflection (m, downward) of the plate alone under `force` (N) spread as a uniform
-// pressure over [margin, a − margin]²: consistent nodal forces q ∫ N_i dA of the bilinear quads
-// (products of the 1D integrals, corners counter-clockwise from (x0, y0)), damped to rest.
-double static_deflection_under_pressure(const fem::ShellModel& model, const fem::ShellSolverOptions& options,
-                                        const testing::PlateCards& plate, double force, double margin, int centre) {
-  const double lo = margin, hi = plate.side - margin;
-  const double pressure = force / ((hi - lo) * (hi - lo));  // Pa
-  std::vector<fem::NodalLoad> loads(model.nodes.size());
-  for (const fem::ShellElement& e : model.elements) {
-    const Vec3& corner = model.nodes[static_cast<std::size_t>(e.nodes[0])];
-    const Vec3& opposite = model.nodes[static_cast<std::size_t>(e.nodes[2])];
-    const auto x = shape_integrals(corner.x, opposite.x, lo, hi), y = shape_integrals(corner.y, opposite.y, lo, hi);
-    const std::array<double, 4> share = {x[0] * y[0], x[1] * y[0], x[1] * y[1], x[0] * y[1]};  // m²
-    for (int k = 0; k < 4; ++k)
-      loads[static_cast<std::size_t>(e.nodes[static_cast<std::size_t>(k)])].force.z -= pressure * share[static_cast<std::size_t>(k)];
-  }
-  return static_deflection_under_loads(model, options, plate, loads, centre);
-}
-
 // A settled bed on a clamped plate (gravity on). Static equilibrium: the nodal forces the plate
 // receives sum to the bed's weight within 0.5 % (the side walls are frictionless, so they carry
 // none of it). The coupled plate's centre deflection is that of the shell solver alone under the
@@ -174,40 +91,19 @@ TEST(StructureCoupler, SettledBedOnClampedPlate) {
   ASSERT_GE(centre, 0);
   // Time means over the next 0.1 s of the settled state: the total nodal force, weighted by the
   // structure's time it acted (its periods are whole numbers of its steps), and the deflection.
-  double force_sum = 0.0, force_time = 0.0, deflection_sum = 0.0, time_sum = 0.0;
-  std::vector<fem::NodalLoad> mean_loads(scene.adapted.model.nodes.size());  // N·s, then N
-  const double start = world.time;
-  while (world.time < start + 0.1) {
-    // The loads set at the last exchange act during this period.
-    const std::vector<fem::NodalLoad> loads = coupler.loads();
-    const double before = world.time, structure_before = solver.time();
-    coupler.advance_period();
-    double total = 0.0;  // N, downward
-    for (const fem::NodalLoad& load : loads) total -= load.force.z;
-    force_sum += total * (solver.time() - structure_before);
-    for (std::size_t n = 0; n < mean_loads.size(); ++n)
-      mean_loads[n].force += loads[n].force * (solver.time() - structure_before);
-    force_time += solver.time() - structure_before;
-    const double span = world.time - before;
-    deflection_sum += -solver.positions()[static_cast<std::size_t>(centre)].z * span;
-    time_sum += span;
-  }
-  const double nodal_force = force_sum / force_time, deflection = deflection_sum / time_sum;
+  const testing::CoupledMeans means = testing::coupled_means(coupler, world, solver, centre, 0.1);
+  const double nodal_force = means.nodal_force, deflection = means.deflection;
   const double kinetic = kinetic_energy(world);
-  for (fem::NodalLoad& load : mean_loads) load.force = load.force / force_time;
 
   // The same plate under a uniform pressure of the same total force, solver alone, over the
   // whole plate and over the square the contact points can reach: a sphere resting on the
   // plate touches it at least its radius from a wall, [R̄, a − R̄]² with R̄ the mean radius.
   const double mean_radius = 0.002;  // m
-  const double own = static_deflection_under_loads(scene.adapted.model, options, plate, mean_loads, centre);
+  const double own = static_deflection_under_loads(scene.adapted.model, options, plate, means.loads, centre);
   const double whole = static_deflection_under_pressure(scene.adapted.model, options, plate, nodal_force, 0.0, centre);
   const double reachable =
       static_deflection_under_pressure(scene.adapted.model, options, plate, nodal_force, mean_radius, centre);
-  const double pressure = nodal_force / (plate.side * plate.side);  // Pa
-  const double rigidity = plate.youngs_modulus * std::pow(plate.thickness, 3.0) /
-                          (12.0 * (1.0 - plate.poisson_ratio * plate.poisson_ratio));
-  const double kirchhoff = 0.00126 * pressure * std::pow(plate.side, 4.0) / rigidity;
+  const double kirchhoff = kirchhoff_clamped_deflection(plate, nodal_force / (plate.side * plate.side));
   std::printf("settled bed: %zu particles, weight %.6e N, mean nodal force %.6e N (%+.3f %%), bed KE %.3e J\n"
               "  centre deflection coupled %.5e m; shell alone under the coupled run's time-mean nodal loads %.5e m "
               "(coupled %+.3f %%);\n  shell alone under the same force as uniform pressure over "
