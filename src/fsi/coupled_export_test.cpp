@@ -12,11 +12,7 @@
 
 #include "export/load_exporter.h"
 #include "export/med_file.h"
-#include "fsi/plate_bulk_data.h"
-#include "fsi/structure_adapter.h"
-#include "fsi/structure_coupler.h"
-#include "io/deck.h"
-#include "sim/step.h"
+#include "fsi/coupled_scene_test_util.h"
 
 namespace quarry::fsi {
 namespace {
@@ -25,39 +21,13 @@ namespace fs = std::filesystem;
 
 // 120 glass beads (R 1.8–2.2 mm, E 10 MPa) dropped from up to 60 mm onto a clamped steel plate
 // (60 mm, t 1 mm, 8×8 quads) between frictionless walls on its edges.
-std::string drop_deck() {
-  return R"(simulation:
-  end_time: 1.0
-  time_step: {rayleigh_fraction: 0.2}
-  impact_speed: 1.0
-  gravity: [0, 0, -9.81]
-  domain: {min: [-0.01, -0.01, -0.03], max: [0.07, 0.07, 0.1]}
-materials:
-  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
-  - {name: steel, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
-  - {name: smooth, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
-interactions:
-  - {materials: [glass, glass], restitution: 0.3, static_friction: 0.5}
-  - {materials: [glass, steel], restitution: 0.3, static_friction: 0.5}
-  - {materials: [glass, smooth], restitution: 0.3, static_friction: 0.0}
-particle_types:
-  - {name: bead, material: glass, size: {distribution: uniform, min_radius: 0.0018, max_radius: 0.0022}}
-surfaces:
-  - {name: wall_x0, type: plane, point: [0, 0.03, 0.05], normal: [1, 0, 0], size: 0.1, material: smooth}
-  - {name: wall_x1, type: plane, point: [0.06, 0.03, 0.05], normal: [-1, 0, 0], size: 0.1, material: smooth}
-  - {name: wall_y0, type: plane, point: [0.03, 0, 0.05], normal: [0, 1, 0], size: 0.1, material: smooth}
-  - {name: wall_y1, type: plane, point: [0.03, 0.06, 0.05], normal: [0, -1, 0], size: 0.1, material: smooth}
-factories:
-  - name: drop
+const std::string kDrop = R"(  - name: drop
     particle_type: bead
     region: {type: box, min: [0.0025, 0.0025, 0.003], max: [0.0575, 0.0575, 0.06]}
-    count: 120
-output: {directory: out_fsi_export, interval: 0, plots: false}
-)";
-}
+    count: 120)";
 
-// The plate is mass scaled to a 10 µs step and damped at α = 2ω₁ (ω₁ = 35.99/a² √(D/(ρt)),
-// Leissa 1969, Table 4.23, with the scaled mass), so that it comes to rest under the beads.
+// The plate is mass scaled to a 10 µs step and critically damped (testing::critical_damping),
+// so that it comes to rest under the beads.
 // PERIOD = 3 DEM steps (FILTER = PERIOD); export records every 30 DEM steps, a whole number of
 // periods, with the structure's exchange as the run loop's end-of-step hook.
 // 1. Momentum across the export: the impulse the export's records carry (Σ records of Σ nodes
@@ -70,24 +40,18 @@ output: {directory: out_fsi_export, interval: 0, plots: false}
 //    damped vibration and the bed's creep over one 30-step record).
 TEST(CoupledExport, RecordsCarryTheStructuresImpulseAndDisplacement) {
   const testing::PlateCards plate{.divisions = 8, .side = 0.06, .thickness = 0.001};
-  CoupledStructure structure = coupled_structure_from_text(testing::plate_bulk_data(plate), "plate.bdf");
-  SimulationSpec spec = parse_deck_string(drop_deck(), "drop.yaml");
-  SurfaceSpec coupled = coupling_surface_spec(structure.mesh, "plate", "steel");
-  coupled.export_loads = true;
-  spec.surfaces.push_back(coupled);
-  World world = build_world(spec);
-  sim::initialize(world);
-  const std::size_t surface = world.surfaces.size() - 1;
+  testing::CoupledScene scene =
+      testing::make_scene(plate, testing::bed_deck("[0, 0, -9.81]", kDrop, "{rayleigh_fraction: 0.2}"));
+  World& world = scene.world;
+  const std::size_t surface = scene.surface;
+  world.surfaces[surface].mesh.export_loads = true;  // as a structures: entry's export: true
   ASSERT_TRUE(world.surfaces[surface].mesh.moving);
 
   fem::ShellSolverOptions options;
   options.mass_scaling_time_step = 1e-5;  // s
-  fem::ShellSolver solver(structure.adapted.model, options);
-  const double rigidity = plate.youngs_modulus * std::pow(plate.thickness, 3.0) /
-                          (12.0 * (1.0 - plate.poisson_ratio * plate.poisson_ratio));  // N·m
-  solver.set_damping(2.0 * 35.99 / (plate.side * plate.side) *
-                     std::sqrt(rigidity / (solver.total_mass() / (plate.side * plate.side))));
-  StructureCoupler coupler(world, surface, solver, structure.mesh.node_of_vertex,
+  fem::ShellSolver solver(scene.adapted.model, options);
+  solver.set_damping(testing::critical_damping(solver, plate));
+  StructureCoupler coupler(world, surface, solver, scene.mesh.node_of_vertex,
                            {.schedule = resolve_schedule(3.0 * world.dt, std::nullopt, 1.0)});
 
   Vec3 delivered;  // N·s, Σ loads × the structure's time they acted
@@ -119,8 +83,7 @@ TEST(CoupledExport, RecordsCarryTheStructuresImpulseAndDisplacement) {
     return sum;
   };
   const Vec3 momentum_before = particle_momentum();
-  double weight = 0.0;  // N
-  for (double inverse : world.particles.inv_mass) weight += 9.81 / inverse;
+  const double weight = testing::bed_weight(world, 9.81);  // N
   const double start = world.time;
   fem_export::LoadExporter exporter(export_spec, meshes(), folder, world.dt, world.dt * static_cast<double>(steps),
                                     std::nullopt);
@@ -133,7 +96,7 @@ TEST(CoupledExport, RecordsCarryTheStructuresImpulseAndDisplacement) {
   const fem_export::MedLoadFile med = fem_export::read_med_loads((folder / "fem_export" / "plate.med").string());
   ASSERT_EQ(med.frames.size(), 600u);
   ASSERT_EQ(med.displacements.size(), med.frames.size());
-  EXPECT_EQ(med.nodes, structure.mesh.vertices);  // the reference mesh, node k = surface vertex k
+  EXPECT_EQ(med.nodes, scene.mesh.vertices);  // the reference mesh, node k = surface vertex k
   Vec3 exported;  // N·s
   double previous = 0.0;
   for (const LoadFrame& frame : med.frames) {
@@ -150,8 +113,8 @@ TEST(CoupledExport, RecordsCarryTheStructuresImpulseAndDisplacement) {
   double largest = 0.0, worst = 0.0;  // m
   const std::vector<Vec3>& last = med.displacements.back();
   for (std::size_t v = 0; v < last.size(); ++v) {
-    const auto node = static_cast<std::size_t>(structure.mesh.node_of_vertex[v]);
-    const Vec3 u = solver.positions()[node] - structure.adapted.model.nodes[node];
+    const auto node = static_cast<std::size_t>(scene.mesh.node_of_vertex[v]);
+    const Vec3 u = solver.positions()[node] - scene.adapted.model.nodes[node];
     largest = std::max(largest, std::sqrt(dot(u, u)));
     const Vec3 d = last[v] - u;
     worst = std::max(worst, std::sqrt(dot(d, d)));

@@ -20,6 +20,36 @@
 
 namespace quarry::fsi::testing {
 
+// The DEM side: glass beads (R 1.8–2.2 mm, E 10 MPa) between four frictionless vertical walls
+// standing on the plate's edges, so that the plate carries the bed's whole weight.
+inline std::string bed_deck(const std::string& gravity, const std::string& factory, const std::string& step) {
+  return R"(simulation:
+  end_time: 1.0
+  time_step: )" + step + R"(
+  impact_speed: 0.5
+  gravity: )" + gravity + R"(
+  domain: {min: [-0.01, -0.01, -0.03], max: [0.07, 0.07, 0.1]}
+materials:
+  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+  - {name: steel, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
+  - {name: smooth, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
+interactions:
+  - {materials: [glass, glass], restitution: 0.3, static_friction: 0.5}
+  - {materials: [glass, steel], restitution: 0.3, static_friction: 0.5}
+  - {materials: [glass, smooth], restitution: 0.3, static_friction: 0.0}
+particle_types:
+  - {name: bead, material: glass, size: {distribution: uniform, min_radius: 0.0018, max_radius: 0.0022}}
+surfaces:
+  - {name: wall_x0, type: plane, point: [0, 0.03, 0.05], normal: [1, 0, 0], size: 0.1, material: smooth}
+  - {name: wall_x1, type: plane, point: [0.06, 0.03, 0.05], normal: [-1, 0, 0], size: 0.1, material: smooth}
+  - {name: wall_y0, type: plane, point: [0.03, 0, 0.05], normal: [0, 1, 0], size: 0.1, material: smooth}
+  - {name: wall_y1, type: plane, point: [0.03, 0.06, 0.05], normal: [0, -1, 0], size: 0.1, material: smooth}
+factories:
+)" + factory + R"(
+output: {directory: out_fsi, interval: 0, plots: false}
+)";
+}
+
 struct CoupledScene {
   AdaptedStructure adapted;
   CouplingMesh mesh;

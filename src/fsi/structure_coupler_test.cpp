@@ -22,41 +22,12 @@ using testing::bed_weight;
 using testing::centre_node;
 using testing::CoupledScene;
 using testing::critical_damping;
+using testing::bed_deck;
 using testing::kinetic_energy;
 using testing::kirchhoff_clamped_deflection;
 using testing::make_scene;
 using testing::static_deflection_under_loads;
 using testing::static_deflection_under_pressure;
-
-// The DEM side: glass beads (R 1.8–2.2 mm, E 10 MPa) between four frictionless vertical walls
-// standing on the plate's edges, so that the plate carries the bed's whole weight.
-std::string bed_deck(const std::string& gravity, const std::string& factory, const std::string& step) {
-  return R"(simulation:
-  end_time: 1.0
-  time_step: )" + step + R"(
-  impact_speed: 0.5
-  gravity: )" + gravity + R"(
-  domain: {min: [-0.01, -0.01, -0.03], max: [0.07, 0.07, 0.1]}
-materials:
-  - {name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
-  - {name: steel, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
-  - {name: smooth, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
-interactions:
-  - {materials: [glass, glass], restitution: 0.3, static_friction: 0.5}
-  - {materials: [glass, steel], restitution: 0.3, static_friction: 0.5}
-  - {materials: [glass, smooth], restitution: 0.3, static_friction: 0.0}
-particle_types:
-  - {name: bead, material: glass, size: {distribution: uniform, min_radius: 0.0018, max_radius: 0.0022}}
-surfaces:
-  - {name: wall_x0, type: plane, point: [0, 0.03, 0.05], normal: [1, 0, 0], size: 0.1, material: smooth}
-  - {name: wall_x1, type: plane, point: [0.06, 0.03, 0.05], normal: [-1, 0, 0], size: 0.1, material: smooth}
-  - {name: wall_y0, type: plane, point: [0.03, 0, 0.05], normal: [0, 1, 0], size: 0.1, material: smooth}
-  - {name: wall_y1, type: plane, point: [0.03, 0.06, 0.05], normal: [0, -1, 0], size: 0.1, material: smooth}
-factories:
-)" + factory + R"(
-output: {directory: out_fsi, interval: 0, plots: false}
-)";
-}
 
 const std::string kFill = R"(  - name: fill
     particle_type: bead
@@ -69,8 +40,9 @@ const std::string kFill = R"(  - name: fill
 // run's time-mean nodal loads within 1 % (linear statics: the mean deflection answers the mean
 // load). Reported beside it, not asserted: the same force as a uniform pressure over the whole
 // plate and over [R̄, a − R̄]² (a sphere touches the plate at least its radius from a wall):
-// the bed loads the centre more than a uniform pressure does (docs/fem.md, "Coupling",
-// the open finding), so 5 % from a uniform pressure is not asserted.
+// the walls and a fill drawn at least a radius inside its box load the centre more than a
+// uniform pressure does (docs/fem.md, "Coupling"); the weight's uniform pressure is asserted on a
+// bed without walls (settled_bed_deflection_test.cpp).
 // The mesh against Kirchhoff, w = α q a⁴/D, α = 0.00126 for a clamped square plate, ν = 0.3
 // (Timoshenko & Woinowsky-Krieger, "Theory of Plates and Shells", 1959, §44, Table 35): 2 %.
 // The plate is mass scaled to a 10 µs step (statics do not depend on mass) and critically damped.
