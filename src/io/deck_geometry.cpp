@@ -395,7 +395,7 @@ void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors) 
   const std::vector<std::string> common_keys = {"name", "type"};
   const std::vector<std::string> mass_keys = {"region"};
   const std::vector<std::string> particle_keys = {"id"};
-  const std::vector<std::string> flow_keys = {"point", "normal"};
+  const std::vector<std::string> flow_keys = {"point", "normal", "region"};
   const std::vector<std::string> stress_keys = {"region"};
   const std::vector<std::string> profile_keys = {"region", "axis", "bins"};
   const std::vector<std::string> all_keys =
@@ -428,6 +428,12 @@ void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors) 
         map.read("point", monitor.point, Presence::required);
         if (map.read("normal", monitor.normal, Presence::required))
           check_nonzero_direction(map.context(), "normal", monitor.normal);
+        if (map.has("region")) {  // the window of the plane that counts
+          monitor.region = read_region(map, "region");
+          if (monitor.region->kind.value == RegionKind::point)
+            map.context().error(monitor.region->kind.where, "a mass-flow window cannot be a point: nothing crosses it",
+                                "use a box or a cylinder around the opening, across the plane");
+        }
         break;
       case MonitorKind::stress:
         map.reject_unknown_keys(joined(common_keys, stress_keys), all_keys, variant);

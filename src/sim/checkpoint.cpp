@@ -35,7 +35,8 @@ namespace fs = std::filesystem;
 
 constexpr std::uint64_t kMagic = 0x34304B4359525551ull;  // "QURYCK04"
 // 5: the contacts' last normal force (implicit dashpots); 6: the attachments' named sections.
-constexpr std::uint32_t kFormat = 6;
+// 7: a mass-flow window's crossings since the last row.
+constexpr std::uint32_t kFormat = 7;
 constexpr std::uint64_t kMostSections = 1000;
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 8 + 4 + 4;
 
@@ -224,6 +225,7 @@ void transfer_state(auto& io, World& world, std::uint64_t& frame_index) {
     io.vector(c.side_by_id);
     io.value(c.last_time);
     io.value(c.crossed_mass);
+    io.value(c.pending_mass);
     transfer_flag(io, c.started);
     if constexpr (loading) {
       if (c.side_by_id.size() > world.next_id) bad("a mass-flow monitor's state names particle ids never given");
@@ -232,7 +234,8 @@ void transfer_state(auto& io, World& world, std::uint64_t& frame_index) {
         // monitor_sensors.cpp).
         if (side < -2 || side > 2)
           bad("a mass-flow monitor's state holds a side other than -2 to 2");
-      if (!std::isfinite(c.last_time) || !std::isfinite(c.crossed_mass)) bad("a mass-flow monitor's state is not finite");
+      if (!std::isfinite(c.last_time) || !std::isfinite(c.crossed_mass) || !std::isfinite(c.pending_mass))
+        bad("a mass-flow monitor's state is not finite");
     }
   }
 }

@@ -61,39 +61,84 @@ void append_particle_values(const World& world, const MonitorSpec& monitor, std:
   row.insert(row.end(), 12, kNaN);
 }
 
+namespace {
+
+// Which side of a mass-flow plane a particle is on, and whether it crossed since it was last seen.
+// A plane perpendicular to a periodic axis (the deck allows no tilted one across it): a particle
+// that wraps from max to min has not crossed it, one that moves across it has. The period, seen
+// from the plane, is cut in quarters by the phase φ = frac((x − x_plane)/L); the quarter is
+// stored as 1, 2 (φ < 1/2) and −2, −1 (φ ≥ 1/2), and only the step from the last quarter to the
+// first (+) or back (−) is a crossing: wrapping leaves φ unchanged. Holds while no particle moves
+// more than L/4 between two looks. Elsewhere the side is ±1 (+: on the normal's side).
+class PlaneSides {
+ public:
+  PlaneSides(const World& world, const MonitorSpec& monitor)
+      : point_(monitor.point.value), normal_(monitor.normal.value), periodic_(world.pairs.periodic) {
+    for (int a = 0; a < 3; ++a)
+      if (periodic_.wraps[a] && normal_[a] != 0.0) axis_ = a;
+    if (axis_ >= 0) direction_ = normal_[axis_] > 0.0 ? 1.0 : -1.0;
+  }
+
+  std::int8_t side(const Vec3& x) const {
+    if (axis_ < 0) return dot(x - point_, normal_) >= 0.0 ? 1 : -1;
+    const double phase = (x[axis_] - point_[axis_]) * periodic_.inverse_period[axis_];  // periods
+    const double quarter = std::floor(4.0 * (phase - std::floor(phase)));  // 0..3 (4: rounding)
+    return quarter < 1.0 ? 1 : quarter < 2.0 ? 2 : quarter < 3.0 ? -2 : -1;
+  }
+
+  // +1 crossed along the normal, −1 against it, 0 not crossed (or not seen before: last 0).
+  double crossing(std::int8_t last, std::int8_t side) const {
+    if (axis_ < 0) return last != 0 && last != side ? side : 0.0;
+    if (last == -1 && side == 1) return direction_;
+    if (last == 1 && side == -1) return -direction_;
+    return 0.0;
+  }
+
+  // The point of the plane nearest x (m): where a particle seen on both sides in consecutive
+  // steps crossed it, within one step's travel.
+  Vec3 foot(const Vec3& x) const {
+    const Vec3 unit = normal_ / std::sqrt(dot(normal_, normal_));
+    return x - unit * dot(x - point_, unit);
+  }
+
+ private:
+  Vec3 point_, normal_;
+  const PeriodicBox& periodic_;
+  int axis_ = -1;
+  double direction_ = 1.0;
+};
+
+}  // namespace
+
+void count_window_crossings(const World& world, const MonitorSpec& monitor, PlaneCrossingState& state) {
+  const ParticleStore& p = world.particles;
+  const PlaneSides plane(world, monitor);
+  const Region window(*monitor.region);
+  if (state.side_by_id.size() < world.next_id) state.side_by_id.resize(world.next_id, 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::int8_t side = plane.side(p.position[i]);
+    std::int8_t& last = state.side_by_id[p.id[i]];
+    const double crossed = plane.crossing(last, side);
+    if (crossed != 0.0 && window.contains(world.pairs.periodic.wrapped(plane.foot(p.position[i]))))
+      state.pending_mass += crossed / p.inv_mass[i];
+    last = side;
+  }
+}
+
 void append_mass_flow_values(const World& world, const MonitorSpec& monitor, PlaneCrossingState& state,
                              std::vector<double>& row) {
-  const ParticleStore& p = world.particles;
-  const Vec3 point = monitor.point.value, normal = monitor.normal.value;
-  if (state.side_by_id.size() < world.next_id) state.side_by_id.resize(world.next_id, 0);
   double crossed = 0.0;  // kg, net along the normal since the last row
-  // A plane perpendicular to a periodic axis (the deck allows no tilted one across it): a
-  // particle that wraps from max to min has not crossed it, one that moves across it has. The
-  // period, seen from the plane, is cut in quarters by the phase φ = frac((x − x_plane)/L);
-  // the quarter is stored as 1, 2 (φ < 1/2) and −2, −1 (φ ≥ 1/2), and only the step from the
-  // last quarter to the first (+) or back (−) is a crossing: wrapping leaves φ unchanged.
-  // Holds while no particle moves more than L/4 between two monitor rows.
-  const PeriodicBox& periodic = world.pairs.periodic;
-  int periodic_axis = -1;
-  for (int a = 0; a < 3; ++a)
-    if (periodic.wraps[a] && normal[a] != 0.0) periodic_axis = a;
-  if (periodic_axis >= 0) {
-    const int a = periodic_axis;
-    const double direction = normal[a] > 0.0 ? 1.0 : -1.0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const double phase = (p.position[i][a] - point[a]) * periodic.inverse_period[a];  // periods
-      const double quarter = std::floor(4.0 * (phase - std::floor(phase)));  // 0..3 (4: rounding)
-      const std::int8_t side = quarter < 1.0 ? 1 : quarter < 2.0 ? 2 : quarter < 3.0 ? -2 : -1;
-      std::int8_t& last = state.side_by_id[p.id[i]];
-      if (last == -1 && side == 1) crossed += direction / p.inv_mass[i];
-      if (last == 1 && side == -1) crossed -= direction / p.inv_mass[i];
-      last = side;
-    }
+  if (monitor.region) {  // counted step by step (count_window_crossings)
+    crossed = state.pending_mass;
+    state.pending_mass = 0.0;
   } else {
+    const ParticleStore& p = world.particles;
+    const PlaneSides plane(world, monitor);
+    if (state.side_by_id.size() < world.next_id) state.side_by_id.resize(world.next_id, 0);
     for (std::size_t i = 0; i < p.size(); ++i) {
-      const std::int8_t side = dot(p.position[i] - point, normal) >= 0.0 ? 1 : -1;
+      const std::int8_t side = plane.side(p.position[i]);
       std::int8_t& last = state.side_by_id[p.id[i]];
-      if (last != 0 && last != side) crossed += side / p.inv_mass[i];
+      crossed += plane.crossing(last, side) / p.inv_mass[i];
       last = side;
     }
   }

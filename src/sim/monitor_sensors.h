@@ -25,9 +25,17 @@ void append_particle_values(const World& world, const MonitorSpec& monitor, std:
 // second of the interval, then the net mass crossed since the start (kg). A particle counts when
 // it is on the other side of the plane than at the last row (so a particle that enters and
 // leaves the world between two rows is not seen, and one inserted since the last row counts
-// from the next). The first row gives 0. Updates `state`. Cost: O(n).
+// from the next). With a `region` (a window: an outlet, one chute of several) the crossings
+// were counted step by step (count_window_crossings), which this takes and clears. The first
+// row gives 0. Updates `state`. Cost: O(n), O(1) with a window.
 void append_mass_flow_values(const World& world, const MonitorSpec& monitor, PlaneCrossingState& state,
                              std::vector<double>& row);
+
+// mass_flow with a `region`: after a step, the particles on the other side of the plane than
+// after the step before, counted (kg, ± along the normal, into state.pending_mass) where the
+// point of the plane nearest the particle — where it crossed, within one step's travel — lies
+// in the region. Pre: monitor.region. Cost: O(n) every step.
+void count_window_crossings(const World& world, const MonitorSpec& monitor, PlaneCrossingState& state);
 
 // Coarse-grained stress of a box of volume V (Pa), compression positive, components xx, yy,
 // zz, xy, xz, yz (symmetric part). Contact part, Love (1927)–Weber (1966):

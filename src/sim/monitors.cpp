@@ -103,6 +103,16 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
   return row;
 }
 
+void count_flow_windows(World& world) {
+  std::size_t flow = 0;  // index of the mass-flow monitor's state, as in monitor_row
+  for (const MonitorSpec& m : world.spec.monitors) {
+    if (m.kind.value != MonitorKind::mass_flow) continue;
+    if (world.plane_crossings.size() <= flow) world.plane_crossings.resize(flow + 1);
+    if (m.region) count_window_crossings(world, m, world.plane_crossings[flow]);
+    ++flow;
+  }
+}
+
 PlotSeries column_series(const std::vector<std::vector<double>>& rows, std::size_t k,
                          const std::string& label) {
   PlotSeries s;

@@ -25,6 +25,10 @@ double torque_about_axis(const Vec3& torque_about_origin, const Vec3& force, con
 // one per monitor interval. Cost: O(particles + contacts).
 std::vector<std::string> monitor_columns(const World& world, std::size_t surface_count);
 std::vector<double> monitor_row(World& world, std::size_t surface_count);
+// After every step: the mass-flow monitors with a window (`region`) count the step's crossings
+// (count_window_crossings). Cost: O(particles) per such monitor, nothing without one.
+void count_flow_windows(World& world);
+
 // Column k of a monitor table against its first column (time), labelled `label`: a series of
 // the plots below, or of another monitor table's (the fluid's).
 PlotSeries column_series(const std::vector<std::vector<double>>& rows, std::size_t k, const std::string& label);

@@ -200,6 +200,7 @@ void Output::after_step(World& world) {
   const std::uint64_t n = world.step_count;
   const auto due = [n](std::uint64_t every) { return every != 0 && n % every == 0; };
   frame_pending_ = true;
+  count_flow_windows(world);
   if (due(monitor_every_)) record_monitors(world);
   if (due(output_every_)) write_frame(world);
   if (due(checkpoint_every_)) write_checkpoint_now(world);

@@ -176,12 +176,14 @@ struct ForceWorkspace {
 };
 
 // A mass-flow monitor's memory from one monitor row to the next (sim/monitor_sensors.cpp): the
-// side of its plane each particle was on at the last row, and the mass counted so far. Part of
-// the checkpoint, so that a restarted run counts the crossings of the interrupted interval.
+// side of its plane each particle was on at the last row (a monitor with a window: at the last
+// step), and the mass counted so far. Part of the checkpoint, so that a restarted run counts the
+// crossings of the interrupted interval.
 struct PlaneCrossingState {
   std::vector<std::int8_t> side_by_id;  // index: particle id; +1 / −1 at the last row, 0 unseen
   double last_time = 0.0;               // s: time of the last row
   double crossed_mass = 0.0;            // kg: net mass crossed along the normal since the start
+  double pending_mass = 0.0;            // kg: a window's crossings since the last row
   bool started = false;                 // a first row was taken
 };
 

@@ -238,6 +238,83 @@ TEST(OutputVerification, MassFlowCountsTheBallsCrossingAPlane) {
   }
 }
 
+// Mass flow through a window of the plane (an outlet): `region`, a cylinder of radius 0.05 m
+// about the z axis across the plane z = 0.1 m. Balls released at rest at heights h_k cross the
+// plane at t_k = sqrt(2 h_k / g) (free fall, exact under Velocity Verlet) at their own x; only
+// those with |x| ≤ 0.05 m count. Two more move sideways at 0.5 m/s: one starts outside the window
+// and crosses the plane inside it, the other starts inside and crosses outside — the point where
+// a ball crosses decides, not where it is at a row (rows are 4000 steps apart, 0.01 m of
+// sideways travel). Between two rows the sensor gives (number of counted t_k in the interval)
+// × m / (row interval); a checkpoint taken between two rows (with crossings not yet reported)
+// restores it: the restored run's rows are the same to the bit.
+TEST(OutputVerification, MassFlowThroughAWindowCountsOnlyWhatCrossesInsideIt) {
+  const std::string monitors = R"(monitors:
+  - {name: outlet, type: mass_flow, point: [0, 0, 0.1], normal: [0, 0, -1],
+     region: {type: cylinder, base: [0, 0, 0.05], axis: [0, 0, 1], radius: 0.05, length: 0.1}}
+)";
+  const double g = 9.81, plane = 0.1, window = 0.05;  // m/s², m, m
+  const double row_interval = 0.02;                   // s (4000 steps)
+  std::vector<sim::NewParticle> balls;
+  std::vector<double> crossing;  // s, of the balls that count
+  for (int k = 0; k < 12; ++k) {
+    const double t = 0.0125 + 0.01 * k + (k % 3) * 0.001;  // s: none within 3 ms of a row time
+    sim::NewParticle b;
+    b.position = {-0.12 + 0.02 * k, 0.0, plane + 0.5 * g * t * t};
+    balls.push_back(b);
+    if (std::abs(b.position.x) <= window) crossing.push_back(t);
+  }
+  // Sideways at 0.5 m/s, crossing at t = 0.0825 s (between the rows of 0.08 and 0.1 s): one
+  // from (0, −0.02) along x, crossing at (0.04125, −0.02), r = 0.0458 m (inside: counts), at the
+  // next row at (0.05, −0.02), r = 0.0539 (outside); the other from (0.035, 0.08) against y,
+  // crossing at (0.035, 0.03875), r = 0.0522 (outside: does not count), at the next row at
+  // (0.035, 0.03), r = 0.0461 (inside).
+  const double t_side = 0.0825;  // s
+  for (const auto& [start, velocity] : {std::pair{Vec3{0.0, -0.02, 0.0}, Vec3{0.5, 0.0, 0.0}},
+                                        std::pair{Vec3{0.035, 0.08, 0.0}, Vec3{0.0, -0.5, 0.0}}}) {
+    sim::NewParticle b;
+    b.position = start + Vec3{0.0, 0.0, plane + 0.5 * g * t_side * t_side};
+    b.velocity = velocity;
+    balls.push_back(b);
+  }
+  crossing.push_back(t_side);  // the first one
+  World world = world_with(ball_deck("[0, 0, -9.81]", monitors), balls);
+  const std::vector<std::string> columns = sim::monitor_columns(world, 1);
+  const std::size_t flow = column_index(columns, "outlet_mass_flow_kg_s");
+  const double start = world.time;
+  const auto advance = [](World& w, int steps) {
+    for (int n = 0; n < steps; ++n) {
+      sim::step(w);
+      sim::count_flow_windows(w);  // as Output::after_step
+    }
+  };
+  EXPECT_EQ(sim::monitor_row(world, 1)[flow], 0.0);
+  std::string checkpoint;
+  std::vector<std::vector<double>> rows;
+  for (int row = 1; row <= 9; ++row) {
+    advance(world, 2000);
+    if (row == 5) {  // between two rows, after the sideways crossings: pending mass to carry
+      EXPECT_GT(world.plane_crossings.at(0).pending_mass, 0.0);
+      checkpoint = sim::checkpoint_bytes(world, 0);
+    }
+    advance(world, 2000);
+    rows.push_back(sim::monitor_row(world, 1));
+    const double t1 = world.time - start, t0 = t1 - row_interval;  // s
+    int crossed = 0;
+    for (double t : crossing) crossed += t > t0 && t <= t1;
+    EXPECT_NEAR(rows.back()[flow], crossed * kMass / row_interval, 1e-9 * kMass / row_interval) << "row " << row;
+  }
+  EXPECT_NEAR(rows.back()[flow + 1], static_cast<double>(crossing.size()) * kMass, 1e-12);
+  EXPECT_EQ(crossing.size(), 6u);  // five of the lattice, one sideways
+
+  sim::RestoredWorld restored = sim::read_checkpoint_bytes(checkpoint, "memory");
+  advance(restored.world, 2000);
+  for (int row = 5; row <= 9; ++row) {
+    const std::vector<double> again = sim::monitor_row(restored.world, 1);
+    EXPECT_EQ(again, rows[static_cast<std::size_t>(row - 1)]) << "row " << row << " after the restart";
+    advance(restored.world, 4000);
+  }
+}
+
 // A checkpoint whose mass-flow sensor state is inconsistent (right checksum, written from a world
 // changed by hand) is refused with what is wrong, never restored.
 TEST(OutputVerification, CheckpointWithADamagedMassFlowStateIsRefused) {
@@ -253,6 +330,7 @@ TEST(OutputVerification, CheckpointWithADamagedMassFlowStateIsRefused) {
       {"names particle ids never given", [](World& w) { w.plane_crossings[0].side_by_id.resize(w.next_id + 1); }},
       {"more mass-flow monitor states", [](World& w) { w.plane_crossings.resize(2); }},
       {"not finite", [](World& w) { w.plane_crossings[0].crossed_mass = std::nan(""); }},
+      {"not finite", [](World& w) { w.plane_crossings[0].pending_mass = std::nan(""); }},
   };
   for (const auto& [expected, damage] : cases) {
     World world = original;
