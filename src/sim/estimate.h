@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/simulation_spec.h"
 #include "sim/world.h"
@@ -33,6 +34,12 @@ struct Estimate {
   int threads = 1;                  // OpenMP threads the calibration ran with
   double wall_seconds = 0;          // s, estimate
 };
+
+// Least squares t = a + b n over a calibration's steps (counts n: particles; seconds t: their
+// particle stages' time, s): the part a (s per step) that does not grow with the particles (the
+// surfaces' loads cleared and summed, the loops' set-up). 0 unless the counts span at least a
+// quarter of their largest value over at least 20 steps and the fit gives a ≥ 0, b ≥ 0.
+double particle_stage_fit(const std::vector<double>& counts, const std::vector<double>& seconds);
 
 // Called on the calibration world before it starts (what `run` attaches beyond build_world:
 // the fluid of a fluid: section); what it returns is kept alive while the world runs.
