@@ -8,6 +8,8 @@
 
 #include "fsi/structure_vtu.h"
 #include "io/atomic_file.h"
+#include "io/png_plot.h"
+#include "sim/monitors.h"
 #include "sim/output.h"
 
 namespace quarry::fsi {
@@ -18,6 +20,21 @@ namespace {
 const std::vector<std::string> kMonitorColumns = {"time_s",   "max_displacement_m", "reaction_x_N", "reaction_y_N",
                                                   "reaction_z_N", "load_x_N",       "load_y_N",     "load_z_N",
                                                   "kinetic_J",    "internal_J",     "hourglass_J",  "external_work_J"};
+
+// Column indices of kMonitorColumns.
+enum Column : std::size_t { kTime, kLargest, kReaction, kLoad = 5, kKinetic = 8, kInternal, kHourglass, kExternalWork };
+
+// Series of a structure's table for its plots: the component of a vector column triple
+// (`first`, +1, +2) along `axis` (unit), against time.
+PlotSeries component_series(const std::vector<std::vector<double>>& rows, std::size_t first, const Vec3& axis,
+                            const std::string& label) {
+  PlotSeries s{label, {}, {}};
+  for (const std::vector<double>& r : rows) {
+    s.x.push_back(r[kTime]);
+    s.y.push_back(dot(Vec3{r[first], r[first + 1], r[first + 2]}, axis));
+  }
+  return s;
+}
 
 // The world's surface that is structure `spec`'s coupling surface, if it has one by that name.
 std::optional<std::size_t> surface_named(const World& world, const std::string& name) {
@@ -209,6 +226,40 @@ void CoupledStructures::write_frame(Entry& entry) {
   entry.last_frame_time = solver.time();
 }
 
+// Three plots of a structure's table: its largest displacement, the reactions (in total, per
+// support) and the coupled load along gravity's opposite (up: what holds the structure; the
+// vertical reaction equals the load once the bed has settled on it), and its energies.
+void CoupledStructures::write_plots(const Entry& entry) {
+  const std::vector<std::vector<double>>& rows = entry.monitors->rows();
+  if (rows.empty()) return;
+  const Vec3 g = world_.spec.simulation.gravity.value;
+  const double g_norm = std::sqrt(dot(g, g));
+  const Vec3 up = g_norm > 0.0 ? g * (-1.0 / g_norm) : Vec3{0.0, 0.0, 1.0};  // along z without gravity
+  const std::string axis = g_norm > 0.0 ? "up (against gravity)" : "along z";
+  PlotSpec displacement{fmt::format("Structure \"{}\": largest displacement", entry.name), "time (s)",
+                        "largest displacement (mm)", {sim::column_series(rows, kLargest, "")}};
+  for (double& y : displacement.series.front().y) y *= 1000.0;  // m → mm
+  PlotSpec reactions{fmt::format("Structure \"{}\": reactions and coupled load, {}", entry.name, axis), "time (s)",
+                     "force (N)", {}};
+  reactions.series.push_back(component_series(rows, kReaction, up, "reaction, all supports"));
+  for (std::size_t k = 0; k < entry.supports.size() && entry.supports.size() > 1; ++k)
+    reactions.series.push_back(
+        component_series(rows, kMonitorColumns.size() + 3 * k, up, fmt::format("support {}", k + 1)));
+  reactions.series.push_back(component_series(rows, kLoad, up * -1.0, "coupled load (down)"));
+  PlotSpec energies{fmt::format("Structure \"{}\": energies", entry.name), "time (s)", "energy (J)",
+                    {sim::column_series(rows, kKinetic, "kinetic"), sim::column_series(rows, kInternal, "internal"),
+                     sim::column_series(rows, kHourglass, "hourglass"),
+                     sim::column_series(rows, kExternalWork, "external work")}};
+  const std::pair<std::string, const PlotSpec*> plots[] = {
+      {"structure_" + entry.name + "_displacement.png", &displacement},
+      {"structure_" + entry.name + "_reactions.png", &reactions},
+      {"structure_" + entry.name + "_energies.png", &energies}};
+  for (const auto& [file, spec] : plots) {
+    write_line_plot_png(output_directory_ / file, *spec);
+    if (world_.output) world_.output->wrote(file);
+  }
+}
+
 void CoupledStructures::finish(std::ostream& out) {
   for (const auto& entry : entries_) {
     std::vector<double> r = monitor_row(*entry);
@@ -219,6 +270,7 @@ void CoupledStructures::finish(std::ostream& out) {
       write_frame(*entry);
       entry->monitors->flush();
       r = entry->monitors->rows().back();
+      if (world_.spec.output.plots.value) write_plots(*entry);
     }
     out << fmt::format(
         "structure \"{}\": t {:.4g} s, {} steps of {:.4g} s, {} syncs; largest displacement {:.4g} m; "

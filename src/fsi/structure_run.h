@@ -45,7 +45,8 @@ class CoupledStructures {
   const StructureCoupler& coupler(std::size_t k) const { return *entries_[k]->coupler; }
 
   // At the end of the run (the end_of_run hook calls it; the C ABI at quarry_close): each
-  // structure's final frame and monitor row (when the run has an output folder), and one line
+  // structure's final frame and monitor row (when the run has an output folder; and with
+  // output.plots, structure_NAME_{displacement,reactions,energies}.png), and one line
   // per structure with its steps and step, largest displacement, total reaction force and
   // energies. Cost: O(nodes).
   void finish(std::ostream& out);
@@ -83,6 +84,7 @@ class CoupledStructures {
   void open_output(Entry& entry);
   void add_monitor_row(Entry& entry);
   void write_frame(Entry& entry);
+  void write_plots(const Entry& entry);
   World& world_;
   std::ostream& log_;
   std::filesystem::path output_directory_;  // the run's output folder, once a step has seen it
