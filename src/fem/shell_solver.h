@@ -157,13 +157,24 @@ class ShellSolver {
   void compute_internal_forces(double dt);
   void kick(double half_dt, bool first_half);
   void apply_prescribed();
+  // copy(field, index in storage order, index in element order) for every history value;
+  // field 0-3: stress, plastic strain, shear, hourglass.
+  template <class Copy>
+  void for_each_state_value(Copy copy) const;
 
   ShellModel model_;
   ShellSolverOptions options_;
   std::vector<ThicknessPoints> rules_;            // per section
   std::vector<SectionProperties> properties_;     // per section
   std::vector<double> density_;                   // per element, after mass scaling (kg/m³)
-  std::vector<int> state_offset_;                 // per element, into stress_ / plastic_
+  std::vector<int> state_offset_;                 // per element, its first point in element order
+  // Histories in storage order: slots_[e] is where element e's values start in each array,
+  // and the distance between its consecutive values (kQuadLanes in a batch's interleaved
+  // block, else 1).
+  struct StateSlot {
+    int stress = 0, plastic = 0, shear = 0, hourglass = 0, stride = 1;
+  };
+  std::vector<StateSlot> slots_;
   std::vector<double> stress_, plastic_, shear_, hourglass_;
 
   std::vector<Vec3> positions_, velocities_, angular_velocities_, rotations_;
