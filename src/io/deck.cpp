@@ -220,6 +220,44 @@ void check_blocked_surfaces(DeckContext& context, const SimulationSpec& spec) {
   }
 }
 
+// A mass-flow window must reach across its plane, or nothing is ever counted: the plane
+// n·(x − p) = 0 meets a convex region iff the region's extent along n spans 0 (for a cylinder,
+// its axis segment's ends ± radius × the part of n across the axis).
+void check_flow_windows(DeckContext& context, const SimulationSpec& spec) {
+  for (const MonitorSpec& monitor : spec.monitors) {
+    if (monitor.kind.value != MonitorKind::mass_flow || !monitor.region) continue;
+    const double length = norm(monitor.normal.value);
+    if (!(length > 0.0)) continue;  // reported where the normal is read
+    const Vec3 n = monitor.normal.value / length, p = monitor.point.value;
+    const RegionSpec& r = *monitor.region;
+    double lo = 0.0, hi = 0.0;  // m, the region's extent along n from the plane
+    if (r.kind.value == RegionKind::box) {
+      lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 x{(corner & 1 ? r.max : r.min).value.x, (corner & 2 ? r.max : r.min).value.y,
+                     (corner & 4 ? r.max : r.min).value.z};
+        lo = std::min(lo, dot(x - p, n));
+        hi = std::max(hi, dot(x - p, n));
+      }
+    } else if (r.kind.value == RegionKind::cylinder && norm(r.axis.value) > 0.0) {
+      const Vec3 axis = r.axis.value / norm(r.axis.value);
+      const double ends[2] = {dot(r.base.value - p, n), dot(r.base.value + axis * r.length.value - p, n)};
+      const double across = r.radius.value * norm(n - axis * dot(n, axis));
+      lo = std::min(ends[0], ends[1]) - across;
+      hi = std::max(ends[0], ends[1]) + across;
+    } else {
+      continue;  // a point window is reported where the region is read
+    }
+    if (lo > 0.0 || hi < 0.0)
+      context.error(r.kind.where,
+                    fmt::format("the window of mass-flow monitor \"{}\" does not reach its plane (it lies {:.6g} to "
+                                "{:.6g} m from it along the normal)",
+                                monitor.name.value, lo, hi),
+                    "the region is the part of the plane that counts: make it reach across the plane, around the "
+                    "opening");
+  }
+}
+
 void check_cross_references(DeckContext& context, const SimulationSpec& spec) {
   check_unique_names(context, "material", names_of(spec.materials));
   check_unique_names(context, "particle type", names_of(spec.particle_types));
@@ -341,6 +379,7 @@ SimulationSpec parse_yaml(const std::string& yaml_text, const std::string& displ
     deck_detail::read_fluid_section(top, options, spec.fluid);
     check_cross_references(context, spec);
     check_periodic_axes(context, spec);
+    check_flow_windows(context, spec);
   }
   if (context.diagnostics.has_errors()) throw UserError(in_file_order(context.diagnostics, display_name));
   return spec;
