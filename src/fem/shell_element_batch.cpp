@@ -315,30 +315,20 @@ void shell_internal_forces_quads(const Vec3* x, const Vec3* v, const Vec3* omega
   const int points = section.points;
   std::vector<double> stress(3 * kQuadLanes * points), plastic(kQuadLanes * points),
       shear(3 * kQuadLanes), hourglass(5 * kQuadLanes);
-  const auto interleave = [](std::vector<double>& lanes, int count, auto field,
-                             const std::array<ElementState, kQuadLanes>& from) {
-    for (int l = 0; l < kQuadLanes; ++l)
-      for (int k = 0; k < count; ++k) lanes[kQuadLanes * k + l] = field(from[l])[k];
+  // copy(lane-wise value, its interleaved copy) for every value of every field and lane.
+  const auto each_value = [&](auto copy) {
+    for (int l = 0; l < kQuadLanes; ++l) {
+      const ElementState& s = states[l];
+      for (int k = 0; k < 3 * points; ++k) copy(s.stress[k], stress[kQuadLanes * k + l]);
+      for (int k = 0; k < points; ++k) copy(s.plastic_strain[k], plastic[kQuadLanes * k + l]);
+      for (int k = 0; k < 3; ++k) copy(s.shear[k], shear[kQuadLanes * k + l]);
+      for (int k = 0; k < 5; ++k) copy(s.hourglass[k], hourglass[kQuadLanes * k + l]);
+    }
   };
-  const auto stress_of = [](const ElementState& s) { return s.stress; };
-  const auto plastic_of = [](const ElementState& s) { return s.plastic_strain; };
-  const auto shear_of = [](const ElementState& s) { return s.shear; };
-  const auto hourglass_of = [](const ElementState& s) { return s.hourglass; };
-  interleave(stress, 3 * points, stress_of, states);
-  interleave(plastic, points, plastic_of, states);
-  interleave(shear, 3, shear_of, states);
-  interleave(hourglass, 5, hourglass_of, states);
+  each_value([](double& lane, double& packed) { packed = lane; });
   const QuadBatchState interleaved{stress.data(), plastic.data(), shear.data(), hourglass.data()};
   shell_internal_forces_quads(x, v, omega, nodes, dt, section, interleaved, out);
-  const auto split = [](const std::vector<double>& lanes, int count, auto field,
-                        const std::array<ElementState, kQuadLanes>& to) {
-    for (int l = 0; l < kQuadLanes; ++l)
-      for (int k = 0; k < count; ++k) field(to[l])[k] = lanes[kQuadLanes * k + l];
-  };
-  split(stress, 3 * points, stress_of, states);
-  split(plastic, points, plastic_of, states);
-  split(shear, 3, shear_of, states);
-  split(hourglass, 5, hourglass_of, states);
+  each_value([](double& lane, double& packed) { lane = packed; });
 }
 
 }  // namespace quarry::fem

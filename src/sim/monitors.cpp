@@ -15,6 +15,12 @@ namespace {
 bool rotating(const WorldSurface& s) {
   return s.driver.kind == SurfaceDriverKind::prescribed && s.driver.motion.kind.value == MotionKind::rotation;
 }
+
+// The memory of the deck's mass-flow monitor number `flow` (in deck order), made at first use.
+PlaneCrossingState& flow_state(World& world, std::size_t flow) {
+  if (world.plane_crossings.size() <= flow) world.plane_crossings.resize(flow + 1);
+  return world.plane_crossings[flow];
+}
 }  // namespace
 
 double torque_about_axis(const Vec3& torque_about_origin, const Vec3& force, const Vec3& axis_point,
@@ -85,8 +91,7 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
         append_particle_values(world, m, row);
         break;
       case MonitorKind::mass_flow:
-        if (world.plane_crossings.size() <= flow) world.plane_crossings.resize(flow + 1);
-        append_mass_flow_values(world, m, world.plane_crossings[flow++], row);
+        append_mass_flow_values(world, m, flow_state(world, flow++), row);
         break;
       case MonitorKind::stress: {
         if (!m.region) break;  // the deck requires the box; a spec made in code may lack it
@@ -107,8 +112,7 @@ void count_flow_windows(World& world) {
   std::size_t flow = 0;  // index of the mass-flow monitor's state, as in monitor_row
   for (const MonitorSpec& m : world.spec.monitors) {
     if (m.kind.value != MonitorKind::mass_flow) continue;
-    if (world.plane_crossings.size() <= flow) world.plane_crossings.resize(flow + 1);
-    if (m.region) count_window_crossings(world, m, world.plane_crossings[flow]);
+    if (m.region) count_window_crossings(world, m, flow_state(world, flow));
     ++flow;
   }
 }
