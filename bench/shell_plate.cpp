@@ -1,12 +1,13 @@
 // Shell solver throughput (issue 17, "Performance"): a clamped square steel plate under uniform
 // pressure, n × n Belytschko–Tsay quads (5 Lobatto points through the thickness), stepped at 0.9
 // of the stable step. Prints element-steps per second for each thread count, runs interleaved
-// (t1, t2, t1, t2, …) so that a busy machine biases neither, and the median of the repeats.
+// (t1, t2, t1, t2, …) so that a busy machine biases neither, and the median of the repeats;
+// --kernels 4 8 interleaves the four- and eight-lane batch kernels the same way (same bits).
 // --ccx-input writes the same plate as a CalculiX explicit-dynamics deck (S4 shells, which ccx
 // expands to one layer of solids) with the same number of steps, for timing `ccx` beside it.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -34,7 +35,8 @@ ShellModel plate(int n) {
     for (int i = 0; i <= n; ++i) model.nodes.push_back({kSide * i / n, kSide * j / n, 0.0});
   const auto id = [n](int i, int j) { return static_cast<std::int32_t>(j * (n + 1) + i); };
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) model.elements.push_back({{id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)}, 4, 0});
+    for (int i = 0; i < n; ++i)
+      model.elements.push_back({{id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)}, 4, 0});
   model.sections.push_back({kThickness, 5, ThicknessRule::lobatto, 0});
   model.materials.push_back({210e9, 0.3, 7850.0, 0.0, 0.0});
   BoundaryCondition clamped;
@@ -55,19 +57,29 @@ std::uint64_t state_hash(const ShellSolverState& s) {
     for (std::size_t k = 0; k < bytes; ++k) h = (h ^ p[k]) * 1099511628211ull;
   };
   const auto add_vector = [&add](const auto& v) { add(v.data(), v.size() * sizeof(v[0])); };
-  add_vector(s.positions), add_vector(s.velocities), add_vector(s.angular_velocities), add_vector(s.rotations);
-  add_vector(s.internal_force), add_vector(s.reactions), add_vector(s.stress), add_vector(s.plastic);
+  add_vector(s.positions), add_vector(s.velocities), add_vector(s.angular_velocities),
+      add_vector(s.rotations);
+  add_vector(s.internal_force), add_vector(s.reactions), add_vector(s.stress),
+      add_vector(s.plastic);
   add_vector(s.shear), add_vector(s.hourglass);
-  const double energies[] = {s.energies.kinetic, s.energies.internal, s.energies.hourglass, s.energies.damping,
-                             s.energies.external_work, s.energies.constraint_work, s.time};
+  const double energies[] = {s.energies.kinetic,
+                             s.energies.internal,
+                             s.energies.hourglass,
+                             s.energies.damping,
+                             s.energies.external_work,
+                             s.energies.constraint_work,
+                             s.time};
   add(energies, sizeof energies);
   return h;
 }
 
-// Seconds for `steps` steps on `threads` threads (the set-up is not timed); `hash` the final state's.
-double time_steps(int n, int steps, int threads, double& dt, std::uint64_t& hash) {
+// Seconds for `steps` steps on `threads` threads (the set-up is not timed); `hash` the final
+// state's.
+double time_steps(int n, int steps, int threads, QuadKernel kernel, double& dt,
+                  std::uint64_t& hash) {
   ShellSolverOptions options;
   options.threading.threads = threads;
+  options.quad_kernel = kernel;
   ShellSolver solver(plate(n), options);
   std::vector<NodalLoad> loads(static_cast<std::size_t>(solver.node_count()));
   const double tributary = (kSide / n) * (kSide / n);  // m² per interior node
@@ -77,22 +89,28 @@ double time_steps(int n, int steps, int threads, double& dt, std::uint64_t& hash
   solver.step(dt);  // first touch of every array
   const auto start = std::chrono::steady_clock::now();
   for (int s = 0; s < steps; ++s) solver.step(dt);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   hash = state_hash(solver.state());
   return seconds;
 }
 
 void write_ccx_deck(const std::string& path, int n, int steps, double dt) {
   std::ofstream out(path);
-  out << "** Clamped square steel plate under uniform pressure: the shell_plate benchmark's problem\n"
+  out << "** Clamped square steel plate under uniform pressure: the shell_plate benchmark's "
+         "problem\n"
       << "*NODE, NSET=NALL\n";
   for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) out << fmt::format("{}, {:.9g}, {:.9g}, 0\n", j * (n + 1) + i + 1, kSide * i / n, kSide * j / n);
+    for (int i = 0; i <= n; ++i)
+      out << fmt::format("{}, {:.9g}, {:.9g}, 0\n", j * (n + 1) + i + 1, kSide * i / n,
+                         kSide * j / n);
   out << "*ELEMENT, TYPE=S4R, ELSET=EALL\n";
   const auto id = [n](int i, int j) { return j * (n + 1) + i + 1; };
   int e = 1;
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) out << fmt::format("{}, {}, {}, {}, {}\n", e++, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+    for (int i = 0; i < n; ++i)
+      out << fmt::format("{}, {}, {}, {}, {}\n", e++, id(i, j), id(i + 1, j), id(i + 1, j + 1),
+                         id(i, j + 1));
   out << "*NSET, NSET=EDGE\n";
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i)
@@ -100,8 +118,10 @@ void write_ccx_deck(const std::string& path, int n, int steps, double dt) {
   out << "*MATERIAL, NAME=STEEL\n*ELASTIC\n210e9, 0.3\n*DENSITY\n7850\n"
       << fmt::format("*SHELL SECTION, ELSET=EALL, MATERIAL=STEEL\n{}\n", kThickness)
       << "*BOUNDARY\nEDGE, 1, 6\n"
-      << fmt::format("*STEP, INC={}\n*DYNAMIC, EXPLICIT, DIRECT\n{:.9g}, {:.9g}\n", steps + 10, dt, dt * steps)
-      << fmt::format("*DLOAD\nEALL, P, {}\n", kPressure) << "*NODE PRINT, NSET=NALL, FREQUENCY=100000\nU\n*END STEP\n";
+      << fmt::format("*STEP, INC={}\n*DYNAMIC, EXPLICIT, DIRECT\n{:.9g}, {:.9g}\n", steps + 10, dt,
+                     dt * steps)
+      << fmt::format("*DLOAD\nEALL, P, {}\n", kPressure)
+      << "*NODE PRINT, NSET=NALL, FREQUENCY=100000\nU\n*END STEP\n";
 }
 
 }  // namespace
@@ -113,29 +133,51 @@ int main(int argc, char** argv) {
   std::string ccx_input;
   app.add_option("--n", n, "elements per side (n² quads)")->check(CLI::PositiveNumber);
   app.add_option("--steps", steps, "timed steps per run")->check(CLI::PositiveNumber);
-  app.add_option("--repeats", repeats, "runs per thread count (interleaved)")->check(CLI::PositiveNumber);
+  app.add_option("--repeats", repeats, "runs per thread count (interleaved)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--threads", threads, "thread counts");
+  std::vector<int> kernel_lanes{fastest_quad_kernel() == QuadKernel::eight_lanes ? 8 : 4};
+  app.add_option("--kernels", kernel_lanes,
+                 "batch kernels by lanes: 4 (AVX2), 8 (AVX-512); default the fastest here")
+      ->check(CLI::IsMember({4, 8}));
   app.add_option("--ccx-input", ccx_input, "also write the same plate as a CalculiX explicit deck");
   CLI11_PARSE(app, argc, argv);
-  std::vector<std::vector<double>> rates(threads.size());
-  std::vector<std::uint64_t> hashes(threads.size());
-  bool repeatable = true;  // every run of a thread count ended in the same state
+  // Each (kernel, thread count) in turn, repeat after repeat.
+  struct Config {
+    QuadKernel kernel;
+    int threads;
+  };
+  std::vector<Config> configs;
+  for (const int lanes : kernel_lanes) {
+    const QuadKernel kernel = lanes == 8 ? QuadKernel::eight_lanes : QuadKernel::four_lanes;
+    if (!quad_kernel_available(kernel)) {
+      std::printf("QUARRY_SHELL kernel=%d lanes: not available on this processor\n", lanes);
+      continue;
+    }
+    for (const int t : threads) configs.push_back({kernel, t});
+  }
+  std::vector<std::vector<double>> rates(configs.size());
+  std::vector<std::uint64_t> hashes(configs.size());
+  bool repeatable = true;  // every run of a configuration ended in the same state
   double dt = 0.0;
   for (int r = 0; r < repeats; ++r)
-    for (std::size_t t = 0; t < threads.size(); ++t) {
+    for (std::size_t c = 0; c < configs.size(); ++c) {
       std::uint64_t hash = 0;
-      const double seconds = time_steps(n, steps, threads[t], dt, hash);
-      rates[t].push_back(static_cast<double>(n) * n * steps / seconds);
-      if (r > 0 && hash != hashes[t]) repeatable = false;
-      hashes[t] = hash;
+      const double seconds = time_steps(n, steps, configs[c].threads, configs[c].kernel, dt, hash);
+      rates[c].push_back(static_cast<double>(n) * n * steps / seconds);
+      if (r > 0 && hash != hashes[c]) repeatable = false;
+      hashes[c] = hash;
     }
-  for (std::size_t t = 0; t < threads.size(); ++t) {
-    std::vector<double> v = rates[t];
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    std::vector<double> v = rates[c];
     std::sort(v.begin(), v.end());
-    std::printf("QUARRY_SHELL elements=%d threads=%d steps=%d dt=%.4g median_element_steps_per_s=%.4g min=%.4g max=%.4g "
-                "state_hash=%016llx%s\n",
-                n * n, threads[t], steps, dt, v[v.size() / 2], v.front(), v.back(),
-                static_cast<unsigned long long>(hashes[t]), repeatable ? "" : " NOT_REPEATABLE");
+    std::printf(
+        "QUARRY_SHELL elements=%d threads=%d kernel=%d steps=%d dt=%.4g "
+        "median_element_steps_per_s=%.4g "
+        "min=%.4g max=%.4g state_hash=%016llx%s\n",
+        n * n, configs[c].threads, configs[c].kernel == QuadKernel::eight_lanes ? 8 : 4, steps, dt,
+        v[v.size() / 2], v.front(), v.back(), static_cast<unsigned long long>(hashes[c]),
+        repeatable ? "" : " NOT_REPEATABLE");
   }
   if (!ccx_input.empty()) write_ccx_deck(ccx_input, n, steps, dt);
   return 0;

@@ -53,6 +53,10 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
         "shell solver: damping {} 1/s and mass-scaling step {} s must be ≥ 0", options_.damping,
         options_.mass_scaling_time_step));
   }
+  if (!quad_kernel_available(options_.quad_kernel)) {
+    throw std::invalid_argument(fmt::format("shell solver: this processor cannot run the {} quad kernel",
+                                            quad_kernel_name(options_.quad_kernel)));
+  }
   const std::size_t nodes = model_.nodes.size();
   const std::size_t elements = model_.elements.size();
 
@@ -304,7 +308,8 @@ void ShellSolver::compute_internal_forces(double dt) {
     }
     shell_internal_forces_quads(midpoint_positions_.data(), velocities_.data(),
                                 angular_velocities_.data(), nodes, dt,
-                                properties_[model_.elements[batch[0]].section], states, out);
+                                properties_[model_.elements[batch[0]].section], states, out,
+                                options_.quad_kernel);
   };
   const auto run_single = [&](int k) {
     const int e = scalar_elements_[k];

@@ -26,10 +26,12 @@ struct ShellSolverOptions {
   double shear_factor = 5.0 / 6.0;  // κ, transverse shear correction (1)
   double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
   QuadShear quad_shear = QuadShear::edge_tied;
-  // Quads of one section (edge-tied shear) four at a time through the vector kernel
+  // Quads of one section (edge-tied shear) eight at a time through the vector kernel
   // (shell_element_batch.h); false: every element through the scalar kernel. Same bits either
-  // way (shell_solver_test checks it); the switch is there for that test and for timing.
+  // way, and with either kernel (shell_element_batch_test checks it); the switches are there
+  // for that test and for timing.
   bool batched_quads = true;
+  QuadKernel quad_kernel = fastest_quad_kernel();
   Threading threading;
 };
 
