@@ -101,6 +101,7 @@ class ShellSolver {
   StableTimeStep stable_time_step() const;
   // Mass added by mass scaling (kg), 0 without it.
   double added_mass() const { return added_mass_; }
+  QuadKernel quad_kernel() const { return options_.quad_kernel; }  // the batch kernel in use
   double total_mass() const { return total_mass_; }
 
   // External force and moment per node, held constant over the following steps until set

@@ -118,11 +118,11 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
       surfaces += fmt::format("{}SURF {} ({})", k == 0 ? "" : ", ", structure.surface_ids[k], structure.labels[k]);
     log << fmt::format(
         "structure \"{}\": {} nodes, {} shells ({} on the coupling surface: {}), mass {:.4g} kg (added {:.4g} kg); "
-        "stable step {:.4g} s (element {}), PERIOD {:.4g} s, FILTER {:.4g} s\n",
+        "stable step {:.4g} s (element {}), PERIOD {:.4g} s, FILTER {:.4g} s; quad kernel {}\n",
         entry->name, entry->solver->node_count(), entry->solver->element_count(),
         structure.mesh.triangles.size() + structure.mesh.quads.size(), surfaces, entry->solver->total_mass(),
         entry->solver->added_mass(), stable.time_step, structure.adapted.element_id.at(static_cast<std::size_t>(stable.element)),
-        schedule.period, schedule.filter);
+        schedule.period, schedule.filter, fem::quad_kernel_name(entry->solver->quad_kernel()));
     Entry* raw = entry.get();
     world.hooks.push_back({HookStage::end_of_step, "structure " + entry->name, [raw, this](World&) {
                              raw->coupler->after_dem_step();
