@@ -8,7 +8,6 @@
 #include <cmath>
 #include <numbers>
 
-#include "cfdem/fluid_setup.h"
 #include "fsi/structure_run.h"
 #include "coupling/sample_points.h"
 #include "io/deck.h"
@@ -104,15 +103,11 @@ LocalBackend::~LocalBackend() = default;
 
 // The deck's fluid: and structures: sections, attached as `quarry run` attaches them (the
 // fluid first), so that stepping through the ABI runs the same simulation.
-void LocalBackend::attach_built_in() {
-  attached_ = cfdem::attach_fluid_from_spec(world_);
-  if (!world_.spec.structures.empty())
-    structures_ = std::make_unique<fsi::CoupledStructures>(world_, discarded_lines());
-}
+void LocalBackend::attach_built_in() { built_in_ = attach_built_in_solvers(world_, discarded_lines()); }
 
 void LocalBackend::close() {
   // The structures' last frame and monitor row, as at the end of `quarry run`.
-  if (started_ && structures_) structures_->finish(discarded_lines());
+  if (started_ && built_in_.structures) built_in_.structures->finish(discarded_lines());
   if (started_ && world_.output) {
     world_.output->finish(world_, false);
     world_.output.reset();

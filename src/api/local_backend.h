@@ -9,12 +9,9 @@
 #include <optional>
 
 #include "api/backend.h"
+#include "api/built_in_solvers.h"
 #include "sim/exchange.h"
 #include "sim/world.h"
-
-namespace quarry::fsi {
-class CoupledStructures;  // fsi/structure_run.h
-}
 
 namespace quarry::api {
 
@@ -102,8 +99,7 @@ class LocalBackend final : public Backend {
   bool started_ = false;
   SimulationSpec spec_;              // before start: the definition built by calls
   World world_;
-  std::shared_ptr<void> attached_;   // the deck's built-in fluid (its hooks share it), as `quarry run`
-  std::unique_ptr<fsi::CoupledStructures> structures_;  // the deck's structures (its hooks hold them)
+  BuiltInSolvers built_in_;          // the deck's fluid and structures (their hooks refer to them)
   int threads_ = 0;
   std::optional<std::filesystem::path> output_directory_;
   sim::TypeOrder order_;

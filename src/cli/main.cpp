@@ -18,10 +18,10 @@
 #include <csignal>
 #include <iostream>
 
+#include "api/built_in_solvers.h"
 #include "api/server.h"
 #include "cfdem/fluid_setup.h"
 #include "cli/udf_build.h"
-#include "fsi/structure_run.h"
 #include "core/allocator.h"
 #include "io/deck.h"
 #include "quarry_version.h"
@@ -74,14 +74,7 @@ int exit_code(const sim::RunSummary& s) { return s.interrupted() ? 130 : 0; }
 // `restart` makes them again on the restored world and gives them their state from the
 // checkpoint.
 std::shared_ptr<void> attach_to_world(World& world) {
-  struct Attached {
-    std::shared_ptr<cfdem::FluidCoupling> fluid;
-    std::unique_ptr<fsi::CoupledStructures> structures;
-  };
-  auto attached = std::make_shared<Attached>();
-  attached->fluid = cfdem::attach_fluid_from_spec(world);  // null without a fluid: section
-  if (!world.spec.structures.empty()) attached->structures = std::make_unique<fsi::CoupledStructures>(world, std::cerr);
-  return attached;
+  return std::make_shared<api::BuiltInSolvers>(api::attach_built_in_solvers(world, std::cerr));
 }
 
 int command_run(const std::string& deck, const Common& c) {
