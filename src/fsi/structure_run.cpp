@@ -1,8 +1,10 @@
 // The deck's structures hooked into a run (structure_run.h).
 #include "fsi/structure_run.h"
 
+#include <array>
 #include <cmath>
 #include <ostream>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -17,12 +19,17 @@ namespace quarry::fsi {
 namespace {
 
 // The columns every structure's table has; each support's reaction follows (monitor_columns).
-const std::vector<std::string> kMonitorColumns = {"time_s",   "max_displacement_m", "reaction_x_N", "reaction_y_N",
-                                                  "reaction_z_N", "load_x_N",       "load_y_N",     "load_z_N",
-                                                  "kinetic_J",    "internal_J",     "hourglass_J",  "external_work_J"};
+constexpr std::array<std::string_view, 12> kMonitorColumns = {
+    "time_s",   "max_displacement_m", "reaction_x_N", "reaction_y_N", "reaction_z_N", "load_x_N",
+    "load_y_N", "load_z_N",           "kinetic_J",    "internal_J",   "hourglass_J",  "external_work_J"};
 
-// Column indices of kMonitorColumns.
-enum Column : std::size_t { kTime, kLargest, kReaction, kLoad = 5, kKinetic = 8, kInternal, kHourglass, kExternalWork };
+// The index of a column of kMonitorColumns by its name, found when compiling (a name that is not
+// there does not compile).
+consteval std::size_t column(std::string_view name) {
+  for (std::size_t k = 0; k < kMonitorColumns.size(); ++k)
+    if (kMonitorColumns[k] == name) return k;
+  throw "not a column of kMonitorColumns";
+}
 
 // Series of a structure's table for its plots: the component of a vector column triple
 // (`first`, +1, +2) along `axis` (unit), against time.
@@ -30,7 +37,7 @@ PlotSeries component_series(const std::vector<std::vector<double>>& rows, std::s
                             const std::string& label) {
   PlotSeries s{label, {}, {}};
   for (const std::vector<double>& r : rows) {
-    s.x.push_back(r[kTime]);
+    s.x.push_back(r[column("time_s")]);
     s.y.push_back(dot(Vec3{r[first], r[first + 1], r[first + 2]}, axis));
   }
   return s;
@@ -160,7 +167,7 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
 }
 
 std::vector<std::string> CoupledStructures::monitor_columns(const Entry& entry) {
-  std::vector<std::string> columns = kMonitorColumns;
+  std::vector<std::string> columns(kMonitorColumns.begin(), kMonitorColumns.end());
   for (std::size_t k = 1; k <= entry.supports.size(); ++k)
     for (const char* axis : {"x", "y", "z"}) columns.push_back(fmt::format("support_{}_reaction_{}_N", k, axis));
   return columns;
@@ -237,19 +244,19 @@ void CoupledStructures::write_plots(const Entry& entry) {
   const Vec3 up = g_norm > 0.0 ? g * (-1.0 / g_norm) : Vec3{0.0, 0.0, 1.0};  // along z without gravity
   const std::string axis = g_norm > 0.0 ? "up (against gravity)" : "along z";
   PlotSpec displacement{fmt::format("Structure \"{}\": largest displacement", entry.name), "time (s)",
-                        "largest displacement (mm)", {sim::column_series(rows, kLargest, "")}};
+                        "largest displacement (mm)", {sim::column_series(rows, column("max_displacement_m"), "")}};
   for (double& y : displacement.series.front().y) y *= 1000.0;  // m → mm
   PlotSpec reactions{fmt::format("Structure \"{}\": reactions and coupled load, {}", entry.name, axis), "time (s)",
                      "force (N)", {}};
-  reactions.series.push_back(component_series(rows, kReaction, up, "reaction, all supports"));
+  reactions.series.push_back(component_series(rows, column("reaction_x_N"), up, "reaction, all supports"));
   for (std::size_t k = 0; k < entry.supports.size() && entry.supports.size() > 1; ++k)
     reactions.series.push_back(
         component_series(rows, kMonitorColumns.size() + 3 * k, up, fmt::format("support {}", k + 1)));
-  reactions.series.push_back(component_series(rows, kLoad, up * -1.0, "coupled load (down)"));
+  reactions.series.push_back(component_series(rows, column("load_x_N"), up * -1.0, "coupled load (down)"));
   PlotSpec energies{fmt::format("Structure \"{}\": energies", entry.name), "time (s)", "energy (J)",
-                    {sim::column_series(rows, kKinetic, "kinetic"), sim::column_series(rows, kInternal, "internal"),
-                     sim::column_series(rows, kHourglass, "hourglass"),
-                     sim::column_series(rows, kExternalWork, "external work")}};
+                    {sim::column_series(rows, column("kinetic_J"), "kinetic"), sim::column_series(rows, column("internal_J"), "internal"),
+                     sim::column_series(rows, column("hourglass_J"), "hourglass"),
+                     sim::column_series(rows, column("external_work_J"), "external work")}};
   const std::pair<std::string, const PlotSpec*> plots[] = {
       {"structure_" + entry.name + "_displacement.png", &displacement},
       {"structure_" + entry.name + "_reactions.png", &reactions},
