@@ -16,6 +16,7 @@
 
 #include "cfdem/fluid_monitors.h"
 #include "io/deck.h"
+#include "sim/estimate.h"
 #include "sim/step.h"
 
 namespace quarry::cfdem {
@@ -40,10 +41,11 @@ double archimedes_number() {
 }
 
 // Wen & Yu's (1966, Chem. Eng. Prog. Symp. Ser. 62:100-111) correlation without the voidage:
-// Re_mf = √(33.7² + 0.0408 Ar) − 33.7, U_mf = Re_mf μ / (ρ_f d) = 7.97 mm/s here.
+// Re_mf = √(33.7² + 0.0408 Ar) − 33.7, U_mf = Re_mf μ / (ρ_f d) = 7.97 mm/s here
+// (sim::minimum_fluidisation_velocity, which `estimate` uses; checked against hand calculations
+// in sim/estimate_test.cpp).
 double wen_yu_correlation() {
-  const double reynolds = std::sqrt(33.7 * 33.7 + 0.0408 * archimedes_number()) - 33.7;
-  return reynolds * kViscosity / (kFluidDensity * kDiameter);
+  return sim::minimum_fluidisation_velocity(kFluidDensity, kViscosity, kParticleDensity, kDiameter, kGravity);
 }
 
 // Wen & Yu's equation at the bed's voidage ε_mf (Ergun's packed-bed drag equal to the bed's
