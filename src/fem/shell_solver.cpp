@@ -8,21 +8,22 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "core/diagnostics.h"
 #include "fem/shell_element_batch.h"
 
-// The vector types only cross this file's internal code (see kick).
-#pragma GCC diagnostic ignored "-Wpsabi"
-
 namespace quarry::fem {
 namespace {
 
-// GCC/Clang vector extension (lane-wise + − × ÷) for the kicks.
-typedef double v4d __attribute__((vector_size(32)));
-typedef double v2d __attribute__((vector_size(16)));
+// A node field's values as one array of 3N doubles (x, y, z of node 0, then node 1, …): Vec3 is
+// three doubles without padding, so the node stages are plain loops over DOFs, which the
+// compiler vectorises.
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_standard_layout_v<Vec3>);
+double* dofs(std::vector<Vec3>& field) { return &field.data()->x; }
 
 // body(i) for i in [0, count) on `team` threads (static schedule), or for a team of one as a
 // plain loop: libgomp ends even a one-thread region with a futex wake, a system call (with the
@@ -89,8 +90,10 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   velocities_.assign(nodes, Vec3{});
   angular_velocities_.assign(nodes, Vec3{});
   rotations_.assign(nodes, Vec3{});
-  loads_.assign(nodes, NodalLoad{});
-  internal_force_.assign(nodes, {});
+  load_force_.assign(nodes, Vec3{});
+  load_moment_.assign(nodes, Vec3{});
+  internal_force_.assign(nodes, Vec3{});
+  internal_moment_.assign(nodes, Vec3{});
   reactions_.assign(nodes, {});
   previous_reactions_.assign(nodes, {});
   mass_.assign(nodes, 0.0);
@@ -153,7 +156,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   for (std::size_t e = 0; e < elements; ++e) {
     const ShellElement& element = model_.elements[e];
     for (int i = 0; i < element.node_count; ++i) {
-      incidence_[fill[element.nodes[i]]++] = 4 * static_cast<int>(e) + i;
+      incidence_[fill[element.nodes[i]]++] = 6 * (4 * static_cast<std::uint32_t>(e) + i);
     }
   }
   element_forces_.assign(elements, {});
@@ -213,6 +216,26 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
       }
     }
   }
+  // Per DOF: the kicks' divisors, and the masses the damping acts on (0 at prescribed DOFs).
+  dof_mass_.resize(nodes);
+  dof_inertia_.resize(nodes);
+  free_mass_.resize(nodes);
+  free_inertia_.resize(nodes);
+  const int blocks = static_cast<int>((nodes + kNodeBlock - 1) / kNodeBlock);
+  prescribed_block_offset_.assign(static_cast<std::size_t>(blocks) + 1, 0);
+  for (std::size_t n = 0; n < nodes; ++n) {
+    for (int k = 0; k < 3; ++k) {
+      dof_mass_[n][k] = mass_[n];
+      dof_inertia_[n][k] = rotary_inertia_[n];
+      free_mass_[n][k] = prescribed_mask_[n] & (1u << k) ? 0.0 : mass_[n];
+      free_inertia_[n][k] = prescribed_mask_[n] & (1u << (k + 3)) ? 0.0 : rotary_inertia_[n];
+    }
+    if (prescribed_mask_[n] != 0) {
+      prescribed_nodes_.push_back(static_cast<std::int32_t>(n));
+      ++prescribed_block_offset_[n / kNodeBlock + 1];
+    }
+  }
+  for (int b = 0; b < blocks; ++b) prescribed_block_offset_[b + 1] += prescribed_block_offset_[b];
   apply_prescribed();
 }
 
@@ -241,11 +264,14 @@ StableTimeStep ShellSolver::stable_time_step() const {
 }
 
 void ShellSolver::set_loads(std::span<const NodalLoad> loads) {
-  if (loads.size() != loads_.size()) {
+  if (loads.size() != load_force_.size()) {
     throw std::invalid_argument(fmt::format("shell solver: {} nodal loads given for {} nodes",
-                                            loads.size(), loads_.size()));
+                                            loads.size(), load_force_.size()));
   }
-  std::copy(loads.begin(), loads.end(), loads_.begin());
+  for (std::size_t n = 0; n < loads.size(); ++n) {
+    load_force_[n] = loads[n].force;
+    load_moment_[n] = loads[n].moment;
+  }
 }
 
 void ShellSolver::set_damping(double alpha) {
@@ -269,20 +295,22 @@ void ShellSolver::set_velocity(int node, const Vec3& velocity, const Vec3& angul
   apply_prescribed();
 }
 
-void ShellSolver::apply_prescribed() {
-  for (std::size_t n = 0; n < positions_.size(); ++n) {
-    const std::uint8_t mask = prescribed_mask_[n];
-    if (mask == 0) continue;
-    for (int k = 0; k < 3; ++k) {
-      if (mask & (1u << k)) velocities_[n][k] = prescribed_velocity_[n][k];
-      if (mask & (1u << (k + 3))) angular_velocities_[n][k] = prescribed_velocity_[n][k + 3];
-    }
+[[gnu::always_inline]] inline void ShellSolver::apply_prescribed(int n) {
+  const std::uint8_t mask = prescribed_mask_[n];
+  if (mask == 0) return;
+  for (int k = 0; k < 3; ++k) {
+    if (mask & (1u << k)) velocities_[n][k] = prescribed_velocity_[n][k];
+    if (mask & (1u << (k + 3))) angular_velocities_[n][k] = prescribed_velocity_[n][k + 3];
   }
 }
 
-// Stage "internal forces": each element writes its own force block (parallel, no sharing),
-// then each node sums its blocks in element order, so the sums do not depend on the threads.
-void ShellSolver::compute_internal_forces(double dt) {
+void ShellSolver::apply_prescribed() {
+  for (std::size_t n = 0; n < positions_.size(); ++n) apply_prescribed(static_cast<int>(n));
+}
+
+// Stage "internal forces", its element loop: each element writes its own force block (parallel,
+// no sharing); the nodes sum their blocks in the second half kick's pass (step).
+void ShellSolver::compute_element_forces(double dt) {
   const int elements = static_cast<int>(model_.elements.size());
   // Below the team's threshold (2,048) one thread: a 1,260-quad bed coupled to a pour took
   // 80.9 s on two threads against 66.4 s on one (130 µs per step: docs/performance.md).
@@ -340,135 +368,163 @@ void ShellSolver::compute_internal_forces(double dt) {
       for (int k = 0; k < singles; ++k) run_single(k);
     }
   }
-  const int nodes = static_cast<int>(positions_.size());
-  const int node_team = options_.threading.team(static_cast<std::size_t>(nodes));
-  parallel_for(node_team, nodes, [&](int n) {
-    std::array<double, 6> sum{};
-    for (int k = incidence_offset_[n]; k < incidence_offset_[n + 1]; ++k) {
-      // Unsigned: / and % by 4 are a shift and a mask (signed, they needed sign fix-ups).
-      const unsigned slot = static_cast<unsigned>(incidence_[k]);
-      const std::array<double, 6>& block = element_forces_[slot / 4][slot % 4];
-      for (int d = 0; d < 6; ++d) sum[d] += block[d];
-    }
-    internal_force_[n] = sum;
-  });
 }
 
-// Stage "accelerations → velocities": v += h (f_ext − f_int)/m with the damping force −α m v
-// taken at the old velocity in the first half kick and at the new one in the second (so the
-// pair is the central-difference damping update of Belytschko, Liu & Moran eq. 6.2.23).
-void ShellSolver::kick(double half_dt, bool first_half) {
-  const double alpha = options_.damping;
+namespace {
+
+// Stage "accelerations → velocities" on DOFs [begin, end) of one kind (translations: forces and
+// masses; rotations: moments and inertias): v += h (f_ext − f_int)/m with the damping force
+// −α m v taken at the old velocity in the first half kick and at the new one in the second (so
+// the pair is the central-difference damping update of Belytschko, Liu & Moran eq. 6.2.23).
+// A plain loop over DOFs, which the compiler runs four per instruction (the divisions bound it).
+void half_kick(double* __restrict v, const double* __restrict load,
+               const double* __restrict internal, const double* __restrict mass, int begin,
+               int end, double half_dt, double alpha, bool first_half) {
+  if (first_half) {
+    for (int j = begin; j < end; ++j)
+      v[j] += half_dt * ((load[j] - internal[j]) / mass[j] - alpha * v[j]);
+    return;
+  }
+  for (int j = begin; j < end; ++j) v[j] = v[j] + half_dt * ((load[j] - internal[j]) / mass[j]);
   const double divisor = 1.0 + alpha * half_dt;
-  // Undamped, the divisor is 1 and x / 1 is x: the divisions (the loop's bound) are skipped
-  // (same bits; n 36 plate, one thread: +2.5 %).
-  const bool divide = divisor != 1.0;
-  const int nodes = static_cast<int>(positions_.size());
-  // A node's six DOFs as a vector of four (forces, first moment) and one of two: the same
-  // operations per DOF as a loop over them, but the divisions, which bound this loop, two and
-  // four per instruction (the kicks' share of a 10k-quad step's samples went from 18 % to 7 %;
-  // same bits). Nodes are independent: the team splits them.
-  const int team = options_.threading.team(static_cast<std::size_t>(nodes));
-  parallel_for(team, nodes, [&](int n) {
-    const std::array<double, 6>& f = internal_force_[n];
-    const NodalLoad& load = loads_[n];
-    Vec3& v = velocities_[n];
-    Vec3& w = angular_velocities_[n];
-    const double m = mass_[n], inertia = rotary_inertia_[n];
-    const v4d acceleration = v4d{load.force.x - f[0], load.force.y - f[1], load.force.z - f[2],
-                                 load.moment.x - f[3]} /
-                             v4d{m, m, m, inertia};
-    const v2d angular = v2d{load.moment.y - f[4], load.moment.z - f[5]} / v2d{inertia, inertia};
-    v4d a = {v.x, v.y, v.z, w.x};
-    v2d b = {w.y, w.z};
-    if (first_half) {
-      a += half_dt * (acceleration - alpha * a);
-      b += half_dt * (angular - alpha * b);
-    } else {
-      a = a + half_dt * acceleration;
-      b = b + half_dt * angular;
-      if (divide) {
-        a /= divisor;
-        b /= divisor;
-      }
-    }
-    v = {a[0], a[1], a[2]};
-    w = {a[3], b[0], b[1]};
-  });
-  apply_prescribed();
+  if (divisor == 1.0) return;  // undamped: x / 1 is x (same bits without the divisions)
+  for (int j = begin; j < end; ++j) v[j] /= divisor;
 }
 
+// Σ_j term(j) over [begin, end) in four partial sums (j mod 4) added at the end: independent
+// chains, and the same bits wherever the range is summed.
+template <class Term>
+double sum_by_fours(int begin, int end, const Term& term) {
+  double partial[4] = {0.0, 0.0, 0.0, 0.0};
+  int j = begin;
+  for (; j + 4 <= end; j += 4)
+    for (int l = 0; l < 4; ++l) partial[l] += term(j + l);
+  for (int l = 0; j < end; ++j, ++l) partial[l] += term(j);
+  return (partial[0] + partial[1]) + (partial[2] + partial[3]);
+}
+
+}  // namespace
+
+// The step's node stages in two passes over blocks of kNodeBlock nodes (kick + drift; gather +
+// kick + reactions), each a few plain loops over the block's DOFs (a node field seen as 3N
+// doubles: dofs()), with per DOF the operations of one pass per stage: the motion does not
+// depend on the blocks or on the team. Energies are summed per block, then the blocks in order:
+// the same bits for any team.
 void ShellSolver::step(double dt) {
   const int nodes = static_cast<int>(positions_.size());
+  const int elements = static_cast<int>(model_.elements.size());
   const double half = 0.5 * dt;
+  const double alpha = options_.damping;
+  const int node_blocks = (nodes + kNodeBlock - 1) / kNodeBlock;
+  const int node_team = options_.threading.team(static_cast<std::size_t>(nodes));
+  block_sums_.resize(static_cast<std::size_t>(node_blocks));
   previous_reactions_.swap(reactions_);  // reactions of t, for the constraint work
+  double* const v = dofs(velocities_);
+  double* const w = dofs(angular_velocities_);
+  double* const x = dofs(positions_);
+  double* const midpoint = dofs(midpoint_positions_);
+  double* const rotation = dofs(rotations_);
+  const double* const force = dofs(load_force_);
+  const double* const moment = dofs(load_moment_);
+  double* const internal_force = dofs(internal_force_);
+  double* const internal_moment = dofs(internal_moment_);
+  const double* const mass = dofs(dof_mass_);
+  const double* const inertia = dofs(dof_inertia_);
+  const auto dof_range = [nodes](int block) {
+    return std::pair{3 * block * kNodeBlock, 3 * std::min(nodes, (block + 1) * kNodeBlock)};
+  };
+  const auto prescribe = [this](int block) {
+    for (int k = prescribed_block_offset_[block]; k < prescribed_block_offset_[block + 1]; ++k)
+      apply_prescribed(prescribed_nodes_[k]);
+  };
 
-  // 1. Half kick to t + dt/2 with the forces of t (external loads as set now).
-  kick(half, true);
-  double damping_work = 0.0;
-  for (int n = 0; n < nodes; ++n) {
-    if (options_.damping > 0.0) {
-      for (int k = 0; k < 3; ++k) {
-        if (!(prescribed_mask_[n] & (1u << k))) {
-          damping_work += options_.damping * mass_[n] * velocities_[n][k] * velocities_[n][k] * dt;
-        }
-        if (!(prescribed_mask_[n] & (1u << (k + 3)))) {
-          damping_work += options_.damping * rotary_inertia_[n] * angular_velocities_[n][k] *
-                          angular_velocities_[n][k] * dt;
-        }
-      }
+  // 1. Half kick to t + dt/2 with the forces of t (external loads as set now); the damping's
+  // work over the step, α m v² dt on the free DOFs at v(t + dt/2).
+  // 2. Drift: x(t + dt) = x(t) + dt v(t + dt/2); the work of the loads over it.
+  parallel_for(node_team, node_blocks, [&](int block) {
+    const auto [begin, end] = dof_range(block);
+    half_kick(v, force, internal_force, mass, begin, end, half, alpha, true);
+    half_kick(w, moment, internal_moment, inertia, begin, end, half, alpha, true);
+    prescribe(block);
+    double damping_work = 0.0;
+    if (alpha > 0.0) {
+      const double* free_mass = dofs(free_mass_);
+      const double* free_inertia = dofs(free_inertia_);
+      damping_work = alpha * dt * sum_by_fours(begin, end, [&](int j) {
+                       return free_mass[j] * v[j] * v[j] + free_inertia[j] * w[j] * w[j];
+                     });
     }
-  }
-
-  // 2. Drift: x(t + dt) = x(t) + dt v(t + dt/2); work of the loads and reactions over it.
-  double external_work = 0.0, constraint_work = 0.0;
-  for (int n = 0; n < nodes; ++n) {
-    const Vec3 displacement = dt * velocities_[n];
-    const Vec3 rotation = dt * angular_velocities_[n];
-    midpoint_positions_[n] = positions_[n] + 0.5 * displacement;  // x(t + dt/2)
-    positions_[n] += displacement;
-    rotations_[n] += rotation;
-    external_work += dot(loads_[n].force, displacement) + dot(loads_[n].moment, rotation);
+    for (int j = begin; j < end; ++j) {
+      const double displacement = dt * v[j];
+      midpoint[j] = x[j] + 0.5 * displacement;  // x(t + dt/2)
+      x[j] += displacement;
+      rotation[j] += dt * w[j];
+    }
+    const double external_work = sum_by_fours(begin, end, [&](int j) {
+      return force[j] * (dt * v[j]) + moment[j] * (dt * w[j]);
+    });
+    block_sums_[block] = {damping_work, external_work};
+  });
+  double damping_work = 0.0, external_work = 0.0;
+  for (int b = 0; b < node_blocks; ++b) {
+    damping_work += block_sums_[b][0];
+    external_work += block_sums_[b][1];
   }
 
   // 3. Internal forces at t + dt: stresses advanced with the midpoint velocities, each element
   // evaluated on the mid-step configuration x(t + dt/2), where a rigid rotation has no strain
   // rate (Hughes & Winget 1980); on x(t + dt) it had ½(Ω dt)², which ratcheted membrane stress
   // under vibration (docs/fem.md "Elements").
-  compute_internal_forces(dt);
+  compute_element_forces(dt);
 
-  // 4. Half kick to t + dt; reactions at the prescribed DOFs.
-  kick(half, false);
-  for (int n = 0; n < nodes; ++n) {
-    const std::uint8_t mask = prescribed_mask_[n];
-    if (mask == 0) {  // a free node (most): no reaction, no constraint work (n 36: +3 %)
-      reactions_[n] = {};
-      continue;
+  // 3b. Each node sums its element blocks in element order (the fixed gather: the sums do not
+  // depend on the threads). 4. Half kick to t + dt; the reactions at the prescribed DOFs and
+  // their work; the kinetic energy.
+  const double* const element_forces = element_forces_.data()->data()->data();
+  parallel_for(node_team, node_blocks, [&](int block) {
+    const int end_node = std::min(nodes, (block + 1) * kNodeBlock);
+    for (int n = block * kNodeBlock; n < end_node; ++n) {
+      std::array<double, 6> sum{};
+      for (int k = incidence_offset_[n]; k < incidence_offset_[n + 1]; ++k) {
+        const double* forces = element_forces + incidence_[k];
+        for (int d = 0; d < 6; ++d) sum[d] += forces[d];
+      }
+      internal_force_[n] = {sum[0], sum[1], sum[2]};
+      internal_moment_[n] = {sum[3], sum[4], sum[5]};
     }
-    for (int k = 0; k < 6; ++k) {
-      const double applied = k < 3 ? loads_[n].force[k] : loads_[n].moment[k - 3];
-      reactions_[n][k] = (mask & (1u << k)) ? internal_force_[n][k] - applied : 0.0;
-    }
-    if (mask != 0) {
-      for (int k = 0; k < 6; ++k) {
-        if (!(mask & (1u << k))) continue;
-        const double rate = prescribed_velocity_[n][k];
-        constraint_work += 0.5 * (previous_reactions_[n][k] + reactions_[n][k]) * rate * dt;
+    const auto [begin, end] = dof_range(block);
+    half_kick(v, force, internal_force, mass, begin, end, half, alpha, false);
+    half_kick(w, moment, internal_moment, inertia, begin, end, half, alpha, false);
+    prescribe(block);
+    double constraint_work = 0.0;
+    for (int k = prescribed_block_offset_[block]; k < prescribed_block_offset_[block + 1]; ++k) {
+      const int n = prescribed_nodes_[k];
+      const std::uint8_t mask = prescribed_mask_[n];
+      for (int d = 0; d < 6; ++d) {
+        const double applied = d < 3 ? load_force_[n][d] : load_moment_[n][d - 3];
+        const double internal = d < 3 ? internal_force_[n][d] : internal_moment_[n][d - 3];
+        reactions_[n][d] = (mask & (1u << d)) ? internal - applied : 0.0;
+      }
+      for (int d = 0; d < 6; ++d) {
+        if (!(mask & (1u << d))) continue;
+        const double rate = prescribed_velocity_[n][d];
+        constraint_work += 0.5 * (previous_reactions_[n][d] + reactions_[n][d]) * rate * dt;
       }
     }
+    const double kinetic = sum_by_fours(begin, end, [&](int j) {
+      return 0.5 * mass[j] * v[j] * v[j] + 0.5 * inertia[j] * w[j] * w[j];
+    });
+    block_sums_[block] = {constraint_work, kinetic};
+  });
+  double constraint_work = 0.0, kinetic = 0.0;
+  for (int b = 0; b < node_blocks; ++b) {
+    constraint_work += block_sums_[b][0];
+    kinetic += block_sums_[b][1];
   }
 
-  // 5. Energies, summed in element and node order.
-  double internal = 0.0, hourglass = 0.0;
-  for (std::size_t e = 0; e < model_.elements.size(); ++e) {
-    internal += element_internal_energy_[e];
-    hourglass += element_hourglass_energy_[e];
-  }
-  double kinetic = 0.0;
-  for (int n = 0; n < nodes; ++n) {
-    kinetic += 0.5 * mass_[n] * norm2(velocities_[n]) +
-               0.5 * rotary_inertia_[n] * norm2(angular_velocities_[n]);
-  }
+  // 5. The elements' energy increments, summed as the nodes' terms (serial: two per element).
+  const double internal = sum_by_fours(0, elements, [&](int e) { return element_internal_energy_[e]; });
+  const double hourglass = sum_by_fours(0, elements, [&](int e) { return element_hourglass_energy_[e]; });
   energies_.kinetic = kinetic;
   energies_.internal += internal;
   energies_.hourglass += hourglass;
@@ -506,9 +562,16 @@ void ShellSolver::for_each_state_value(Copy copy) const {
 
 ShellSolverState ShellSolver::state() const {
   // The histories are filled below, in element order.
-  ShellSolverState s{positions_, velocities_, angular_velocities_, rotations_, loads_,
-                     internal_force_, reactions_, previous_reactions_, prescribed_velocity_,
+  ShellSolverState s{positions_, velocities_, angular_velocities_, rotations_, {},
+                     {}, reactions_, previous_reactions_, prescribed_velocity_,
                      {}, {}, {}, {}, options_.damping, time_, steps_, energies_};
+  s.loads.resize(positions_.size());
+  s.internal_force.resize(positions_.size());
+  for (std::size_t n = 0; n < positions_.size(); ++n) {
+    s.loads[n] = {load_force_[n], load_moment_[n]};
+    const Vec3 &f = internal_force_[n], &m = internal_moment_[n];
+    s.internal_force[n] = {f.x, f.y, f.z, m.x, m.y, m.z};
+  }
   s.stress.resize(stress_.size());
   s.plastic.resize(plastic_.size());
   s.shear.resize(shear_.size());
@@ -578,8 +641,13 @@ void ShellSolver::set_state(ShellSolverState s) {
   velocities_ = std::move(s.velocities);
   angular_velocities_ = std::move(s.angular_velocities);
   rotations_ = std::move(s.rotations);
-  loads_ = std::move(s.loads);
-  internal_force_ = std::move(s.internal_force);
+  for (std::size_t n = 0; n < positions_.size(); ++n) {
+    load_force_[n] = s.loads[n].force;
+    load_moment_[n] = s.loads[n].moment;
+    const std::array<double, 6>& f = s.internal_force[n];
+    internal_force_[n] = {f[0], f[1], f[2]};
+    internal_moment_[n] = {f[3], f[4], f[5]};
+  }
   reactions_ = std::move(s.reactions);
   previous_reactions_ = std::move(s.previous_reactions);
   prescribed_velocity_ = std::move(s.prescribed_velocity);

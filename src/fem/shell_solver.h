@@ -157,9 +157,9 @@ class ShellSolver {
 
  private:
   std::array<Vec3, 4> gather(const std::vector<Vec3>& field, int element) const;
-  void compute_internal_forces(double dt);
-  void kick(double half_dt, bool first_half);
-  void apply_prescribed();
+  void compute_element_forces(double dt);
+  void apply_prescribed();          // every node's prescribed DOFs
+  void apply_prescribed(int node);  // one node's
   // copy(field, index in storage order, index in element order) for every history value;
   // field 0-3: stress, plastic strain, shear, hourglass.
   template <class Copy>
@@ -183,19 +183,32 @@ class ShellSolver {
   std::vector<Vec3> positions_, velocities_, angular_velocities_, rotations_;
   std::vector<Vec3> midpoint_positions_;  // x(t + dt/2) of the last step: the elements' configuration
   std::vector<double> mass_, rotary_inertia_;  // kg, kg·m²
-  std::vector<NodalLoad> loads_;
-  std::vector<std::array<double, 6>> internal_force_, reactions_, previous_reactions_;
+  std::vector<Vec3> load_force_, load_moment_;          // N, N·m (set_loads)
+  std::vector<Vec3> internal_force_, internal_moment_;  // of the last step (N, N·m)
+  std::vector<std::array<double, 6>> reactions_, previous_reactions_;
   std::vector<std::uint8_t> prescribed_mask_;
   std::vector<std::array<double, 6>> prescribed_velocity_;
+  // Per DOF (x, y, z of a node): the kicks' mass and rotary inertia, and the same with 0 at
+  // prescribed DOFs (the damping acts on free DOFs only).
+  std::vector<Vec3> dof_mass_, dof_inertia_, free_mass_, free_inertia_;
+  // The step's node stages run over blocks of kNodeBlock nodes; the nodes with prescribed DOFs
+  // in node order, and per block where its entries start.
+  static constexpr int kNodeBlock = 256;
+  std::vector<std::int32_t> prescribed_nodes_;
+  std::vector<int> prescribed_block_offset_;
 
   // Deterministic gather: element force blocks, then per node its (element, slot) in order.
   std::vector<std::array<std::array<double, 6>, 4>> element_forces_;
   std::vector<double> element_internal_energy_, element_hourglass_energy_;
-  std::vector<int> incidence_offset_, incidence_;  // incidence_: 4 * element + slot
+  // incidence_: where a (element, slot) block starts among element_forces_'s doubles,
+  // 6 (4 element + slot).
+  std::vector<int> incidence_offset_;
+  std::vector<std::uint32_t> incidence_;
   // The element loop's work: groups of kQuadLanes quads of one section for the vector kernel (in
   // element order as they fill up, per section), and the elements left to the scalar kernel.
   std::vector<std::array<std::int32_t, kQuadLanes>> quad_batches_;
   std::vector<std::int32_t> scalar_elements_;
+  std::vector<std::array<double, 2>> block_sums_;  // a step's energy sums per node block
 
   double added_mass_ = 0.0, total_mass_ = 0.0;
   double time_ = 0.0;
