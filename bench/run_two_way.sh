@@ -4,7 +4,9 @@
 # real stiffness, no mass scaling), both to END_TIME (default: the decks' 3 s), on 1 and 2
 # threads, interleaved, REPEATS times (default 1). Per run: wall time, the structure's share of
 # it (the stage table's "hook structure" rows), the shell steps per DEM step; per pair: the
-# two-way / rigid wall-time ratio. At the end of each two-way run it checks the bed's
+# two-way / rigid wall-time ratio. The structure's time is its work on either thread: on two
+# threads its steps between synchronisations run alongside the DEM's on a thread of their own
+# (structure_own_thread_s; waited_s: how long the DEM's steps waited for them). At the end of each two-way run it checks the bed's
 # equilibrium: the rails' reaction against the coupled load and the ore in the bed (the
 # deck's in_bed monitor) times g. Lines go to bench/results/DATE-CPU-two-way.txt with the
 # machine line; copy the figures into docs/performance.md.
@@ -46,13 +48,16 @@ run() {
   awk -v name="$name" -v threads="$threads" -v t0="$t0" -v t1="$t1" -v b="$((b1 - b0))" -v hz="$hz" '
     /^quarry: [0-9]+ steps in/ { dem = $2 }
     /^structure ".*": t .* steps of/ { for (i = 1; i <= NF; ++i) if ($(i + 1) == "steps" && $(i + 2) == "of") fem = $i }
-    /^hook structure/ { hook += $(NF - 1) }
+    /^hook structure.*%$/ { hook += $(NF - 1) }                   # in the table (this thread)
+    /^hook structure.*on its own thread/ { own += $(NF - 7) }       # alongside, its own thread
+    /^alongside \(waited\)/ { waited = $(NF - 1) }
     /^total \(wall\)/ { wall = $(NF - 1) }
     END {
       elapsed = t1 - t0; other = b / hz / elapsed - threads; if (other < 0) other = 0
       line = sprintf("RUN %s threads=%d wall_s=%.2f loop_s=%.2f dem_steps=%d", name, threads, elapsed, wall, dem)
-      if (fem > 0) line = line sprintf(" shell_steps=%d shell_per_dem=%.2f structure_s=%.2f structure_share=%.3f",
-                                       fem, fem / dem, hook, hook / wall)
+      if (fem > 0) line = line sprintf(" shell_steps=%d shell_per_dem=%.2f structure_s=%.2f structure_share=%.3f"\
+                                       " structure_own_thread_s=%.2f waited_s=%.2f",
+                                       fem, fem / dem, hook + own, (hook + own) / wall, own, waited)
       print line
     }' "$log" | tee -a "$out"
   if [ "$name" = two_way ]; then

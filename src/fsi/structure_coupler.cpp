@@ -56,6 +56,11 @@ bool StructureCoupler::after_dem_step() {
   return true;
 }
 
+void StructureCoupler::keep_up(double dem_time, double dem_dt, const Threading& threading) {
+  side_.set_threading(threading);
+  side_.keep_up(dem_time, dem_dt);
+}
+
 StepHook StructureCoupler::step_hook() {
   return {HookStage::end_of_step, "structure coupling", [this](World&) { after_dem_step(); }};
 }

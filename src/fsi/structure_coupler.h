@@ -9,8 +9,9 @@
 //      by v·(t_dem − t_fem) to the DEM's time) and velocities go to the DEM surface; the DEM's
 //      per-node impulses, filtered over FILTER, go back as the load of the next period.
 // Between syncs neither solver sees the other, so the structure may run after each DEM step
-// (after_dem_step: the run loop's end-of-step hook) or a period at a time (advance_period):
-// the results are the same.
+// (after_dem_step: the run loop's end-of-step hook), during it on a thread of its own
+// (keep_up: an alongside hook) or a period at a time (advance_period): the results are the
+// same.
 // Nodal forces are the DEM load window's consistent nodal forces: each contact force split to
 // its triangle's three vertices by the barycentric weights of the contact point, which keeps the
 // force and its moment about any point (Σ λ_i F = F, Σ x_i × λ_i F = p × F); a quad's two
@@ -64,6 +65,11 @@ class StructureCoupler {
   // The hook that calls after_dem_step, for World::hooks (the coupler must outlive the world's
   // use of it).
   StepHook step_hook();
+  // The structure's part of a DEM step that needs nothing from it: up to the DEM's time (the
+  // step's end), not past its sync point, on `threading`'s team. A HookStage::alongside hook
+  // calls it, so that the structure runs on its own thread while the DEM steps
+  // (sim/step.cpp); after_dem_step then finds it there. The same steps either way.
+  void keep_up(double dem_time, double dem_dt, const Threading& threading);
   // Periods until the DEM's time reaches `time` (s).
   void advance_to(double time);
 

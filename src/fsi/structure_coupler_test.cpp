@@ -192,16 +192,24 @@ TEST(StructureCoupler, PeriodSweepConverges) {
   }
 }
 
-// The run loop's path: the coupler as an end-of-step hook of plain sim::step calls gives the
-// same states, bit for bit, as advance_period (between syncs neither solver sees the other).
-TEST(StructureCoupler, StepHookMatchesAdvancePeriod) {
-  const testing::PlateCards plate{.divisions = 4, .side = 0.06, .thickness = 0.001, .clamped = false};
+// A free 4 × 4 plate and 20 beads thrown down onto it (the hook tests' scene).
+testing::PlateCards free_plate() {
+  return {.divisions = 4, .side = 0.06, .thickness = 0.001, .clamped = false};
+}
+std::string thrown_beads_deck() {
   const std::string throw_beads = R"(  - name: throw
     particle_type: bead
     region: {type: box, min: [0.005, 0.005, 0.003], max: [0.055, 0.055, 0.02]}
     count: 20
     velocity: [0, 0, -0.5])";
-  const std::string deck = bed_deck("[0, 0, -9.81]", throw_beads, "{rayleigh_fraction: 0.2}");
+  return bed_deck("[0, 0, -9.81]", throw_beads, "{rayleigh_fraction: 0.2}");
+}
+
+// The run loop's path: the coupler as an end-of-step hook of plain sim::step calls gives the
+// same states, bit for bit, as advance_period (between syncs neither solver sees the other).
+TEST(StructureCoupler, StepHookMatchesAdvancePeriod) {
+  const testing::PlateCards plate = free_plate();
+  const std::string deck = thrown_beads_deck();
   CoupledScene by_period = make_scene(plate, deck), by_hook = make_scene(plate, deck);
   fem::ShellSolver solver_period(by_period.adapted.model), solver_hook(by_hook.adapted.model);
   const CouplerOptions options{.schedule = resolve_schedule(5.0 * by_period.world.dt, std::nullopt, 1.0)};
@@ -216,6 +224,41 @@ TEST(StructureCoupler, StepHookMatchesAdvancePeriod) {
   const auto x_hook = solver_hook.positions(), x_period = solver_period.positions();
   EXPECT_TRUE(std::equal(x_hook.begin(), x_hook.end(), x_period.begin()));
   EXPECT_GT(period.schedule().synchronisations(), 100);
+}
+
+// The structure alongside the DEM (structure_run.cpp's hooks): its steps between syncs as an
+// alongside hook, on a thread of its own when the world has two, and the sync at the end of the
+// DEM's step give the states of the end-of-step hook alone, bit for bit.
+TEST(StructureCoupler, AlongsideOnItsOwnThreadMatchesTheEndOfStepHook) {
+  const testing::PlateCards plate = free_plate();
+  const std::string deck = thrown_beads_deck();
+  CoupledScene in_turn = make_scene(plate, deck), alongside = make_scene(plate, deck);
+  in_turn.world.threading = Threading{1, 0};
+  alongside.world.threading = Threading{2, 0};
+  fem::ShellSolver solver_in_turn(in_turn.adapted.model), solver_alongside(alongside.adapted.model);
+  const CouplerOptions options{.schedule = resolve_schedule(5.0 * in_turn.world.dt, std::nullopt, 1.0)};
+  StructureCoupler hook(in_turn.world, in_turn.surface, solver_in_turn, in_turn.mesh.node_of_vertex, options);
+  StructureCoupler beside(alongside.world, alongside.surface, solver_alongside, alongside.mesh.node_of_vertex,
+                          options);
+  in_turn.world.hooks.push_back(hook.step_hook());
+  alongside.world.hooks.push_back({HookStage::alongside, "structure", [&beside](World& w) {
+                                     beside.keep_up(w.time, w.dt, w.alongside_threading);
+                                   }});
+  alongside.world.hooks.push_back(beside.step_hook());
+  while (in_turn.world.time < 0.03) sim::step(in_turn.world);
+  while (alongside.world.step_count < in_turn.world.step_count) sim::step(alongside.world);
+  EXPECT_EQ(beside.schedule().synchronisations(), hook.schedule().synchronisations());
+  EXPECT_EQ(alongside.world.particles.position, in_turn.world.particles.position);
+  EXPECT_EQ(alongside.world.particles.velocity, in_turn.world.particles.velocity);
+  EXPECT_EQ(solver_alongside.state().positions, solver_in_turn.state().positions);
+  EXPECT_EQ(solver_alongside.state().velocities, solver_in_turn.state().velocities);
+  EXPECT_EQ(solver_alongside.energies().internal, solver_in_turn.energies().internal);
+  EXPECT_GT(hook.schedule().synchronisations(), 100);
+  // It did run on its own thread, for most of the structure's steps.
+  const StageTimers& own = alongside.world.alongside_timers;
+  ASSERT_EQ(own.names().size(), 1u);
+  EXPECT_GT(own.seconds(0), 0.0);
+  EXPECT_GT(solver_alongside.step_count(), 0);
 }
 
 // Determinism (DESIGN §3): the coupled run on 1 and on 2 threads (threshold 0, so that even

@@ -131,7 +131,12 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
         entry->solver->added_mass(), stable.time_step, structure.adapted.element_id.at(static_cast<std::size_t>(stable.element)),
         schedule.period, schedule.filter, fem::quad_kernel_name(entry->solver->quad_kernel()));
     Entry* raw = entry.get();
-    world.hooks.push_back({HookStage::end_of_step, "structure " + entry->name, [raw, this](World&) {
+    // The structure's steps between synchronisations run alongside the DEM's (on a thread of
+    // their own when the team has two), the synchronisation at the end of the DEM's step.
+    world.hooks.push_back({HookStage::alongside, "structure " + entry->name, [raw](World& w) {
+                             raw->coupler->keep_up(w.time, w.dt, w.alongside_threading);
+                           }});
+    world.hooks.push_back({HookStage::end_of_step, "structure " + entry->name + " sync", [raw, this](World&) {
                              raw->coupler->after_dem_step();
                              const auto& lines = raw->coupler->messages();
                              for (; raw->messages_printed < lines.size(); ++raw->messages_printed)

@@ -143,7 +143,14 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
     log << fmt::format("quarry: {} of the {} steps ran on 1 thread instead of {}, measured faster then "
                        "(the cores were busy with another process; results are the same)\n",
                        governor.steps_with_one(), summary.steps, requested);
-  if (!options.quiet) log << world.timers.table(summary.wall_seconds);
+  if (!options.quiet) {
+    log << world.timers.table(summary.wall_seconds);
+    // Hooks that ran on their own thread while the stages ran: their time overlaps the table's.
+    const StageTimers& alongside = world.alongside_timers;
+    for (std::size_t k = 0; k < alongside.names().size(); ++k)
+      log << fmt::format("{:<24} {:>12.3f}  (on its own thread, alongside the stages)\n", alongside.names()[k],
+                         alongside.seconds(static_cast<int>(k)));
+  }
   return summary;
 }
 

@@ -5,6 +5,10 @@
 // surfaces, and every stage leaves the state whole for the next one.
 #include "sim/step.h"
 
+#include <omp.h>
+
+#include <memory>
+
 #include "integrate/integrator.h"
 #include "sim/output.h"
 
@@ -32,6 +36,67 @@ void compute_forces(World& world, double h) {
   run_hooks(world, HookStage::post_force);
 }
 
+// The alongside hooks of one step (HookStage::alongside). When the world's team has a thread to
+// spare they start on the world's worker thread once the clock has advanced, and the stages run
+// on the rest of the team; else they run in turn at finish(). finish() (before the end_of_step
+// hooks) waits for them and gives the thread back; so does the destructor if a stage threw.
+class AlongsideHooks {
+ public:
+  explicit AlongsideHooks(World& world) : world_(world), configured_(world.threading.threads) {
+    for (const StepHook& hook : world.hooks) present_ = present_ || hook.stage == HookStage::alongside;
+    if (!present_) return;
+    const int team = configured_ > 0 ? configured_ : omp_get_max_threads();
+    threaded_ = team >= 2;
+    world.alongside_threading = world.threading;
+    if (threaded_) {
+      world.threading.threads = team - 1;
+      world.alongside_threading.threads = 1;
+    }
+  }
+  AlongsideHooks(const AlongsideHooks&) = delete;
+  AlongsideHooks& operator=(const AlongsideHooks&) = delete;
+  ~AlongsideHooks() {
+    if (!started_) return;
+    try {
+      world_.alongside->wait();
+    } catch (...) {  // the stage's own error is the one on its way out
+    }
+    world_.threading.threads = configured_;
+  }
+
+  void start() {
+    if (!threaded_) return;
+    if (!world_.alongside) world_.alongside = std::make_unique<WorkerThread>();
+    world_.alongside->start([this] { run(world_.alongside_timers); });
+    started_ = true;
+  }
+
+  void finish() {
+    if (!present_) return;
+    if (!threaded_) {
+      run(world_.timers);
+      return;
+    }
+    ScopedStage timer(world_.timers, world_.timers.stage("alongside (waited)"));
+    started_ = false;
+    world_.threading.threads = configured_;
+    world_.alongside->wait();
+  }
+
+ private:
+  void run(StageTimers& timers) {
+    for (StepHook& hook : world_.hooks) {
+      if (hook.stage != HookStage::alongside) continue;
+      ScopedStage timer(timers, timers.stage("hook " + hook.name));
+      hook.run(world_);
+    }
+  }
+
+  World& world_;
+  const int configured_;  // the world's threads setting, given back at the end
+  bool present_ = false, threaded_ = false, started_ = false;
+};
+
 }  // namespace
 
 void initialize(World& world) {
@@ -48,6 +113,7 @@ void initialize(World& world) {
 }
 
 void step(World& world) {
+  AlongsideHooks alongside(world);  // takes a thread from the team for them when it can
   const ThreadScope threads(world.threading);
   const double dt = world.dt;  // s
   const bool verlet = velocity_verlet(world);
@@ -59,6 +125,7 @@ void step(World& world) {
   }
   world.time += dt;
   world.step_count += 1;
+  alongside.start();
   {
     // Before anything else looks at positions: a NaN particle must stop the run, not be
     // mistaken for one that left the domain.
@@ -93,6 +160,7 @@ void step(World& world) {
     ScopedStage timer(world.timers, world.timers.stage("loads"));
     end_of_step_loads(world);
   }
+  alongside.finish();
   run_hooks(world, HookStage::end_of_step);
   if (world.output) {
     ScopedStage timer(world.timers, world.timers.stage("output"));

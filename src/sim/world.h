@@ -17,6 +17,7 @@
 #include "core/simulation_spec.h"
 #include "core/stage_timer.h"
 #include "core/threading.h"
+#include "core/worker_thread.h"
 #include "geometry/load_window.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/surface.h"
@@ -196,6 +197,13 @@ enum class HookStage : std::uint8_t {
   // to particles.force here. Positions are x(t + dt); velocities are the half-step ones,
   // v(t + dt/2) (symplectic Euler: v(t + dt)), as LAMMPS's post_force sees them.
   post_force,
+  // Alongside the step's stages, from when its clock has advanced (world.time is the step's
+  // end time) to just before the end_of_step hooks: on a thread of its own (World::alongside)
+  // when the world's team has one to spare, the stages then running on the others; else in
+  // turn, just before the end_of_step hooks. Either way the same results: such a hook reads
+  // only world.time, world.dt and world.alongside_threading (its team) of the world and writes
+  // nothing the stages read (a coupled structure between its synchronisations).
+  alongside,
   // After the step is complete (time advanced, velocities final, loads accumulated): read the
   // state, set the next step's loads or vertices.
   end_of_step,
@@ -312,6 +320,13 @@ struct World {
   std::vector<CheckpointSection> checkpoint_sections;  // registered with the hooks that own them
   NotCopied<sim::Output> output;  // null: the step writes nothing
   StageTimers timers;
+  // The alongside hooks' thread (made at its first use), the team they may use while they run
+  // (one thread on their own, the world's team in turn), and their time on their own thread,
+  // which overlaps the stages' (not in `timers`, whose stages add up to the wall time; there,
+  // "hook NAME (waited)" is the time the step waited for them).
+  NotCopied<WorkerThread> alongside;
+  Threading alongside_threading;
+  StageTimers alongside_timers;
 
   bool has_moving_surfaces() const;
   std::size_t pair_contact_count() const;  // listed pairs with overlap > 0 now

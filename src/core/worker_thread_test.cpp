@@ -1,0 +1,81 @@
+// WorkerThread: tasks run on another thread, one at a time, their exceptions reach wait().
+#include "core/worker_thread.h"
+
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+namespace quarry {
+namespace {
+
+TEST(WorkerThread, RunsEachTaskOnItsOwnThreadAndWaitsForIt) {
+  WorkerThread worker;
+  const std::thread::id caller = std::this_thread::get_id();
+  long sum = 0;
+  for (int k = 1; k <= 1000; ++k) {
+    std::thread::id ran_on;
+    worker.start([&sum, &ran_on, k] {
+      sum += k;
+      ran_on = std::this_thread::get_id();
+    });
+    worker.wait();
+    ASSERT_NE(ran_on, caller);
+  }
+  EXPECT_EQ(sum, 1000L * 1001 / 2);  // every task ran, once, and was done at wait()
+  worker.wait();                     // nothing under way: returns at once
+}
+
+TEST(WorkerThread, ATaskRunsWhileTheCallerWorks) {
+  WorkerThread worker;
+  std::atomic<bool> caller_done{false}, task_saw_caller{false};
+  worker.start([&] {
+    while (!caller_done.load()) std::this_thread::yield();  // ends only once the caller went on
+    task_saw_caller = true;
+  });
+  caller_done = true;
+  worker.wait();
+  EXPECT_TRUE(task_saw_caller.load());
+}
+
+TEST(WorkerThread, ATasksExceptionReachesWaitAndTheWorkerGoesOn) {
+  WorkerThread worker;
+  worker.start([] { throw std::runtime_error("diverged"); });
+  EXPECT_THROW(
+      {
+        try {
+          worker.wait();
+        } catch (const std::runtime_error& e) {
+          EXPECT_STREQ(e.what(), "diverged");
+          throw;
+        }
+      },
+      std::runtime_error);
+  int ran = 0;
+  worker.start([&ran] { ran = 1; });
+  worker.wait();
+  EXPECT_EQ(ran, 1);
+  std::atomic<bool> release{false};
+  worker.start([&release] {
+    while (!release.load()) std::this_thread::yield();  // under way until released
+  });
+  EXPECT_THROW(worker.start([] {}), std::logic_error);  // a second task before wait(): refused
+  release = true;
+  worker.wait();
+}
+
+TEST(WorkerThread, DestroyedWhileATaskRunsItWaitsForIt) {
+  std::atomic<int> finished{0};
+  {
+    WorkerThread worker;
+    worker.start([&finished] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      finished = 1;
+    });
+  }
+  EXPECT_EQ(finished.load(), 1);
+}
+
+}  // namespace
+}  // namespace quarry
