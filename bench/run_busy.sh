@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Threads on a busy machine (issue 21 §3): the hopper example (examples/hopper, to END_TIME)
+# Threads on a busy machine (issue 21 §3): the hopper example (examples/hopper, to END_TIME;
+# DECK= another deck, e.g. examples/truck_bed_two_way/truck_bed_two_way.yaml)
 # on 1 thread, on 2 threads as `quarry run` chooses them (the thread governor), and on 2
 # threads held fixed (--fixed-threads), each on a quiet machine and beside one competing
 # CPU-bound process per core minus one (a busy loop started before the run and stopped after
@@ -30,7 +31,8 @@ MACHINE=${MACHINE:-"$(nproc)cpu-$(cpu_slug)"}
 RESULTS=$(results_name "$BENCH/results/$DATE-$MACHINE-busy")
 build_bench quarry
 QUARRY="$ROOT/$BUILD_DIR/src/cli/quarry"
-DECK="$ROOT/examples/hopper/hopper.yaml"
+DECK_NAME=${DECK:-examples/hopper/hopper.yaml}
+DECK="$ROOT/$DECK_NAME"
 mkdir -p "$LOGS" "$BENCH/results"
 
 # config -> quarry's thread options
@@ -83,9 +85,9 @@ done
 
 # Medians per (load, config) and the ratios to one thread under the same load.
 {
-  echo "# Threads on a busy machine: the hopper to $END_TIME s — $DATE, $MACHINE"
+  echo "# Threads on a busy machine: $DECK_NAME to $END_TIME s — $DATE, $MACHINE"
   echo
-  echo "Wall seconds of \`quarry run examples/hopper/hopper.yaml --end-time $END_TIME\`, median over the repeats (min .. max). Busy: one CPU-bound process per core but one runs beside it (a busy loop). \"2 threads\" is what \`quarry run --threads 2\` does (the thread governor may run steps on one thread); \"2 fixed\" adds \`--fixed-threads\`. Issue 21 asks 2 threads / 1 thread ≤ 1.1 when busy."
+  echo "Wall seconds of \`quarry run $DECK_NAME --end-time $END_TIME\`, median over the repeats (min .. max). Busy: one CPU-bound process per core but one runs beside it (a busy loop). \"2 threads\" is what \`quarry run --threads 2\` does (the thread governor may run steps on one thread); \"2 fixed\" adds \`--fixed-threads\`. Issue 21 asks 2 threads / 1 thread ≤ 1.1 when busy."
   echo
   echo "| load | threads | runs | wall s median | min .. max | / 1 thread (medians) | steps on 1 thread (median) |"
   echo "|---|---|---|---|---|---|---|"
