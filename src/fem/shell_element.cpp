@@ -21,7 +21,9 @@ struct LocalGeometry {
   double gxi_x = 0.0, gxi_y = 0.0, geta_x = 0.0, geta_y = 0.0, jacobian = 0.0;
 };
 
-LocalGeometry local_geometry(const std::array<Vec3, 4>& x, int node_count) {
+// The frame, the nodes' in-plane coordinates and the area: all the stable step and the masses
+// need (element_area); local_geometry adds the derivatives, with the same operations.
+LocalGeometry plane_geometry(const std::array<Vec3, 4>& x, int node_count) {
   LocalGeometry g;
   g.frame = element_frame(x, node_count);
   for (int i = 0; i < node_count; ++i) {
@@ -30,9 +32,19 @@ LocalGeometry local_geometry(const std::array<Vec3, 4>& x, int node_count) {
     g.y[i] = dot(r, g.frame.e2);
   }
   if (node_count == 4) {
-    // A = ½ (x31 y42 + x24 y31) and the centre derivatives of the bilinear functions
-    // (Belytschko, Lin & Tsay 1984 eq. 14), with 0-based node numbers.
+    // A = ½ (x31 y42 + x24 y31) (Belytschko, Lin & Tsay 1984 eq. 14), 0-based node numbers.
     g.area = 0.5 * ((g.x[2] - g.x[0]) * (g.y[3] - g.y[1]) + (g.x[1] - g.x[3]) * (g.y[2] - g.y[0]));
+  } else {
+    // Linear triangle: 2A = x21 y31 − x31 y21.
+    g.area = 0.5 * ((g.x[1] - g.x[0]) * (g.y[2] - g.y[0]) - (g.x[2] - g.x[0]) * (g.y[1] - g.y[0]));
+  }
+  return g;
+}
+
+LocalGeometry local_geometry(const std::array<Vec3, 4>& x, int node_count) {
+  LocalGeometry g = plane_geometry(x, node_count);
+  if (node_count == 4) {
+    // The centre derivatives of the bilinear functions (Belytschko, Lin & Tsay 1984 eq. 14).
     const double inverse = 1.0 / (2.0 * g.area);
     g.b1 = {(g.y[1] - g.y[3]) * inverse, (g.y[2] - g.y[0]) * inverse,
             (g.y[3] - g.y[1]) * inverse, (g.y[0] - g.y[2]) * inverse};
@@ -44,10 +56,9 @@ LocalGeometry local_geometry(const std::array<Vec3, 4>& x, int node_count) {
     g.geta_y = 0.25 * (-g.y[0] - g.y[1] + g.y[2] + g.y[3]);
     g.jacobian = g.gxi_x * g.geta_y - g.gxi_y * g.geta_x;
   } else {
-    // Linear triangle: 2A = x21 y31 − x31 y21, ∂N_I/∂x = (y_J − y_K)/2A, ∂N_I/∂y = (x_K − x_J)/2A.
+    // ∂N_I/∂x = (y_J − y_K)/2A, ∂N_I/∂y = (x_K − x_J)/2A.
     const double twice_area =
         (g.x[1] - g.x[0]) * (g.y[2] - g.y[0]) - (g.x[2] - g.x[0]) * (g.y[1] - g.y[0]);
-    g.area = 0.5 * twice_area;
     for (int i = 0; i < 3; ++i) {
       const int j = (i + 1) % 3, k = (i + 2) % 3;
       g.b1[i] = (g.y[j] - g.y[k]) / twice_area;
@@ -213,7 +224,7 @@ ElementFrame element_frame(const std::array<Vec3, 4>& x, int node_count) {
 }
 
 double element_area(const std::array<Vec3, 4>& x, int node_count) {
-  return local_geometry(x, node_count).area;
+  return plane_geometry(x, node_count).area;
 }
 
 double characteristic_length(const std::array<Vec3, 4>& x, int node_count) {
