@@ -15,6 +15,8 @@ void ThreadGovernor::start_phase(Phase phase) {
   phase_ = phase;
   phase_seconds_ = 0.0;
   phase_steps_ = 0;
+  window_seconds_ = 0.0;
+  window_steps_ = 0;
   const int other = chosen_ == 1 ? requested_ : 1;
   current_ = phase == Phase::probe ? other : chosen_;
 }
@@ -26,9 +28,23 @@ void ThreadGovernor::step_took(double seconds) {
   phase_steps_ += 1;
   const bool window_full = phase_steps_ >= options_.min_window_steps && phase_seconds_ >= options_.window_seconds;
   switch (phase_) {
-    case Phase::run:
-      if (phase_seconds_ >= period_seconds_) start_phase(Phase::baseline);
+    case Phase::run: {
+      if (phase_seconds_ >= period_seconds_) {
+        start_phase(Phase::baseline);
+        break;
+      }
+      window_seconds_ += seconds;
+      window_steps_ += 1;
+      if (window_steps_ < options_.min_window_steps || window_seconds_ < options_.window_seconds) break;
+      const double per_step = window_seconds_ / static_cast<double>(window_steps_);
+      window_seconds_ = 0.0;
+      window_steps_ = 0;
+      if (per_step > options_.drift * reference_per_step_ || per_step * options_.drift < reference_per_step_) {
+        period_seconds_ = options_.first_period_seconds;
+        start_phase(Phase::baseline);
+      }
       break;
+    }
     case Phase::baseline:
       if (!window_full) break;
       baseline_per_step_ = phase_seconds_ / static_cast<double>(phase_steps_);
@@ -41,8 +57,10 @@ void ThreadGovernor::step_took(double seconds) {
         chosen_ = current_;  // the other team is faster now: take it, and look again soon
         ++switches_;
         period_seconds_ = options_.first_period_seconds;
+        reference_per_step_ = probe_per_step;
       } else {
         period_seconds_ = std::min(2.0 * period_seconds_, options_.max_period_seconds);
+        reference_per_step_ = baseline_per_step_;
       }
       start_phase(Phase::run);
       break;

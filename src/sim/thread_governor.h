@@ -6,7 +6,7 @@
 // bit-identical for any thread count, so the team may change between any two steps: the governor
 // times a window of steps with the current team, then a window with the other, and keeps the
 // faster. A choice confirmed by a probe is probed again after twice as long (up to a minute),
-// so a steady machine pays little for the probing.
+// so a steady machine pays little for the probing; sooner if the steps' cost drifts.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +22,10 @@ class ThreadGovernor {
     double first_period_seconds = 2.0;  // s between a decision and the next probe, doubled when
     double max_period_seconds = 60.0;   // a probe confirms the choice
     double switch_margin = 0.03;        // the other team must be this much faster to switch to it
+    // The chosen team's time per step (windows as above) moving by this factor from what it was
+    // at the decision starts a probe at once: the work per step changed (a pour filling up, a
+    // coupled structure's share of the step shrinking), and so may the faster team.
+    double drift = 1.25;
   };
 
   // `requested` threads (≥ 1); below 2, or not enabled, the governor never changes anything.
@@ -50,6 +54,9 @@ class ThreadGovernor {
   double phase_seconds_ = 0.0;       // wall time in this phase so far
   std::uint64_t phase_steps_ = 0;
   double baseline_per_step_ = 0.0;   // s per step of the chosen team just before the probe
+  double reference_per_step_ = 0.0;  // s per step of the chosen team at the last decision
+  double window_seconds_ = 0.0;      // the run phase's current window
+  std::uint64_t window_steps_ = 0;
   double period_seconds_ = 0.0;      // current time between probes
   std::uint64_t steps_with_all_ = 0, steps_with_one_ = 0;
   int switches_ = 0;

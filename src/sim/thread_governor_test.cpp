@@ -57,6 +57,21 @@ TEST(ThreadGovernor, ProbesASteadyChoiceLessAndLessOften) {
   EXPECT_LT(wall / (1000000 * fast), 1.01);  // under 1 % lost to probing over ~9 min
 }
 
+// The work per step grows (a pour filling up beside a structure that was most of each step):
+// one thread was faster, two become faster. The chosen team's time per step moving by more than
+// `drift` starts a probe at once, instead of after the period a steady choice had reached.
+TEST(ThreadGovernor, ProbesAgainWhenTheStepsCostDrifts) {
+  ThreadGovernor governor(2);
+  feed(governor, 60000, [](int team) { return team == 1 ? 1.0e-3 : 1.1e-3; });  // 60 s: period 32 s
+  ASSERT_EQ(governor.threads(), 1);
+  const std::uint64_t before = governor.steps_with_one();
+  feed(governor, 20000, [](int team) { return team == 1 ? 2.0e-3 : 1.3e-3; });
+  EXPECT_EQ(governor.threads(), 2);
+  // One window of 0.1 s to see the drift, a baseline and a probe window: a few hundred steps,
+  // not the rest of a 32 s period (~16,000 steps).
+  EXPECT_LT(governor.steps_with_one() - before, 400u);
+}
+
 // Differences within the margin do not make it switch back and forth.
 TEST(ThreadGovernor, KeepsItsChoiceWhenTheTeamsAreAlike) {
   ThreadGovernor governor(2);
