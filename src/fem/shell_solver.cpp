@@ -97,7 +97,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   reactions_.assign(nodes, {});
   previous_reactions_.assign(nodes, {});
   mass_.assign(nodes, 0.0);
-  rotary_inertia_.assign(nodes, 0.0);
+  std::vector<double> rotary_inertia(nodes, 0.0);  // kg·m², per node (into dof_inertia_ below)
 
   // Mass: row-sum lumping, ρ t A / n per node; rotary inertia m_node · max(t²/12, A/8), scaled
   // up from the physical t²/12 so that rotations never limit the step (Hughes, Cohen & Haroun
@@ -127,7 +127,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
     const double inertia = node_mass * std::max(t * t / 12.0, area / 8.0);
     for (int i = 0; i < element.node_count; ++i) {
       mass_[element.nodes[i]] += node_mass;
-      rotary_inertia_[element.nodes[i]] += inertia;
+      rotary_inertia[element.nodes[i]] += inertia;
     }
     state_offset_[e] = offset;
     offset += section.integration_points;
@@ -226,9 +226,9 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   for (std::size_t n = 0; n < nodes; ++n) {
     for (int k = 0; k < 3; ++k) {
       dof_mass_[n][k] = mass_[n];
-      dof_inertia_[n][k] = rotary_inertia_[n];
+      dof_inertia_[n][k] = rotary_inertia[n];
       free_mass_[n][k] = prescribed_mask_[n] & (1u << k) ? 0.0 : mass_[n];
-      free_inertia_[n][k] = prescribed_mask_[n] & (1u << (k + 3)) ? 0.0 : rotary_inertia_[n];
+      free_inertia_[n][k] = prescribed_mask_[n] & (1u << (k + 3)) ? 0.0 : rotary_inertia[n];
     }
     if (prescribed_mask_[n] != 0) {
       prescribed_nodes_.push_back(static_cast<std::int32_t>(n));
@@ -305,7 +305,7 @@ void ShellSolver::set_velocity(int node, const Vec3& velocity, const Vec3& angul
 }
 
 void ShellSolver::apply_prescribed() {
-  for (std::size_t n = 0; n < positions_.size(); ++n) apply_prescribed(static_cast<int>(n));
+  for (const std::int32_t n : prescribed_nodes_) apply_prescribed(n);
 }
 
 // Stage "internal forces", its element loop: each element writes its own force block (parallel,
@@ -433,6 +433,15 @@ void ShellSolver::step(double dt) {
   const auto dof_range = [nodes](int block) {
     return std::pair{3 * block * kNodeBlock, 3 * std::min(nodes, (block + 1) * kNodeBlock)};
   };
+  // The blocks' two partial sums, the blocks in order.
+  const auto sum_blocks = [this](int blocks) {
+    std::array<double, 2> sum{0.0, 0.0};
+    for (int b = 0; b < blocks; ++b) {
+      sum[0] += block_sums_[b][0];
+      sum[1] += block_sums_[b][1];
+    }
+    return sum;
+  };
   const auto prescribe = [this](int block) {
     for (int k = prescribed_block_offset_[block]; k < prescribed_block_offset_[block + 1]; ++k)
       apply_prescribed(prescribed_nodes_[k]);
@@ -465,11 +474,7 @@ void ShellSolver::step(double dt) {
     });
     block_sums_[block] = {damping_work, external_work};
   });
-  double damping_work = 0.0, external_work = 0.0;
-  for (int b = 0; b < node_blocks; ++b) {
-    damping_work += block_sums_[b][0];
-    external_work += block_sums_[b][1];
-  }
+  const auto [damping_work, external_work] = sum_blocks(node_blocks);
 
   // 3. Internal forces at t + dt: stresses advanced with the midpoint velocities, each element
   // evaluated on the mid-step configuration x(t + dt/2), where a rigid rotation has no strain
@@ -516,11 +521,7 @@ void ShellSolver::step(double dt) {
     });
     block_sums_[block] = {constraint_work, kinetic};
   });
-  double constraint_work = 0.0, kinetic = 0.0;
-  for (int b = 0; b < node_blocks; ++b) {
-    constraint_work += block_sums_[b][0];
-    kinetic += block_sums_[b][1];
-  }
+  const auto [constraint_work, kinetic] = sum_blocks(node_blocks);
 
   // 5. The elements' energy increments, summed as the nodes' terms (serial: two per element).
   const double internal = sum_by_fours(0, elements, [&](int e) { return element_internal_energy_[e]; });

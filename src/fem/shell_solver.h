@@ -182,7 +182,7 @@ class ShellSolver {
 
   std::vector<Vec3> positions_, velocities_, angular_velocities_, rotations_;
   std::vector<Vec3> midpoint_positions_;  // x(t + dt/2) of the last step: the elements' configuration
-  std::vector<double> mass_, rotary_inertia_;  // kg, kg·m²
+  std::vector<double> mass_;  // kg per node
   std::vector<Vec3> load_force_, load_moment_;          // N, N·m (set_loads)
   std::vector<Vec3> internal_force_, internal_moment_;  // of the last step (N, N·m)
   std::vector<std::array<double, 6>> reactions_, previous_reactions_;

@@ -56,12 +56,13 @@ class AlongsideHooks {
   AlongsideHooks(const AlongsideHooks&) = delete;
   AlongsideHooks& operator=(const AlongsideHooks&) = delete;
   ~AlongsideHooks() {
-    if (!started_) return;
-    try {
-      world_.alongside->wait();
-    } catch (...) {  // the stage's own error is the one on its way out
+    if (started_) {
+      try {
+        world_.alongside->wait();
+      } catch (...) {  // the stage's own error is the one on its way out
+      }
     }
-    world_.threading.threads = configured_;
+    if (threaded_) world_.threading.threads = configured_;  // also when a stage threw before start()
   }
 
   void start() {

@@ -26,7 +26,10 @@ void ThreadGovernor::step_took(double seconds) {
   if (requested_ < 2 || !options_.enabled) return;
   phase_seconds_ += seconds;
   phase_steps_ += 1;
-  const bool window_full = phase_steps_ >= options_.min_window_steps && phase_seconds_ >= options_.window_seconds;
+  const auto full = [this](std::uint64_t steps, double wall) {
+    return steps >= options_.min_window_steps && wall >= options_.window_seconds;
+  };
+  const bool window_full = full(phase_steps_, phase_seconds_);
   switch (phase_) {
     case Phase::run: {
       if (phase_seconds_ >= period_seconds_) {
@@ -35,7 +38,7 @@ void ThreadGovernor::step_took(double seconds) {
       }
       window_seconds_ += seconds;
       window_steps_ += 1;
-      if (window_steps_ < options_.min_window_steps || window_seconds_ < options_.window_seconds) break;
+      if (!full(window_steps_, window_seconds_)) break;
       const double per_step = window_seconds_ / static_cast<double>(window_steps_);
       window_seconds_ = 0.0;
       window_steps_ = 0;
