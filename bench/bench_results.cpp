@@ -23,6 +23,8 @@ const std::vector<std::string> kColumns = {
     "other_load"};
 // The pour's columns (bench/run_flowing.sh), after the settled bed's.
 const std::vector<std::string> kPourColumns = {"skin", "ke_pp", "neigh_share"};
+// The scenes' columns (bench/run_scenes.sh), after the pour's.
+const std::vector<std::string> kSceneColumns = {"discharge_kg_s", "rising_fraction"};
 
 // Skins compare equal when both are unrecorded (NaN) or the same number.
 bool same_skin(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
@@ -78,8 +80,10 @@ std::string percent(double fraction) {
 std::string bench_csv_header(BenchKind kind) {
   std::string header;
   for (const auto& c : kColumns) header += (header.empty() ? "" : ",") + c;
-  if (kind == BenchKind::pour)
+  if (kind != BenchKind::settled_bed)
     for (const auto& c : kPourColumns) header += "," + c;
+  if (kind == BenchKind::scene)
+    for (const auto& c : kSceneColumns) header += "," + c;
   return header;
 }
 
@@ -126,6 +130,8 @@ std::vector<BenchRun> read_bench_csv(const std::string& text) {
     r.skin = optional("skin");
     r.kinetic_energy = optional("ke_pp");
     r.neighbor_share = optional("neigh_share");
+    r.discharge_rate = optional("discharge_kg_s");
+    r.rising_fraction = optional("rising_fraction");
     runs.push_back(r);
   }
   return runs;
@@ -174,6 +180,8 @@ std::vector<BenchGroup> summarize_runs(const std::vector<BenchRun>& runs) {
     g.weight = median_of(collect(&BenchRun::weight));
     g.kinetic_energy = median_of(collect(&BenchRun::kinetic_energy));
     g.neighbor_share = median_of(collect(&BenchRun::neighbor_share));
+    g.discharge_rate = median_of(collect(&BenchRun::discharge_rate));
+    g.rising_fraction = median_of(collect(&BenchRun::rising_fraction));
     double load = 0;
     for (const BenchRun* r : members) load += std::isfinite(r->other_load) ? r->other_load : 0.0;
     g.other_load = load / static_cast<double>(members.size());
@@ -236,6 +244,40 @@ std::string pour_check(const std::vector<BenchGroup>& groups, double tolerance) 
   return md;
 }
 
+// The scenes' physics check: Quarry against each peer at the same skin and thread count. The
+// hopper's discharge rate and the drum's share of mass on its rising side, each a mean over
+// the run's second half, must agree within the tolerance; a flow is chaotic, so the peer's own
+// 1- against 2-rank difference (the same physics, other round-off) is shown beside as the scale
+// of what two runs of one code give. The kinetic energy per particle is shown, not judged.
+std::string scene_check(const std::vector<BenchGroup>& groups, double tolerance) {
+  std::string md = fmt::format(
+      "\n## Scenes: Quarry against each peer (means over the run's second half, medians of the repeats)\n\n"
+      "Pass = |Quarry − peer| / peer within {:.0f} % for the hopper's discharge rate or the drum's share of "
+      "mass on its rising side (x < 0). \"Peer 2 / 1 ranks\" is the peer's own difference between its 1- and "
+      "2-rank runs: a flow is chaotic, and that is what round-off alone moves it by. The kinetic energy per "
+      "particle is shown, not judged (the hopper's includes the stream below the outlet, which each code "
+      "removes at its own moment).\n\n"
+      "| scene | threads | skin mm | peer | quantity | Quarry | peer | Δ | peer 2 / 1 ranks | kinetic energy per "
+      "particle Quarry / peer (µJ) | pass |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+      100.0 * tolerance);
+  for (const auto& [qp, p] : quarry_and_peers(groups, false)) {
+    const BenchGroup& q = *qp;
+    const bool hopper = std::isfinite(q.discharge_rate);
+    const auto value = [&](const BenchGroup& g) { return hopper ? g.discharge_rate : g.rising_fraction; };
+    const double delta = relative_difference(value(q), value(*p));
+    const BenchGroup* one = group_like(groups, *p, p->code, 1);
+    const BenchGroup* two = group_like(groups, *p, p->code, 2);
+    const std::string spread = one && two ? percent(relative_difference(value(*two), value(*one))) : "n/a";
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} / {} | {} |\n", q.size, q.threads,
+                      fixed(1e3 * q.skin, 2), code_label(p->code),
+                      hopper ? "discharge rate (kg/s)" : "rising side's share of the mass", fixed(value(q), 4),
+                      fixed(value(*p), 4), percent(delta), spread, fixed(1e6 * q.kinetic_energy, 3),
+                      fixed(1e6 * p->kinetic_energy, 3),
+                      std::isfinite(delta) ? (std::abs(delta) <= tolerance ? "yes" : "**no**") : "n/a");
+  }
+  return md;
+}
+
 // Each code's best skin (the highest median throughput over the skins timed) and the ratio of
 // Quarry's best to each peer's best, per N and thread count.
 std::string best_skins(const std::vector<BenchGroup>& groups) {
@@ -262,14 +304,18 @@ std::string best_skins(const std::vector<BenchGroup>& groups) {
 std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string& heading, double tolerance,
                            BenchKind kind) {
   const std::vector<BenchGroup> groups = summarize_runs(runs);
-  const bool pour = kind == BenchKind::pour;
+  const bool pour = kind != BenchKind::settled_bed;  // the flowing benchmarks' tables
+  // A scene's row names it beside its N.
+  const auto n_label = [&](const BenchGroup& g) {
+    return kind == BenchKind::scene ? fmt::format("{} {:.0f}", g.size, g.particles) : fmt::format("{:.0f}", g.particles);
+  };
   // The memory table takes one skin per code: the smallest timed (memory hardly depends on it).
   double first_skin = kNaN;
   for (const auto& g : groups)
     if (std::isnan(first_skin) || g.skin < first_skin) first_skin = g.skin;
   std::string md = heading + "\n\n";
-  md += pour ? "Throughput = N × timed steps / wall time of the timed steps (setup excluded; the pour is timed "
-               "from rest), million particle-steps per second, median over the repeats. Threads = OpenMP "
+  md += pour ? "Throughput = N × timed steps / wall time of the timed steps (setup excluded; the flow is timed "
+               "from rest; N: the particles at the start), million particle-steps per second, median over the repeats. Threads = OpenMP "
                "threads (Quarry) or MPI ranks (LIGGGHTS, LAMMPS). Neighbour share = the neighbour stage's "
                "share of the loop by each code's own timers (LIGGGHTS and LAMMPS: \"Neigh\"). Other load = "
                "CPU used by other processes during the run (cores, mean).\n\n"
@@ -282,8 +328,8 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
           "list builds | neighbour share | coordination (2·contacts/N) | neighbour pairs / N | peak RSS MiB | "
           "other load |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& g : groups)
-      md += fmt::format("| {:.0f} | {} | {} | {} | {} | {} | {} .. {} | {:.0f} | {} | {} | {} | {} | {:.0f} | {:.2f} |\n",
-                        g.particles, code_label(g.code), g.threads, fixed(1e3 * g.skin, 2), g.runs,
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} .. {} | {:.0f} | {} | {} | {} | {} | {:.0f} | {:.2f} |\n",
+                        n_label(g), code_label(g.code), g.threads, fixed(1e3 * g.skin, 2), g.runs,
                         millions(g.median_rate), millions(g.min_rate), millions(g.max_rate),
                         g.threads * 1e9 / g.median_rate, fixed(g.rebuilds, 0),
                         std::isfinite(g.neighbor_share) ? fmt::format("{:.1f} %", 100.0 * g.neighbor_share) : "n/a",
@@ -306,7 +352,7 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
              : "\n## Quarry / peer (ratio of medians, same run)\n\n| N | threads | peer | Quarry | peer median | "
                "Quarry / peer |\n|---|---|---|---|---|---|\n";
   for (const auto& [q, p] : quarry_and_peers(groups, false))
-    md += fmt::format("| {:.0f} | {} | {}{} | {} | {} | **{:.2f}** |\n", q->particles, q->threads,
+    md += fmt::format("| {} | {} | {}{} | {} | {} | **{:.2f}** |\n", n_label(*q), q->threads,
                       pour ? fixed(1e3 * q->skin, 2) + " | " : "", code_label(p->code), millions(q->median_rate),
                       millions(p->median_rate), q->median_rate / p->median_rate);
   if (pour) md += best_skins(groups);
@@ -316,7 +362,7 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
   for (const auto& g : groups) {
     if (g.threads != 2) continue;
     if (const BenchGroup* one = group_like(groups, g, g.code, 1))
-      md += fmt::format("| {:.0f} | {} | {}{:.2f} |\n", g.particles, code_label(g.code),
+      md += fmt::format("| {} | {} | {}{:.2f} |\n", n_label(g), code_label(g.code),
                         pour ? fixed(1e3 * g.skin, 2) + " | " : "", g.median_rate / one->median_rate);
   }
 
@@ -331,11 +377,12 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
       const std::string marginal =
           previous ? fmt::format("{:.0f}", (bytes - previous->peak_rss_kib * 1024.0) / (g.particles - previous->particles))
                    : "-";
-      md += fmt::format("| {} | {:.0f} | {:.0f} | {:.0f} | {} |\n", code_label(code), g.particles,
+      md += fmt::format("| {} | {} | {:.0f} | {:.0f} | {} |\n", code_label(code), n_label(g),
                         g.peak_rss_kib / 1024.0, bytes / g.particles, marginal);
-      previous = &g;
+      previous = kind == BenchKind::scene ? nullptr : &g;  // two scenes are not two sizes of one
     }
   }
+  if (kind == BenchKind::scene) return md + scene_check(groups, tolerance);
   if (pour) return md + pour_check(groups, tolerance);
   md += fmt::format(
       "\n## Settled bed: Quarry against each peer (after the timed steps, 1 thread/rank, medians)\n\n"
@@ -363,25 +410,28 @@ std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string&
   return md;
 }
 
-PlotSpec throughput_plot(const std::vector<BenchGroup>& groups, const std::string& title) {
+PlotSpec throughput_plot(const std::vector<BenchGroup>& groups, const std::string& title, BenchKind kind) {
   PlotSpec plot;
   plot.title = title;
   plot.y_label = "million particle-steps per second";
-  // One N only (a pour of one size): the throughput against the thread count, one line per
-  // code and skin; otherwise against log10 N, one line per code, thread count and skin.
+  // One N only (a pour of one size) or the scenes: the throughput against the thread count, one
+  // line per code, skin (and scene); otherwise against log10 N, one line per code, thread count
+  // and skin.
+  const bool scenes = kind == BenchKind::scene;
   bool one_size = true;
   for (const auto& g : groups) one_size = one_size && g.particles == groups.front().particles;
-  plot.x_label = one_size ? "threads (Quarry) or MPI ranks (peers)" : "log10 N (particles)";
-  std::map<std::tuple<int, int, double>, PlotSeries> series;  // the skin is named where recorded
+  const bool by_threads = one_size || scenes;
+  plot.x_label = by_threads ? "threads (Quarry) or MPI ranks (peers)" : "log10 N (particles)";
+  std::map<std::tuple<std::string, int, int, double>, PlotSeries> series;  // the skin is named where recorded
   for (const auto& g : groups) {
     const std::string skin = std::isnan(g.skin) ? "" : fmt::format(", skin {:.2f} mm", 1e3 * g.skin);
-    PlotSeries& s = series[{code_rank(g.code), one_size ? 0 : g.threads, skin_key(g.skin)}];
-    s.label = one_size ? code_label(g.code) + skin
-                       : fmt::format("{}, {} {}{}", code_label(g.code), g.threads,
-                                     g.code == "quarry" ? (g.threads == 1 ? "thread" : "threads")
-                                                        : (g.threads == 1 ? "rank" : "ranks"),
-                                     skin);
-    s.x.push_back(one_size ? g.threads : std::log10(g.particles));
+    PlotSeries& s = series[{scenes ? g.size : "", code_rank(g.code), by_threads ? 0 : g.threads, skin_key(g.skin)}];
+    s.label = by_threads ? (scenes ? g.size + ", " : "") + code_label(g.code) + skin
+                         : fmt::format("{}, {} {}{}", code_label(g.code), g.threads,
+                                       g.code == "quarry" ? (g.threads == 1 ? "thread" : "threads")
+                                                          : (g.threads == 1 ? "rank" : "ranks"),
+                                       skin);
+    s.x.push_back(by_threads ? g.threads : std::log10(g.particles));
     s.y.push_back(g.median_rate / 1e6);
   }
   for (auto& [key, s] : series) plot.series.push_back(std::move(s));

@@ -1,5 +1,5 @@
 // Benchmark results of the peer comparisons (bench/run.sh: settled bed, bench/run_flowing.sh:
-// a pour): one CSV row per timed run of Quarry, LIGGGHTS or LAMMPS; medians per (size, code,
+// a pour, bench/run_scenes.sh: a hopper and a drum): one CSV row per timed run of Quarry, LIGGGHTS or LAMMPS; medians per (size, code,
 // threads, skin), the markdown summary with the ratios and the physics check, and the
 // throughput plot. Not part of the time step.
 #pragma once
@@ -12,7 +12,7 @@
 namespace quarry::bench {
 
 // Which reference problem the runs are of: it decides the physics check of the summary.
-enum class BenchKind { settled_bed, pour };
+enum class BenchKind { settled_bed, pour, scene };
 
 // One timed run. Numbers absent from a code's log are NaN.
 struct BenchRun {
@@ -36,10 +36,13 @@ struct BenchRun {
   double skin = 0;                        // m, neighbour skin
   double kinetic_energy = 0;              // J per particle, translation + rotation, at the end
   double neighbor_share = 0;              // neighbour stage / loop time (the code's own timers)
+  // Columns of the scenes (bench/run_scenes.sh), means over the run's second half:
+  double discharge_rate = 0;              // kg/s out of the hopper (NaN for the drum)
+  double rising_fraction = 0;             // the drum's mass on its rising side / all (NaN for the hopper)
 };
 
 // The CSV header the harness writes: the settled bed's columns; the pour adds skin, ke_pp and
-// neigh_share at the end.
+// neigh_share at the end, the scenes these and discharge_kg_s, rising_fraction.
 std::string bench_csv_header(BenchKind kind = BenchKind::settled_bed);
 // Parses the CSV text (header line first; columns found by name, so added columns are
 // tolerated; the pour's columns may be absent). Throws std::runtime_error naming the line of a malformed row.
@@ -61,6 +64,7 @@ struct BenchGroup {
   double max_height = 0, mean_height = 0, floor_force = 0, weight = 0;  // m, m, N, N
   double other_load = 0;                                 // mean over the runs (cores)
   double kinetic_energy = 0, neighbor_share = 0;         // J per particle, 1
+  double discharge_rate = 0, rising_fraction = 0;        // kg/s, 1
 };
 // Groups sorted by N, then code (quarry, liggghts, lmp_granular, lmp_ghh), then threads, then
 // skin.
@@ -72,13 +76,16 @@ double relative_difference(double a, double b);
 // The markdown summary: medians, Quarry/peer ratios, 2-thread speed-up, contacts and memory
 // per particle (total and marginal between sizes), and the physics check of Quarry against
 // each peer within `tolerance` (default 1 %): the settled bed's packing height and floor
-// force, or the pour's mean height (its kinetic energy, top and floor force are reported).
-// The pour's summary also shows the skin, the neighbour stage's share and each code's best
-// skin.
+// force, or the pour's mean height (its kinetic energy, top and floor force are reported), or
+// the scenes' discharge rate and rising share (within `tolerance`, with the peer's own spread
+// between its 1- and 2-rank runs shown beside). The flowing summaries also show the skin, the
+// neighbour stage's share and each code's best skin.
 std::string bench_markdown(const std::vector<BenchRun>& runs, const std::string& heading,
                            double tolerance = 0.01, BenchKind kind = BenchKind::settled_bed);
 
-// Particle-steps per second (millions) against log10 N, one series per code and thread count.
-PlotSpec throughput_plot(const std::vector<BenchGroup>& groups, const std::string& title);
+// Particle-steps per second (millions) against log10 N, one series per code and thread count;
+// against the thread count for one N or for the scenes (a series per scene and code).
+PlotSpec throughput_plot(const std::vector<BenchGroup>& groups, const std::string& title,
+                         BenchKind kind = BenchKind::settled_bed);
 
 }  // namespace quarry::bench

@@ -99,5 +99,40 @@ TEST(BenchResults, PourGroupsBySkinAndChecksTheMeanHeight) {
   EXPECT_EQ(plot.series[0].x[0], 1.0);
 }
 
+// The scenes' summary: rows named by scene, the hopper judged on its discharge rate and the drum
+// on its rising share within the tolerance, the peer's own 1- against 2-rank spread beside.
+TEST(BenchResults, ScenesCheckTheDischargeRateAndTheRisingShare) {
+  const auto scene_row = [](const std::string& scene, double n, const std::string& code, int threads, double pss,
+                            double rate, double rising) {
+    return fmt::format("2026-12-04,box,{},{},{},{},1,20000,10,{},nan,nan,4000,40960,nan,nan,nan,nan,0.01,0.0006,"
+                       "1.4e-6,0.45,{},{}\n",
+                       scene, n, code, threads, pss, rate, rising);
+  };
+  const std::string csv = bench_csv_header(BenchKind::scene) + "\n" +
+                          scene_row("hopper", 10164, "quarry", 1, 4e6, 0.410, NAN) +
+                          scene_row("hopper", 10164, "liggghts", 1, 3.2e6, 0.400, NAN) +
+                          scene_row("hopper", 10164, "liggghts", 2, 6e6, 0.404, NAN) +
+                          scene_row("drum", 11280, "quarry", 1, 5e6, NAN, 0.560) +
+                          scene_row("drum", 11280, "liggghts", 1, 4e6, NAN, 0.600);
+  const auto runs = read_bench_csv(csv);
+  ASSERT_EQ(runs.size(), 5u);
+  EXPECT_EQ(runs[0].discharge_rate, 0.410);
+  EXPECT_TRUE(std::isnan(runs[0].rising_fraction));
+  EXPECT_EQ(runs[3].rising_fraction, 0.560);
+  const std::string md = bench_markdown(runs, "# scenes", 0.05, BenchKind::scene);
+  EXPECT_NE(md.find("| hopper 10164 | Quarry |"), std::string::npos) << md;
+  EXPECT_NE(md.find("**1.25**"), std::string::npos) << md;  // hopper: 4e6 / 3.2e6
+  // Hopper 0.410 against 0.400 kg/s (+2.50 %) passes, the peer's 2 / 1 ranks +1.00 %; drum 0.56
+  // against 0.60 (−6.67 %) does not.
+  EXPECT_NE(md.find("| +2.50 % | +1.00 % |"), std::string::npos) << md;
+  EXPECT_NE(md.find("-6.67 %"), std::string::npos) << md;
+  EXPECT_NE(md.find("| yes |"), std::string::npos) << md;
+  EXPECT_NE(md.find("**no**"), std::string::npos) << md;
+  // Against the thread count, a line per scene and code.
+  const PlotSpec plot = throughput_plot(summarize_runs(runs), "t", BenchKind::scene);
+  EXPECT_EQ(plot.series.size(), 4u);
+  EXPECT_EQ(plot.series[0].x[0], 1.0);
+}
+
 }  // namespace
 }  // namespace quarry::bench
