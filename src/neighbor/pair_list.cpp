@@ -406,8 +406,48 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
   ++list.builds;
 }
 
+void remove_from_pair_list(PairList& list, const std::vector<char>& removed) {
+  const std::size_t n = removed.size();
+  assert(list.built_for(n) && list.offsets.size() == n + 1);
+  std::vector<std::uint32_t> new_index(n, kNoIndex);
+  std::uint32_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!removed[i]) new_index[i] = kept++;
+  const bool rolling = !list.rolling_torque.empty();
+  const bool jkr = !list.jkr_attached.empty();
+  // In place, front to back: an entry or row only ever moves to a lower position.
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t begin = list.offsets[i], end = list.offsets[i + 1];
+    if (removed[i]) continue;
+    list.offsets[new_index[i]] = static_cast<std::uint32_t>(out);
+    for (std::uint32_t k = begin; k < end; ++k) {
+      const std::uint32_t j = list.partner[k];
+      if (removed[j]) continue;
+      list.partner[out] = new_index[j];  // ascending still: new_index keeps the order
+      list.tangential_displacement[out] = list.tangential_displacement[k];
+      list.normal_force[out] = list.normal_force[k];
+      if (rolling) list.rolling_torque[out] = list.rolling_torque[k];
+      if (jkr) list.jkr_attached[out] = list.jkr_attached[k];
+      ++out;
+    }
+    list.reference_positions[new_index[i]] = list.reference_positions[i];
+    list.ids_at_build[new_index[i]] = list.ids_at_build[i];
+  }
+  list.offsets.resize(std::size_t{kept} + 1);
+  list.offsets[kept] = static_cast<std::uint32_t>(out);
+  list.partner.resize(out);
+  list.tangential_displacement.resize(out);
+  list.normal_force.resize(out);
+  if (rolling) list.rolling_torque.resize(out);
+  if (jkr) list.jkr_attached.resize(out);
+  list.reference_positions.resize(kept);
+  list.ids_at_build.resize(kept);
+  ++list.builds;
+}
+
 bool pair_list_needs_rebuild(const ParticleStore& particles, const PairList& list,
-                             double extra_displacement) {
+                             double surface_displacement) {
   const std::size_t n = particles.size();
   if (list.builds == 0 || !list.built_for(n)) return true;
   const Vec3* const position = particles.position.data();
@@ -427,13 +467,14 @@ bool pair_list_needs_rebuild(const ParticleStore& particles, const PairList& lis
   }
   // A diverged particle forces a rebuild, which reports it (build_cell_grid throws).
   if (!all_finite) return true;
-  return pair_list_needs_rebuild(list, largest_displacement_squared, ids_changed, extra_displacement);
+  return pair_list_needs_rebuild(list, largest_displacement_squared, ids_changed, surface_displacement);
 }
 
 bool pair_list_needs_rebuild(const PairList& list, double largest_displacement_squared, bool ids_changed,
-                             double extra_displacement) {
+                             double surface_displacement) {
   if (list.builds == 0 || ids_changed || !std::isfinite(largest_displacement_squared)) return true;
-  return std::sqrt(largest_displacement_squared) + extra_displacement > 0.5 * list.skin;
+  const double largest = std::sqrt(largest_displacement_squared);  // m
+  return largest > 0.5 * list.skin || largest + surface_displacement > list.skin;
 }
 
 }  // namespace quarry

@@ -84,17 +84,31 @@ struct PairList {
 // passes (count, fill) so that no pair buffer is needed; OpenMP over particle ranges.
 void build_pair_list(const ParticleStore& particles, double skin, PairList& list);
 
-// True if the list must be rebuilt before it can be trusted: it was never built, the particle
-// count or ids (order) changed, or max_i |xi − xi(build)| + extra_displacement > skin/2 (m).
-// extra_displacement (m) lets a caller spend part of the skin elsewhere (e.g. growing radii).
+// Takes the particles flagged in `removed` (by index at the last build) out of the list as
+// ParticleStore::remove_flagged takes them out of the store (keeping the others' order): their
+// rows and every pair with one of them go; the other pairs keep their order, their history and
+// their reference positions, partners renumbered. What the list then holds is what a build
+// for the remaining particles at the last build's positions would hold, so the rebuild
+// criterion goes on from the last build (issue 21: a hopper whose outflow left the domain a
+// few particles at a time rebuilt its lists at every such step). Bumps `builds` (the list
+// changed). Pre: built_for(removed.size()). Cost: O(n + pairs), serial.
+void remove_from_pair_list(PairList& list, const std::vector<char>& removed);
+
+// True if the lists must be rebuilt before they can be trusted: never built, the particle
+// count or ids (order) changed, or, with d = max_i |xi − xi(build)| and s the largest
+// displacement of a moving surface's vertex since the build (m):
+//   d > skin/2        two particles that were not listed (gap > skin) may now touch;
+//   d + s > skin      a triangle that was not a candidate (its box farther than R + skin from
+//                     the particle's centre) may now touch it: the gap closes by at most d + s
+//                     (a point of a triangle moves by a convex mix of its vertices' moves).
 // Cost: O(n), one parallel pass over positions; the answer does not depend on thread count.
 bool pair_list_needs_rebuild(const ParticleStore& particles, const PairList& list,
-                             double extra_displacement = 0.0);
+                             double surface_displacement = 0.0);
 
 // The same decision from a pass over the particles that the caller made itself (the time step
 // folds it into the drift): `largest_displacement_squared` = max_i |xi − xi(build)|² (m²),
 // `ids_changed` = some id differs from ids_at_build. Pre: the particle count is that of the build.
 bool pair_list_needs_rebuild(const PairList& list, double largest_displacement_squared, bool ids_changed,
-                             double extra_displacement);
+                             double surface_displacement);
 
 }  // namespace quarry

@@ -261,6 +261,42 @@ TEST(PairList, HistoryFollowsIdsThroughSpatialSortAndRandomPermutation) {
   EXPECT_EQ(carried, list.size());
 }
 
+// Removing particles from a list gives what a build for the remaining particles at the same
+// positions gives (history carried by ids), bit for bit; the criterion still compares with
+// the last build's positions.
+TEST(PairList, RemovingParticlesMatchesABuildWithoutThem) {
+  ParticleStore cloud = test_scenes::random_cloud(2500, 0.025, 0.5e-3, 1.5e-3, 33);
+  PairList list;
+  list.keep_jkr_history = true;
+  build_pair_list(cloud, 0.3e-3, list);
+  stamp_history(cloud, list);
+  for (std::size_t k = 0; k < list.size(); ++k) {
+    list.normal_force[k] = 0.5 * static_cast<double>(k % 7);
+    list.jkr_attached[k] = static_cast<std::uint8_t>(k % 3 == 0);
+  }
+  std::vector<char> removed(cloud.size(), 0);
+  for (std::size_t i = 0; i < cloud.size(); i += 7) removed[i] = 1;  // the first and every 7th
+  removed[cloud.size() - 1] = 1;                                      // and the last
+  PairList rebuilt = list;
+  remove_from_pair_list(list, removed);
+  cloud.remove_flagged(removed);
+  build_pair_list(cloud, 0.3e-3, rebuilt);
+  expect_csr_invariants(list, cloud.size());
+  EXPECT_EQ(list.offsets, rebuilt.offsets);
+  EXPECT_EQ(list.partner, rebuilt.partner);
+  EXPECT_EQ(list.tangential_displacement, rebuilt.tangential_displacement);
+  EXPECT_EQ(list.rolling_torque, rebuilt.rolling_torque);
+  EXPECT_EQ(list.jkr_attached, rebuilt.jkr_attached);
+  EXPECT_EQ(list.reference_positions, rebuilt.reference_positions);
+  EXPECT_EQ(list.ids_at_build, rebuilt.ids_at_build);
+  EXPECT_EQ(list.builds, 2u);  // a new list for the force stage's plans
+  // normal_force is history only where it is not zero: compare the pairs that carry one.
+  for (std::size_t k = 0; k < list.size(); ++k) EXPECT_EQ(list.normal_force[k], rebuilt.normal_force[k]);
+  EXPECT_FALSE(pair_list_needs_rebuild(cloud, list));
+  cloud.position[5].x += 0.16e-3;  // more than half the skin from the last build's position
+  EXPECT_TRUE(pair_list_needs_rebuild(cloud, list));
+}
+
 TEST(PairList, WithoutRollingHistoryOnlyTheTangentialHistoryIsKeptAndCarried) {
   ParticleStore cloud = test_scenes::random_cloud(2000, 0.02, 0.5e-3, 1.5e-3, 35);
   PairList list;
@@ -349,7 +385,7 @@ TEST(PairList, IdenticalForOneAndTwoThreads) {
   EXPECT_EQ(lists[0].rolling_torque, lists[1].rolling_torque);
 }
 
-TEST(PairList, RebuildCriterionIsHalfTheSkin) {
+TEST(PairList, RebuildCriterionIsHalfTheSkinForPairsAndTheSkinAgainstMovingSurfaces) {
   ParticleStore bed = test_scenes::lattice_bed(500, 51);
   const double skin = 0.2e-3;  // m
   PairList list;
@@ -358,7 +394,9 @@ TEST(PairList, RebuildCriterionIsHalfTheSkin) {
   EXPECT_FALSE(pair_list_needs_rebuild(bed, list));
   bed.position[17].x += 0.49 * skin;
   EXPECT_FALSE(pair_list_needs_rebuild(bed, list));
-  EXPECT_TRUE(pair_list_needs_rebuild(bed, list, 0.02 * skin));  // 0.49 + 0.02 > 0.5
+  // A moving surface spends the rest of the whole skin: 0.49 + 0.5 < 1, 0.49 + 0.52 > 1.
+  EXPECT_FALSE(pair_list_needs_rebuild(bed, list, 0.5 * skin));
+  EXPECT_TRUE(pair_list_needs_rebuild(bed, list, 0.52 * skin));
   bed.position[17].x += 0.02 * skin;
   EXPECT_TRUE(pair_list_needs_rebuild(bed, list));
   bed.position[17] = list.reference_positions[17];

@@ -90,6 +90,46 @@ void build_surface_candidates(World& world) {
   }
 }
 
+// The surface candidates of the particles left after removing those flagged (by index),
+// renumbered as ParticleStore::remove_flagged renumbers them (keeping the order).
+void remove_from_candidates(SurfaceCandidates& c, const std::vector<char>& removed) {
+  std::vector<std::uint32_t> new_index(removed.size());
+  std::uint32_t kept = 0;
+  for (std::size_t i = 0; i < removed.size(); ++i) {
+    new_index[i] = kept;
+    kept += removed[i] ? 0 : 1;
+  }
+  // In place, front to back: entries only move to lower positions.
+  std::size_t rows = 0, entries = 0;
+  for (std::size_t q = 0; q < c.particles.size(); ++q) {
+    const std::uint32_t i = c.particles[q], begin = c.offsets[q], end = c.offsets[q + 1];
+    if (removed[i]) continue;
+    c.offsets[rows] = static_cast<std::uint32_t>(entries);
+    c.particles[rows++] = new_index[i];
+    for (std::uint32_t e = begin; e < end; ++e, ++entries) {
+      c.surface[entries] = c.surface[e];
+      c.triangle[entries] = c.triangle[e];
+    }
+  }
+  c.particles.resize(rows);
+  c.offsets.resize(rows + 1);
+  c.offsets[rows] = static_cast<std::uint32_t>(entries);
+  c.surface.resize(entries);
+  c.triangle.resize(entries);
+}
+
+// Particles flagged (by index) are about to leave the store: the lists drop them instead of
+// being rebuilt (what stays listed is what a build at the last build's positions would list,
+// and the rebuild criterion goes on from there). Lists already stale stay stale.
+void remove_from_lists(World& world, const std::vector<char>& removed) {
+  if (world.lists_stale || !world.pairs.built_for(removed.size())) {
+    world.lists_stale = true;
+    return;
+  }
+  remove_from_pair_list(world.pairs, removed);
+  remove_from_candidates(world.candidates, removed);
+}
+
 }  // namespace
 
 void drive_surfaces(World& world, double time) {
@@ -167,8 +207,8 @@ void insert_and_remove(World& world, const DriftScan& scan) {
       world.removed_outside +=
           static_cast<std::uint64_t>(std::count(outside.begin(), outside.end(), 1));
       drop_wall_contacts_of_removed(world, outside);
+      remove_from_lists(world, outside);
       p.remove_flagged(outside);
-      world.lists_stale = true;
     }
   }
   if (world.factories.empty() || world.step_count % world.insertion_interval_steps != 0) return;
