@@ -103,11 +103,14 @@ bool map_to_previous_indices(std::span<const ParticleId> ids, std::span<const Pa
   return true;
 }
 
-// Calls visit(j) for every particle j > i with |xj − xi|² < ((Ri + Rj) + skin)², scanning the
-// 3×3×3 cells around i's cell (the cells cx−1..cx+1 of one row are one contiguous range).
-template <class Visit>
-inline void for_each_partner(std::uint32_t i, const Vec3* position, const double* radius, double skin,
-                             const CellGrid& grid, Visit&& visit) {
+// Appends to out[used...] every particle j > i with |xj − xi|² < ((Ri + Rj) + skin)², scanning
+// the 3×3×3 cells around i's cell (the cells cx−1..cx+1 of one row are one contiguous range);
+// grows `out` as needed. Branch-free: every candidate is written and `used` advances if it is a
+// partner. Whether j > i is a coin toss for the branch predictor (the cells hold particles in
+// spatial, not index, order), so a branch on it missed half the time (issue 21: the list
+// build is most of a flowing run's neighbour stage).
+inline void append_partners(std::uint32_t i, const Vec3* position, const double* radius, double skin,
+                            const CellGrid& grid, std::vector<std::uint32_t>& out, std::size_t& used) {
   const std::uint32_t* const particle_of = grid.sorted_particles.data();
   const std::uint32_t* const cell_start = grid.cell_start.data();
   const std::uint32_t nx = grid.cells_per_axis[0], ny = grid.cells_per_axis[1];
@@ -121,15 +124,17 @@ inline void for_each_partner(std::uint32_t i, const Vec3* position, const double
   for (std::uint32_t z = z_first; z <= z_last; ++z)
     for (std::uint32_t y = y_first; y <= y_last; ++y) {
       const std::uint32_t row = nx * (y + ny * z);
-      const std::uint32_t stop = cell_start[row + x_last + 1];
-      for (std::uint32_t k = cell_start[row + x_first]; k < stop; ++k) {
+      const std::uint32_t begin = cell_start[row + x_first], stop = cell_start[row + x_last + 1];
+      if (used + (stop - begin) > out.size()) out.resize(std::max(2 * out.size(), used + (stop - begin)));
+      std::uint32_t* const destination = out.data();
+      for (std::uint32_t k = begin; k < stop; ++k) {
         const std::uint32_t j = particle_of[k];
-        if (j <= i) continue;
         const double dx = position[j].x - xi.x;
         const double dy = position[j].y - xi.y;
         const double dz = position[j].z - xi.z;
         const double reach = (ri + radius[j]) + skin;  // m
-        if (dx * dx + dy * dy + dz * dz < reach * reach) visit(j);
+        destination[used] = j;
+        used += static_cast<std::size_t>((j > i) & (dx * dx + dy * dy + dz * dz < reach * reach));
       }
     }
 }
@@ -152,7 +157,7 @@ inline int cells_around(const CellGrid& grid, int axis, std::uint32_t c, std::ui
   return count;
 }
 
-// for_each_partner across periodic faces: the cells around i's cell wrap on periodic axes, and
+// The partners of append_partners across periodic faces: the cells around i's cell wrap on periodic axes, and
 // the separation is the minimum image. Needed only for a particle in a cell at a periodic face
 // (at_periodic_face); a separate function, so that every other search keeps its contiguous row
 // ranges and plain differences.
@@ -332,17 +337,22 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
 #pragma omp parallel for schedule(dynamic, 1) if (n > kParallelMinParticles)
   for (std::size_t c = 0; c < chunk_count; ++c) {
     std::vector<std::uint32_t>& mine = found[c];
-    mine.reserve(kChunkRows * expected_per_row);
-    const auto listed = [&mine](std::uint32_t j) { mine.push_back(j); };
+    mine.resize(kChunkRows * expected_per_row);  // grown as needed; trimmed to `used` below
+    std::size_t used = 0;
+    const auto listed = [&mine, &used](std::uint32_t j) {
+      if (used == mine.size()) mine.resize(2 * mine.size() + 16);
+      mine[used++] = j;
+    };
     for (std::size_t i = c * kChunkRows; i < std::min(n, (c + 1) * kChunkRows); ++i) {
-      const std::size_t before = mine.size();
+      const std::size_t before = used;
       if (periodic && at_periodic_face(grid, grid.particle_cell[i]))
         for_each_periodic_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid,
                                   list.periodic, listed);
       else
-        for_each_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid, listed);
-      offsets[i + 1] = static_cast<std::uint32_t>(mine.size() - before);
+        append_partners(static_cast<std::uint32_t>(i), position, radius, skin, grid, mine, used);
+      offsets[i + 1] = static_cast<std::uint32_t>(used - before);
     }
+    mine.resize(used);
   }
   for (std::size_t i = 0; i < n; ++i) {
     assert(std::size_t{offsets[i]} + offsets[i + 1] < kNoIndex);
