@@ -121,3 +121,21 @@ parse_run_log() {
   R_FLOOR=$(awk -v a="$(awk '{print $4}' <<<"$metrics")" -v b="$(sed -n 's/^FZ_NO_FLOOR //p' "$log" | head -1)" \
                 'BEGIN{if(a!="" && b!="") printf "%.7g", a-b}')
 }
+
+# stage_tables "CASES" "SKINS": for each case and skin, the per-stage table of Quarry's last
+# one-thread run ($LOGS/<case>_quarry_np1_skin<skin>_r$REPEATS.log) as a markdown section.
+stage_tables() {
+  local case skin last
+  for case in $1; do
+    for skin in $2; do
+      last="$LOGS/${case}_quarry_np1_skin${skin}_r$REPEATS.log"
+      [ -f "$last" ] || continue
+      echo
+      echo "### Quarry per-stage time, $case, skin $skin m, 1 thread ($(basename "$last"))"
+      echo
+      echo '```'
+      sed -n '/^stage/,/^total/p' "$last"
+      echo '```'
+    done
+  done
+}

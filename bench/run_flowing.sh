@@ -113,17 +113,6 @@ done
   machine_line
   echo "- Invocation: \`SIZES=\"$SIZES\" REPEATS=$REPEATS CODES=\"$CODES\" THREADS=\"$THREADS\" SKINS=\"$SKINS\" STEPS=$STEPS bash bench/run_flowing.sh\`; Quarry commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown) (plus uncommitted changes, if any)"
   echo "- The pour: 4 mm spheres on a 5 mm lattice (jitter ±0.1 mm) lifted 5 cm above the floor of a closed box, at rest; $STEPS steps of $DT s from rest (the bottom layer lands after 0.10 s, the top one after about 0.15 s). Every code reads the same lattice (quarry_pour --write-data)."
-  for s in $SIZES; do
-    for skin in $SKINS; do
-      last="$LOGS/${s}_quarry_np1_skin${skin}_r$REPEATS.log"
-      [ -f "$last" ] || continue
-      echo
-      echo "### Quarry per-stage time, $s, skin $skin m, 1 thread ($(basename "$last"))"
-      echo
-      echo '```'
-      sed -n '/^stage/,/^total/p' "$last"
-      echo '```'
-    done
-  done
+  stage_tables "$SIZES" "$SKINS"
 } >> "$RESULTS.md"
 echo "wrote $RESULTS.csv, $RESULTS.md, $RESULTS.png"

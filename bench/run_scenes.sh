@@ -176,17 +176,6 @@ done
   machine_line
   echo "- Invocation: \`SCENES=\"$SCENES\" REPEATS=$REPEATS CODES=\"$CODES\" THREADS=\"$THREADS\" SKINS=\"$SKINS\" STEPS=$STEPS bash bench/run_scenes.sh\`; Quarry commit $(git -C "$ROOT" rev-parse --short HEAD 2>/dev/null || echo unknown) (plus uncommitted changes, if any)"
   echo "- The scenes (bench/peers/scene_geometry.awk): spheres of 6 mm, 2500 kg/m³, from a jittered 6.6 mm lattice at rest; $STEPS steps of $DT s. Hopper: a square bin 0.15 m wide, a round outlet of 40 mm in its flat floor, open from the start, 10,164 spheres. Drum: a closed cylinder of radius 0.1 m and length 0.2 m turning at one turn per $PERIOD s about the horizontal y axis, 11,280 spheres filling about a third of it. Quarry's thread count is the governed one (\`--threads 2\` lets it take one where that is faster)."
-  for s in $SCENES; do
-    for skin in $SKINS; do
-      last="$LOGS/${s}_quarry_np1_skin${skin}_r$REPEATS.log"
-      [ -f "$last" ] || continue
-      echo
-      echo "### Quarry per-stage time, $s, skin $skin m, 1 thread ($(basename "$last"))"
-      echo
-      echo '```'
-      sed -n '/^stage/,/^total/p' "$last"
-      echo '```'
-    done
-  done
+  stage_tables "$SCENES" "$SKINS"
 } >> "$RESULTS.md"
 echo "wrote $RESULTS.csv, $RESULTS.md, $RESULTS.png"

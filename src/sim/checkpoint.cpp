@@ -435,6 +435,8 @@ RestoredWorld read_payload(std::istream& in, std::uint64_t payload_bytes) {
   }
   if (!r.at_end()) bad("bytes remain after the last section");
   validate(world);
+  // The skin is the last build's (an automatic skin was chosen then; a fixed one is the deck's).
+  if (world.pairs.builds > 0) world.skin = world.pairs.skin;
   // The search grids of moving surfaces are those of the last list build.
   for (WorldSurface& s : world.surfaces)
     if (s.moving()) build_search_grid(world, s);

@@ -369,10 +369,24 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   }
   if (world.max_radius <= 0.0) world.max_radius = 1e-3;
   if (min_radius > 1e299) min_radius = world.max_radius;
-  // Verlet skin: 10 % of the smallest diameter unless the deck says otherwise.
+  // Verlet skin: the deck's, or chosen at every list build (automatic_skin) from 10 % of the
+  // smallest diameter (the first build's, and the least) up to 40 %, within what the periodic
+  // axes allow.
   world.skin = spec.simulation.skin.value >= 0.0 ? spec.simulation.skin.value : 0.2 * min_radius;
   check_jkr_reach(world);
   set_periodic_axes(world);
+  if (spec.simulation.skin.value < 0.0) {
+    World::SkinChoice& skin = world.skin_choice;
+    skin.automatic = true;
+    skin.smallest_diameter = 2.0 * min_radius;
+    skin.floor = world.skin;
+    skin.ceiling = std::max(skin.floor, 0.8 * min_radius);
+    const Aabb& domain = spec.simulation.domain.value;
+    for (int a = 0; a < 3; ++a)  // the period must stay at least 3 × (2 R_max + skin)
+      if (world.pairs.periodic.any() && spec.simulation.periodic.value[a])
+        skin.ceiling = std::max(skin.floor,
+                                  std::min(skin.ceiling, (domain.hi[a] - domain.lo[a]) / 3.0 - 2.0 * world.max_radius));
+  }
 
   world.spec.surfaces.clear();  // add_surface appends each again
   for (std::size_t s = 0; s < spec.surfaces.size(); ++s)

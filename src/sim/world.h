@@ -298,7 +298,14 @@ struct World {
   double time = 0.0;  // s
   std::uint64_t step_count = 0;
   double dt = 0.0;          // s
-  double skin = 0.0;        // m
+  double skin = 0.0;        // m, of the lists being built (the last build's: pairs.skin)
+  // The skin when the deck gives none: chosen at every list build from the fastest particle
+  // (sim/world_update.cpp, automatic_skin), between these bounds (m); fixed when the deck sets it.
+  struct SkinChoice {
+    bool automatic = false;
+    double smallest_diameter = 0.0;  // m
+    double floor = 0.0, ceiling = 0.0;  // m
+  } skin_choice;
   double max_radius = 0.0;  // m, largest particle radius that can exist
   ParticleId next_id = 1;
   std::uint64_t removed_outside = 0;  // particles that left the domain

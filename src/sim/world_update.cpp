@@ -256,9 +256,43 @@ void wrap_into_period(World& world) {
 
 }  // namespace
 
+namespace {
+
+// The skin of the lists about to be built, when the deck leaves it to Quarry (issue 21: the
+// default of 10 % of the smallest diameter made a pour rebuild every 4 steps; 30 % ran the
+// flagship in 0.77 of the time). A skin s costs two ways per step: a build every s / (2u)
+// steps, u (m) the largest move per step, at c_b per particle; and the listed pairs, whose
+// count beyond the contacts grows about as 12 φ s / d per particle (a shell of width s around
+// spheres of diameter d at packing φ ≈ 0.6), at c_p each. The sum is least at
+// s² = u d c_b / (6 φ c_p); c_b / c_p ≈ 40 (a build ≈ 40 listed pair-steps per particle; from
+// the hopper's and the flagship's best measured skins, docs/performance.md) gives
+// s = √(11 u d). u is the fastest particle's speed × dt, or half the sum with the fastest
+// moving surface's (its triangles are re-listed at d + s > skin). Read from the state alone:
+// the same skin for any thread count and after a restart.
+double automatic_skin(const World& world) {
+  const World::SkinChoice& choice = world.skin_choice;
+  const ParticleStore& p = world.particles;
+  const std::size_t n = p.size();
+  const Vec3* const velocity = p.velocity.data();
+  double fastest_squared = 0.0;  // (m/s)²
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) reduction(max : fastest_squared)
+  for (std::size_t i = 0; i < n; ++i) fastest_squared = std::max(fastest_squared, norm2(velocity[i]));
+  double surface_squared = 0.0;  // (m/s)²
+  for (const WorldSurface& s : world.surfaces)
+    if (s.moving())
+      for (const Vec3& v : s.mesh.vertex_velocities) surface_squared = std::max(surface_squared, norm2(v));
+  const double particle_move = std::sqrt(fastest_squared) * world.dt;  // m per step
+  const double move = std::max(particle_move, 0.5 * (particle_move + std::sqrt(surface_squared) * world.dt));
+  const double best = std::sqrt(11.0 * move * choice.smallest_diameter);  // m
+  return std::isfinite(best) ? std::clamp(best, choice.floor, choice.ceiling) : choice.floor;
+}
+
+}  // namespace
+
 void rebuild_lists(World& world) {
   ParticleStore& p = world.particles;
   wrap_into_period(world);
+  if (world.skin_choice.automatic) world.skin = automatic_skin(world);
   const int interval = world.spec.simulation.sort_interval.value;
   if (interval > 0 && world.steps_since_sort >= static_cast<std::uint64_t>(interval)) {
     // Re-sort along a space-filling curve for cache locality; wall contacts follow their particle.
