@@ -360,7 +360,12 @@ void read_simulation_section(MapReader& root, SimulationSettings& settings) {
   read_domain(map, settings.domain, settings.periodic);
   map.read("integrator", settings.integrator, kIntegrators);
   map.read("threads", settings.threads, non_negative());
-  map.read("skin", settings.skin, non_negative(), "m");
+  // `skin: auto`: chosen at every list build from the fastest particle (sim/world_update.cpp).
+  const YAML::Node* skin = map.find("skin");
+  if (skin && skin->IsScalar() && skin->Scalar() == "auto")
+    settings.automatic_skin = true;
+  else
+    map.read("skin", settings.skin, non_negative(), "m");
   map.read("sort_interval", settings.sort_interval, non_negative());
   map.read("max_overlap_fraction", settings.max_overlap_fraction, interval(0.0, false, 1.0, true),
            "1");

@@ -180,7 +180,10 @@ void write_simulation(DeckText& deck, const SimulationSettings& settings) {
             vector_text(settings.domain.value.hi), periodic);
   deck.line(2, "integrator: {}", spelling(settings.integrator));
   deck.line(2, "threads: {}", settings.threads.value);
-  if (settings.skin.value >= 0.0) deck.line(2, "skin: {}", number(settings.skin));
+  if (settings.automatic_skin)
+    deck.line(2, "skin: auto");
+  else if (settings.skin.value >= 0.0)
+    deck.line(2, "skin: {}", number(settings.skin));
   deck.line(2, "sort_interval: {}", settings.sort_interval.value);
   deck.line(2, "max_overlap_fraction: {}", number(settings.max_overlap_fraction));
   deck.line(2, "seed: {}", settings.seed);

@@ -109,6 +109,7 @@ void expect_same(const SimulationSettings& a, const SimulationSettings& b,
   EXPECT_SAME_FIELD(integrator);
   EXPECT_SAME_FIELD(threads);
   EXPECT_SAME_FIELD(skin);
+  EXPECT_EQ(a.automatic_skin, b.automatic_skin) << what;
   EXPECT_SAME_FIELD(sort_interval);
   EXPECT_SAME_FIELD(max_overlap_fraction);
   EXPECT_SAME_FIELD(seed);
@@ -462,6 +463,7 @@ const std::vector<std::string> kVariantDecks = {
   end_time: 1
   time_step: {rayleigh_fraction: 0.15}
   domain: {min: [0, 0, 0], max: [1, 1, 1]}
+  skin: auto
 materials:
   - {name: m, density: 1000, youngs_modulus: 1.0e6, poisson_ratio: 0}
 interactions:

@@ -159,13 +159,18 @@ void reindex_wall_contacts(World& world, const std::vector<std::size_t>& order) 
       [](const WallContact& a, const WallContact& b) { return a.particle < b.particle; });
 }
 
-void drop_wall_contacts_of_removed(World& world, const std::vector<char>& removed) {
+std::vector<std::uint32_t> indices_after_removal(const std::vector<char>& removed) {
   std::vector<std::uint32_t> new_index(removed.size());
   std::uint32_t kept = 0;
   for (std::size_t i = 0; i < removed.size(); ++i) {
     new_index[i] = kept;
     kept += removed[i] ? 0 : 1;
   }
+  return new_index;
+}
+
+void drop_wall_contacts_of_removed(World& world, const std::vector<char>& removed) {
+  const std::vector<std::uint32_t> new_index = indices_after_removal(removed);
   std::erase_if(world.wall_contacts,
                 [&](const WallContact& c) { return removed[c.particle] != 0; });
   for (WallContact& c : world.wall_contacts) c.particle = new_index[c.particle];
@@ -369,13 +374,14 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   }
   if (world.max_radius <= 0.0) world.max_radius = 1e-3;
   if (min_radius > 1e299) min_radius = world.max_radius;
-  // Verlet skin: the deck's, or chosen at every list build (automatic_skin) from 10 % of the
-  // smallest diameter (the first build's, and the least) up to 40 %, within what the periodic
-  // axes allow.
-  world.skin = spec.simulation.skin.value >= 0.0 ? spec.simulation.skin.value : 0.2 * min_radius;
+  // Verlet skin: the deck's, 10 % of the smallest diameter by default, or with `skin: auto`
+  // chosen at every list build (automatic_skin) from that 10 % (the first build's, and the
+  // least) up to 40 %, within what the periodic axes allow.
+  world.skin = spec.simulation.skin.value >= 0.0 && !spec.simulation.automatic_skin ? spec.simulation.skin.value
+                                                                                   : 0.2 * min_radius;
   check_jkr_reach(world);
   set_periodic_axes(world);
-  if (spec.simulation.skin.value < 0.0) {
+  if (spec.simulation.automatic_skin) {
     World::SkinChoice& skin = world.skin_choice;
     skin.automatic = true;
     skin.smallest_diameter = 2.0 * min_radius;

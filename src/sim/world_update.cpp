@@ -93,12 +93,7 @@ void build_surface_candidates(World& world) {
 // The surface candidates of the particles left after removing those flagged (by index),
 // renumbered as ParticleStore::remove_flagged renumbers them (keeping the order).
 void remove_from_candidates(SurfaceCandidates& c, const std::vector<char>& removed) {
-  std::vector<std::uint32_t> new_index(removed.size());
-  std::uint32_t kept = 0;
-  for (std::size_t i = 0; i < removed.size(); ++i) {
-    new_index[i] = kept;
-    kept += removed[i] ? 0 : 1;
-  }
+  const std::vector<std::uint32_t> new_index = indices_after_removal(removed);
   // In place, front to back: entries only move to lower positions.
   std::size_t rows = 0, entries = 0;
   for (std::size_t q = 0; q < c.particles.size(); ++q) {
@@ -258,9 +253,9 @@ void wrap_into_period(World& world) {
 
 namespace {
 
-// The skin of the lists about to be built, when the deck leaves it to Quarry (issue 21: the
-// default of 10 % of the smallest diameter made a pour rebuild every 4 steps; 30 % ran the
-// flagship in 0.77 of the time). A skin s costs two ways per step: a build every s / (2u)
+// The skin of the lists about to be built, with `skin: auto` (issue 21: the default of 10 % of
+// the smallest diameter made a pour rebuild every 4 steps; 30 % ran the flagship in 0.77 of
+// the time). A skin s costs two ways per step: a build every s / (2u)
 // steps, u (m) the largest move per step, at c_b per particle; and the listed pairs, whose
 // count beyond the contacts grows about as 12 φ s / d per particle (a shell of width s around
 // spheres of diameter d at packing φ ≈ 0.6), at c_p each. The sum is least at
