@@ -249,10 +249,6 @@ void wrap_into_period(World& world) {
   for (std::size_t i = 0; i < n; ++i) position[i] = box.wrapped(position[i]);
 }
 
-}  // namespace
-
-namespace {
-
 // The skin of the lists about to be built, with `skin: auto` (issue 21: the default of 10 % of
 // the smallest diameter made a pour rebuild every 4 steps; 30 % ran the flagship in 0.77 of
 // the time). A skin s costs two ways per step: a build every s / (2u)
