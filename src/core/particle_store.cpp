@@ -63,6 +63,16 @@ void ParticleStore::remove_flagged(const std::vector<char>& remove) {
   layout_epoch += 1;
 }
 
+std::vector<std::uint32_t> indices_after_removal(const std::vector<char>& removed) {
+  std::vector<std::uint32_t> new_index(removed.size());
+  std::uint32_t kept = 0;
+  for (std::size_t i = 0; i < removed.size(); ++i) {
+    new_index[i] = kept;
+    kept += removed[i] ? 0 : 1;
+  }
+  return new_index;
+}
+
 void ParticleStore::permute(const std::vector<std::size_t>& order) {
   assert(order.size() == size());
   for_each_array(*this, [&](auto& array, std::size_t stride) {

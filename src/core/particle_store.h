@@ -88,4 +88,9 @@ struct ParticleStore {
   double inv_inertia(std::size_t i) const { return 2.5 * inv_mass[i] / (radius[i] * radius[i]); }
 };
 
+// Each particle's index after ParticleStore::remove_flagged(removed) (which keeps the order); a
+// removed particle gets the index its next kept one will have. For what holds particle indices
+// across a removal (the wall contacts, the neighbour lists).
+std::vector<std::uint32_t> indices_after_removal(const std::vector<char>& removed);
+
 }  // namespace quarry

@@ -360,10 +360,16 @@ void read_simulation_section(MapReader& root, SimulationSettings& settings) {
   read_domain(map, settings.domain, settings.periodic);
   map.read("integrator", settings.integrator, kIntegrators);
   map.read("threads", settings.threads, non_negative());
-  // `skin: auto`: chosen at every list build from the fastest particle (sim/world_update.cpp).
+  // `skin: auto`: chosen at every list build from the fastest particle (sim/world_update.cpp);
+  // a word that is neither a number nor `auto` says that both exist.
   const YAML::Node* skin = map.find("skin");
+  double skin_number = 0.0;  // m
   if (skin && skin->IsScalar() && skin->Scalar() == "auto")
     settings.automatic_skin = true;
+  else if (skin && skin->IsScalar() && !YAML::convert<double>::decode(*skin, skin_number))
+    map.context().error(map.where_value("skin"),
+                        fmt::format("expected a number (m) or auto for \"skin\", got \"{}\"", skin->Scalar()),
+                        suggestion_hint(skin->Scalar(), {"auto"}, "a fixed skin in m, or "));
   else
     map.read("skin", settings.skin, non_negative(), "m");
   map.read("sort_interval", settings.sort_interval, non_negative());

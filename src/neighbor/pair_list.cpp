@@ -125,7 +125,8 @@ inline void append_partners(std::uint32_t i, const Vec3* position, const double*
     for (std::uint32_t y = y_first; y <= y_last; ++y) {
       const std::uint32_t row = nx * (y + ny * z);
       const std::uint32_t begin = cell_start[row + x_first], stop = cell_start[row + x_last + 1];
-      if (used + (stop - begin) > out.size()) out.resize(std::max(2 * out.size(), used + (stop - begin)));
+      const std::size_t room = used + (stop - begin);  // enough if every candidate is a partner
+      if (room > out.size()) out.resize(std::max(2 * out.size(), room));
       std::uint32_t* const destination = out.data();
       for (std::uint32_t k = begin; k < stop; ++k) {
         const std::uint32_t j = particle_of[k];
@@ -157,10 +158,10 @@ inline int cells_around(const CellGrid& grid, int axis, std::uint32_t c, std::ui
   return count;
 }
 
-// The partners of append_partners across periodic faces: the cells around i's cell wrap on periodic axes, and
-// the separation is the minimum image. Needed only for a particle in a cell at a periodic face
-// (at_periodic_face); a separate function, so that every other search keeps its contiguous row
-// ranges and plain differences.
+// The partners of append_partners across periodic faces: the cells around i's cell wrap on
+// periodic axes, and the separation is the minimum image. Needed only for a particle in a cell
+// at a periodic face (at_periodic_face); a separate function, so that every other search keeps
+// its contiguous row ranges and plain differences.
 template <class Visit>
 inline void for_each_periodic_partner(std::uint32_t i, const Vec3* position, const double* radius,
                                       double skin, const CellGrid& grid, const PeriodicBox& box,
@@ -419,10 +420,8 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
 void remove_from_pair_list(PairList& list, const std::vector<char>& removed) {
   const std::size_t n = removed.size();
   assert(list.built_for(n) && list.offsets.size() == n + 1);
-  std::vector<std::uint32_t> new_index(n, kNoIndex);
-  std::uint32_t kept = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    if (!removed[i]) new_index[i] = kept++;
+  const std::vector<std::uint32_t> new_index = indices_after_removal(removed);  // of kept ones
+  const std::size_t kept = static_cast<std::size_t>(std::count(removed.begin(), removed.end(), 0));
   const bool rolling = !list.rolling_torque.empty();
   const bool jkr = !list.jkr_attached.empty();
   // In place, front to back: an entry or row only ever moves to a lower position.
@@ -444,7 +443,7 @@ void remove_from_pair_list(PairList& list, const std::vector<char>& removed) {
     list.reference_positions[new_index[i]] = list.reference_positions[i];
     list.ids_at_build[new_index[i]] = list.ids_at_build[i];
   }
-  list.offsets.resize(std::size_t{kept} + 1);
+  list.offsets.resize(kept + 1);
   list.offsets[kept] = static_cast<std::uint32_t>(out);
   list.partner.resize(out);
   list.tangential_displacement.resize(out);

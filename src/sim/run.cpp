@@ -52,7 +52,7 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
   auto last_progress = Clock::now();
   ProgressEta eta_pace;  // smoothed over about 30 s of wall time (core/progress_eta.h)
   double last_progress_time = world.time;  // s, simulated time at the last progress line
-  const double progress_every = world.spec.output.progress_interval.value;  // s of wall time; 0: none
+  const double progress_every = world.spec.output.progress_interval.value;  // wall s; 0: none
   std::vector<char> reported_shortfall(world.factories.size(), 0);
   // The team of each step: all requested threads, or one while that is measured to be faster
   // (another process busy on the cores; thread_governor.h). Results do not depend on it.
@@ -98,10 +98,11 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
       log << "quarry: warning: " << text << "\n";
     }
     const auto now = std::chrono::steady_clock::now();
-    if (!options.quiet && progress_every > 0.0 && std::chrono::duration<double>(now - last_progress).count() >= progress_every) {
+    const double since_progress = std::chrono::duration<double>(now - last_progress).count();  // s
+    if (!options.quiet && progress_every > 0.0 && since_progress >= progress_every) {
       // ETA from the recent pace (the cost per step grows as particles are added), smoothed so
       // that an interval holding a frame or a checkpoint does not swing it.
-      eta_pace.add(world.time - last_progress_time, std::chrono::duration<double>(now - last_progress).count());
+      eta_pace.add(world.time - last_progress_time, since_progress);
       const double eta = eta_pace.seconds_left(end_time - world.time);
       const double wall = std::chrono::duration<double>(now - start).count();
       last_progress = now;

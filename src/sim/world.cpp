@@ -159,16 +159,6 @@ void reindex_wall_contacts(World& world, const std::vector<std::size_t>& order) 
       [](const WallContact& a, const WallContact& b) { return a.particle < b.particle; });
 }
 
-std::vector<std::uint32_t> indices_after_removal(const std::vector<char>& removed) {
-  std::vector<std::uint32_t> new_index(removed.size());
-  std::uint32_t kept = 0;
-  for (std::size_t i = 0; i < removed.size(); ++i) {
-    new_index[i] = kept;
-    kept += removed[i] ? 0 : 1;
-  }
-  return new_index;
-}
-
 void drop_wall_contacts_of_removed(World& world, const std::vector<char>& removed) {
   const std::vector<std::uint32_t> new_index = indices_after_removal(removed);
   std::erase_if(world.wall_contacts,
@@ -377,21 +367,21 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   // Verlet skin: the deck's, 10 % of the smallest diameter by default, or with `skin: auto`
   // chosen at every list build (automatic_skin) from that 10 % (the first build's, and the
   // least) up to 40 %, within what the periodic axes allow.
-  world.skin = spec.simulation.skin.value >= 0.0 && !spec.simulation.automatic_skin ? spec.simulation.skin.value
-                                                                                   : 0.2 * min_radius;
+  const bool fixed_skin = spec.simulation.skin.value >= 0.0 && !spec.simulation.automatic_skin;
+  world.skin = fixed_skin ? spec.simulation.skin.value : 0.2 * min_radius;
   check_jkr_reach(world);
   set_periodic_axes(world);
   if (spec.simulation.automatic_skin) {
     World::SkinChoice& skin = world.skin_choice;
-    skin.automatic = true;
     skin.smallest_diameter = 2.0 * min_radius;
     skin.floor = world.skin;
     skin.ceiling = std::max(skin.floor, 0.8 * min_radius);
     const Aabb& domain = spec.simulation.domain.value;
-    for (int a = 0; a < 3; ++a)  // the period must stay at least 3 × (2 R_max + skin)
-      if (world.pairs.periodic.any() && spec.simulation.periodic.value[a])
-        skin.ceiling = std::max(skin.floor,
-                                  std::min(skin.ceiling, (domain.hi[a] - domain.lo[a]) / 3.0 - 2.0 * world.max_radius));
+    for (int a = 0; a < 3; ++a) {  // the period must stay at least 3 × (2 R_max + skin)
+      if (!spec.simulation.periodic.value[a]) continue;
+      const double widest = (domain.hi[a] - domain.lo[a]) / 3.0 - 2.0 * world.max_radius;  // m
+      skin.ceiling = std::max(skin.floor, std::min(skin.ceiling, widest));
+    }
   }
 
   world.spec.surfaces.clear();  // add_surface appends each again

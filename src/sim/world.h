@@ -299,10 +299,9 @@ struct World {
   std::uint64_t step_count = 0;
   double dt = 0.0;          // s
   double skin = 0.0;        // m, of the lists being built (the last build's: pairs.skin)
-  // With `skin: auto`: chosen at every list build from the fastest particle
-  // (sim/world_update.cpp, automatic_skin), between these bounds (m); otherwise fixed.
+  // With `skin: auto` (spec.simulation.automatic_skin): chosen at every list build from the
+  // fastest particle (sim/world_update.cpp, automatic_skin), between these bounds (m).
   struct SkinChoice {
-    bool automatic = false;
     double smallest_diameter = 0.0;  // m
     double floor = 0.0, ceiling = 0.0;  // m
   } skin_choice;
@@ -372,9 +371,6 @@ std::size_t add_surface(World& world, const SurfaceSpec& surface, const Surface*
 // particles are dropped. The pair list needs nothing: it remaps by particle id at its rebuild.
 void reindex_wall_contacts(World& world, const std::vector<std::size_t>& order);
 void drop_wall_contacts_of_removed(World& world, const std::vector<char>& removed);
-// Each particle's index after ParticleStore::remove_flagged(removed) (which keeps the order);
-// a removed particle gets the index its next kept one will have.
-std::vector<std::uint32_t> indices_after_removal(const std::vector<char>& removed);
 
 // The particle types' info for factories and estimates.
 std::vector<ParticleTypeInfo> particle_type_infos(const SimulationSpec& spec);

@@ -283,7 +283,7 @@ double automatic_skin(const World& world) {
 void rebuild_lists(World& world) {
   ParticleStore& p = world.particles;
   wrap_into_period(world);
-  if (world.skin_choice.automatic) world.skin = automatic_skin(world);
+  if (world.spec.simulation.automatic_skin) world.skin = automatic_skin(world);
   const int interval = world.spec.simulation.sort_interval.value;
   if (interval > 0 && world.steps_since_sort >= static_cast<std::uint64_t>(interval)) {
     // Re-sort along a space-filling curve for cache locality; wall contacts follow their particle.
