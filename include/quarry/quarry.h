@@ -130,7 +130,7 @@ typedef struct quarry_settings {
   double domain_max[3];
   double end_time;              /* s, for the outputs' schedule (default 1) */
   double impact_speed;          /* m/s for the Hertz contact-time check; 0: 1 m/s */
-  double skin;                  /* m; < 0: 0.1 × the smallest diameter (default) */
+  double skin;                  /* m; < 0: chosen at every list build (default; docs/deck.md) */
   int32_t integrator;           /* QUARRY_INTEGRATOR_* */
   int32_t sort_interval;        /* steps between spatial re-sorts (default 1000; 0: never) */
   double max_overlap_fraction;  /* overlap guard, fraction of the smaller radius (default 0.1) */

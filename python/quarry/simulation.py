@@ -351,8 +351,8 @@ class Simulation:
     def set_settings(self, domain=None, **settings):
         """Sets the simulation's settings (before start): any of time_step (s; 0: from the
         Rayleigh time step), rayleigh_fraction, gravity (m/s², 3), domain_min, domain_max (m, 3;
-        or domain=(min, max)), end_time (s), impact_speed (m/s; 0: 1 m/s), skin (m; < 0: 0.1 ×
-        the smallest diameter), integrator ("velocity_verlet" or "symplectic_euler"),
+        or domain=(min, max)), end_time (s), impact_speed (m/s; 0: 1 m/s), skin (m; < 0: chosen
+        at every list build, the default), integrator ("velocity_verlet" or "symplectic_euler"),
         sort_interval (steps; 0: never), max_overlap_fraction, seed, periodic (the axes along
         which the domain repeats, as a deck's `periodic: [x, y]`: ("x", "y"), "xy" or
         (True, True, False); () for none, the default). Keys not given keep their earlier value

@@ -36,8 +36,7 @@ struct SimulationSettings {
   Located<std::array<bool, 3>> periodic{std::array<bool, 3>{false, false, false}};
   Located<Integrator> integrator{Integrator::velocity_verlet};
   Located<int> threads{0};                    // 0 = OpenMP default
-  Located<double> skin{-1.0};                 // m; < 0 = 0.1 × smallest diameter
-  bool automatic_skin = false;                // `skin: auto`: chosen at every list build
+  Located<double> skin{-1.0};                 // m; < 0 (unset or `auto`): chosen at every list build
   Located<int> sort_interval{1000};           // steps between spatial re-sorts (0 = never)
   Located<double> max_overlap_fraction{0.1};  // guard: overlap / smaller radius
   std::uint64_t seed = 12345;                 // random seed for factories

@@ -365,7 +365,7 @@ void read_simulation_section(MapReader& root, SimulationSettings& settings) {
   const YAML::Node* skin = map.find("skin");
   double skin_number = 0.0;  // m
   if (skin && skin->IsScalar() && skin->Scalar() == "auto")
-    settings.automatic_skin = true;
+    settings.skin = Located<double>{-1.0, map.where_value("skin")};
   else if (skin && skin->IsScalar() && !YAML::convert<double>::decode(*skin, skin_number))
     map.context().error(map.where_value("skin"),
                         fmt::format("expected a number (m) or auto for \"skin\", got \"{}\"", skin->Scalar()),

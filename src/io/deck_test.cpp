@@ -128,9 +128,9 @@ TEST(Deck, SkinAutoIsTheChosenSkinAndANumberAFixedOne) {
            "particle_types:\n  - {name: p, material: m, size: {distribution: fixed, radius: 0.01}}\n";
   };
   const SimulationSpec automatic = parse_deck_string(deck("auto"), "auto.yaml");
-  EXPECT_TRUE(automatic.simulation.automatic_skin);
+  EXPECT_LT(automatic.simulation.skin.value, 0.0);
+  EXPECT_EQ(automatic.simulation.skin.where.line, 4);
   const SimulationSpec fixed = parse_deck_string(deck("0.001"), "fixed.yaml");
-  EXPECT_FALSE(fixed.simulation.automatic_skin);
   EXPECT_DOUBLE_EQ(fixed.simulation.skin.value, 0.001);
 }
 

@@ -180,9 +180,9 @@ void write_simulation(DeckText& deck, const SimulationSettings& settings) {
             vector_text(settings.domain.value.hi), periodic);
   deck.line(2, "integrator: {}", spelling(settings.integrator));
   deck.line(2, "threads: {}", settings.threads.value);
-  if (settings.automatic_skin)
+  if (settings.skin.value < 0.0)
     deck.line(2, "skin: auto");
-  else if (settings.skin.value >= 0.0)
+  else
     deck.line(2, "skin: {}", number(settings.skin));
   deck.line(2, "sort_interval: {}", settings.sort_interval.value);
   deck.line(2, "max_overlap_fraction: {}", number(settings.max_overlap_fraction));

@@ -109,7 +109,6 @@ void expect_same(const SimulationSettings& a, const SimulationSettings& b,
   EXPECT_SAME_FIELD(integrator);
   EXPECT_SAME_FIELD(threads);
   EXPECT_SAME_FIELD(skin);
-  EXPECT_EQ(a.automatic_skin, b.automatic_skin) << what;
   EXPECT_SAME_FIELD(sort_interval);
   EXPECT_SAME_FIELD(max_overlap_fraction);
   EXPECT_SAME_FIELD(seed);

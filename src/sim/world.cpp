@@ -364,15 +364,16 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   }
   if (world.max_radius <= 0.0) world.max_radius = 1e-3;
   if (min_radius > 1e299) min_radius = world.max_radius;
-  // Verlet skin: the deck's, 10 % of the smallest diameter by default, or with `skin: auto`
-  // chosen at every list build (automatic_skin) from that 10 % (the first build's, and the
-  // least) up to 40 %, within what the periodic axes allow.
-  const bool fixed_skin = spec.simulation.skin.value >= 0.0 && !spec.simulation.automatic_skin;
+  // Verlet skin: the deck's, or (unset or `auto`) chosen at every list build (automatic_skin)
+  // from 10 % of the smallest diameter (the first build's, and the least) up to 40 %, within
+  // what the periodic axes allow.
+  const bool fixed_skin = spec.simulation.skin.value >= 0.0;
   world.skin = fixed_skin ? spec.simulation.skin.value : 0.2 * min_radius;
   check_jkr_reach(world);
   set_periodic_axes(world);
-  if (spec.simulation.automatic_skin) {
+  if (!fixed_skin) {
     World::SkinChoice& skin = world.skin_choice;
+    skin.automatic = true;
     skin.smallest_diameter = 2.0 * min_radius;
     skin.floor = world.skin;
     skin.ceiling = std::max(skin.floor, 0.8 * min_radius);

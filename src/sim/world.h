@@ -299,9 +299,10 @@ struct World {
   std::uint64_t step_count = 0;
   double dt = 0.0;          // s
   double skin = 0.0;        // m, of the lists being built (the last build's: pairs.skin)
-  // With `skin: auto` (spec.simulation.automatic_skin): chosen at every list build from the
+  // Unless the deck fixes it (spec.simulation.skin ≥ 0): chosen at every list build from the
   // fastest particle (sim/world_update.cpp, automatic_skin), between these bounds (m).
   struct SkinChoice {
+    bool automatic = false;
     double smallest_diameter = 0.0;  // m
     double floor = 0.0, ceiling = 0.0;  // m
   } skin_choice;

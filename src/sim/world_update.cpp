@@ -249,7 +249,7 @@ void wrap_into_period(World& world) {
   for (std::size_t i = 0; i < n; ++i) position[i] = box.wrapped(position[i]);
 }
 
-// The skin of the lists about to be built, with `skin: auto` (issue 21: the default of 10 % of
+// The skin of the lists about to be built unless the deck fixes one (issue 21: a fixed 10 % of
 // the smallest diameter made a pour rebuild every 4 steps; 30 % ran the flagship in 0.77 of
 // the time). A skin s costs two ways per step: a build every s / (2u)
 // steps, u (m) the largest move per step, at c_b per particle; and the listed pairs, whose
@@ -283,7 +283,7 @@ double automatic_skin(const World& world) {
 void rebuild_lists(World& world) {
   ParticleStore& p = world.particles;
   wrap_into_period(world);
-  if (world.spec.simulation.automatic_skin) world.skin = automatic_skin(world);
+  if (world.skin_choice.automatic) world.skin = automatic_skin(world);
   const int interval = world.spec.simulation.sort_interval.value;
   if (interval > 0 && world.steps_since_sort >= static_cast<std::uint64_t>(interval)) {
     // Re-sort along a space-filling curve for cache locality; wall contacts follow their particle.

@@ -133,7 +133,7 @@ TEST(LazyLists, AnAutomaticSkinGrowsWithTheFallAndKeepsTheBits) {
   const std::string sort_line = "  sort_interval: 0";
   deck.replace(deck.find(sort_line), sort_line.size(), sort_line + "\n  skin: auto");
   const SimulationSpec spec = parse_deck_string(deck, "stream_auto.yaml");
-  ASSERT_TRUE(spec.simulation.automatic_skin);
+  ASSERT_LT(spec.simulation.skin.value, 0.0);
   World lazy = start_world(spec, 1);
   World eager = start_world(spec, 1);
   const double floor = lazy.skin_choice.floor;  // m
@@ -158,6 +158,16 @@ TEST(LazyLists, AnAutomaticSkinGrowsWithTheFallAndKeepsTheBits) {
   sim::advance(lazy, 3000);
   sim::advance(restored.world, 3000);
   EXPECT_EQ(sim::state_hash(restored.world), sim::state_hash(lazy));
+}
+
+// The automatic skin is the default: a deck without `skin` gets it, a number fixes the skin.
+TEST(LazyLists, TheSkinIsAutomaticUnlessTheDeckFixesIt) {
+  std::string deck = kStream;
+  ASSERT_EQ(deck.find("skin:"), std::string::npos);
+  EXPECT_TRUE(start_world(parse_deck_string(deck, "stream.yaml"), 1).skin_choice.automatic);
+  const World fixed = start_world(parse_deck_string(kDeck, "plate.yaml"), 1);
+  EXPECT_FALSE(fixed.skin_choice.automatic);
+  EXPECT_EQ(fixed.skin, 0.001);
 }
 
 }  // namespace
