@@ -5,6 +5,9 @@
 #include <omp.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <span>
+#include <utility>
 
 namespace quarry {
 
@@ -22,6 +25,22 @@ struct Threading {
     return available > 1 ? available : 1;
   }
 };
+
+// The items [first, end) of thread t of a team of `threads` over n items: range t of `start`
+// (threads + 1 ascending starts ending at n) when it is a split of n for this team, else the
+// t-th of equal blocks. The step's per-particle passes take the force stage's ranges so that
+// each particle is updated on the thread that sums its forces: on two vCPUs a line written by
+// the other core is fetched from it and a line it has read is invalidated there first (the
+// drum on 2 threads: the drift's stores to the thread-1 half took 3.4x thread 0's when the
+// passes split at n/2 and the force ranges at 0.49-0.53 n; docs/performance.md).
+inline std::pair<std::size_t, std::size_t> thread_block(std::size_t n, int t, int threads,
+                                                        std::span<const std::uint32_t> start) {
+  if (start.size() == static_cast<std::size_t>(threads) + 1 && start.back() == n)
+    return {start[t], start[t + 1]};
+  const std::size_t base = n / threads, extra = n % threads, ut = static_cast<std::size_t>(t);
+  const std::size_t first = ut * base + (ut < extra ? ut : extra);
+  return {first, first + base + (ut < extra ? 1 : 0)};
+}
 
 // Makes `threading.threads` the calling thread's OpenMP default for a scope (the neighbour
 // module's loops use the default team), and restores the previous default on exit. OpenMP's

@@ -4,9 +4,14 @@
 // second/first order symplectic schemes; tests/integrator_order_test checks their orders.
 #pragma once
 
+#include <omp.h>
+
 #include <cstddef>
+#include <cstdint>
+#include <span>
 
 #include "core/particle_store.h"
+#include "core/threading.h"
 
 namespace quarry::integrate {
 
@@ -16,11 +21,15 @@ inline void kick_particle(ParticleStore& p, std::size_t i, double h) {
   p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
 }
 
-// Every particle kicked by h (s), on `team` threads.
-inline void kick(ParticleStore& p, double h, int team = 1) {
+// Every particle kicked by h (s), on `team` threads, thread t taking range t of `ranges`
+// (thread_block; equal blocks if they do not fit).
+inline void kick(ParticleStore& p, double h, int team = 1, std::span<const std::uint32_t> ranges = {}) {
   const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) num_threads(team)
-  for (std::size_t i = 0; i < n; ++i) kick_particle(p, i, h);
+#pragma omp parallel num_threads(team)
+  {
+    const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
+    for (std::size_t i = first; i < end; ++i) kick_particle(p, i, h);
+  }
 }
 
 // Particle i: kick by h then drift by dt (s).

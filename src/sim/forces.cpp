@@ -831,10 +831,14 @@ void set_velocity_leads(World& world, double h) {
   Vec3* const lead = ws.velocity_lead.data();
   Vec3* const spin_lead = ws.angular_velocity_lead.data();
   ws.lead_time = h;
-#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
-  for (std::size_t i = 0; i < n; ++i) {
-    lead[i] = p.force[i] * (h * p.inv_mass[i]);
-    spin_lead[i] = p.torque[i] * (h * p.inv_inertia(i));
+  const std::span<const std::uint32_t> ranges = particle_ranges(world);
+#pragma omp parallel num_threads(world.threading.team(n))
+  {
+    const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
+    for (std::size_t i = first; i < end; ++i) {
+      lead[i] = p.force[i] * (h * p.inv_mass[i]);
+      spin_lead[i] = p.torque[i] * (h * p.inv_inertia(i));
+    }
   }
 }
 

@@ -97,26 +97,29 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
   const Vec3* const reference = compare ? list.reference_positions.data() : nullptr;  // m
   const ParticleId* const id_at_build = compare ? list.ids_at_build.data() : nullptr;
   OpeningTally tally;
-#pragma omp parallel for schedule(static) num_threads(world.threading.team(n)) reduction(merge \
-                                                                                         : tally)
-  for (std::size_t i = 0; i < n; ++i) {
-    integrate::kick_drift_particle(p, i, h, dt);
-    const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
-    // Branch-free: x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum tells whether
-    // all nine components are finite (the first offender is searched only if one is not).
-    const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
-                        (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
-    tally.non_finite |= !(zero == 0.0);
-    if (domain) tally.any_outside |= !domain->contains(x);
-    // Moved more than half its radius (|v| dt > R/2): check_tunnelling looks closer.
-    tally.fast |=
-        (v.x * v.x + v.y * v.y + v.z * v.z) * (dt * dt) > 0.25 * p.radius[i] * p.radius[i];
-    if (reference) {
-      // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
-      const double d2 = norm2(x - reference[i]);  // m²
-      tally.largest_displacement_squared =
-          d2 > tally.largest_displacement_squared ? d2 : tally.largest_displacement_squared;
-      tally.ids_changed |= p.id[i] != id_at_build[i];
+  const std::span<const std::uint32_t> ranges = particle_ranges(world);
+#pragma omp parallel num_threads(world.threading.team(n)) reduction(merge : tally)
+  {
+    const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
+    for (std::size_t i = first; i < end; ++i) {
+      integrate::kick_drift_particle(p, i, h, dt);
+      const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
+      // Branch-free: x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum tells whether
+      // all nine components are finite (the first offender is searched only if one is not).
+      const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
+                          (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
+      tally.non_finite |= !(zero == 0.0);
+      if (domain) tally.any_outside |= !domain->contains(x);
+      // Moved more than half its radius (|v| dt > R/2): check_tunnelling looks closer.
+      tally.fast |=
+          (v.x * v.x + v.y * v.y + v.z * v.z) * (dt * dt) > 0.25 * p.radius[i] * p.radius[i];
+      if (reference) {
+        // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
+        const double d2 = norm2(x - reference[i]);  // m²
+        tally.largest_displacement_squared =
+            d2 > tally.largest_displacement_squared ? d2 : tally.largest_displacement_squared;
+        tally.ids_changed |= p.id[i] != id_at_build[i];
+      }
     }
   }
   std::size_t first_bad = n;

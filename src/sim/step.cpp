@@ -151,7 +151,7 @@ void step(World& world) {
   compute_forces(world, verlet ? 0.5 * dt : 0.0);
   if (verlet) {
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
-    integrate::kick(world.particles, 0.5 * dt, team);
+    integrate::kick(world.particles, 0.5 * dt, team, particle_ranges(world));
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("guards"));
@@ -185,20 +185,17 @@ void set_body_forces(World& world) {
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
-  if (!p.has_external_loads()) {
-#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
-    for (std::size_t i = 0; i < n; ++i) {
+  const bool loads = p.has_external_loads();
+  const std::span<const std::uint32_t> ranges = particle_ranges(world);
+#pragma omp parallel num_threads(world.threading.team(n))
+  {
+    const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
+    for (std::size_t i = first; i < end; ++i) {
       // A fixed particle (inv_mass 0) has no weight to carry: m g would be inf (and 0/0 = NaN).
-      p.force[i] = p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{};
-      p.torque[i] = Vec3{};
+      const Vec3 weight = p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{};  // N
+      p.force[i] = loads ? weight + p.external_force[i] + p.external_force_once[i] : weight;
+      p.torque[i] = loads ? p.external_torque[i] + p.external_torque_once[i] : Vec3{};
     }
-    return;
-  }
-#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
-  for (std::size_t i = 0; i < n; ++i) {
-    p.force[i] = (p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{}) + p.external_force[i] +
-                 p.external_force_once[i];
-    p.torque[i] = p.external_torque[i] + p.external_torque_once[i];
   }
 }
 

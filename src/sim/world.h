@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -375,5 +376,11 @@ void drop_wall_contacts_of_removed(World& world, const std::vector<char>& remove
 
 // The particle types' info for factories and estimates.
 std::vector<ParticleTypeInfo> particle_type_infos(const SimulationSpec& spec);
+
+// The force stage's split of the particles between its threads (ForceWorkspace::PairPlan): the
+// step's per-particle passes take the same ranges (core/threading.h, thread_block).
+inline std::span<const std::uint32_t> particle_ranges(const World& world) {
+  return world.force_workspace.plan.range_start;
+}
 
 }  // namespace quarry
