@@ -23,6 +23,10 @@ struct Surface {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   std::vector<Vec3> triangle_normals;            // unit, right-hand rule of vertex order
   std::vector<double> triangle_areas;            // m²
+  // Each triangle lies within triangle_reach (m) of its centroid (m): a bound that lets the
+  // contact search skip a triangle without finding its closest point (surface_contact.cpp).
+  std::vector<Vec3> triangle_centroids;
+  std::vector<double> triangle_reach;
   Vec3 conveyor_velocity;                        // tangential surface velocity added at contacts
   bool export_loads = false;
   // Driven (prescribed motion or a coupling partner): the vertices leave reference_vertices
@@ -38,8 +42,11 @@ struct Surface {
   std::size_t triangle_count() const { return triangles.size(); }
   std::size_t vertex_count() const { return vertices.size(); }
 
-  // Recomputes triangle_normals and triangle_areas from vertices.
+  // Recomputes triangle_normals, triangle_areas, triangle_centroids and triangle_reach from
+  // vertices (call whenever the vertices move).
   void update_normals_and_areas();
+  // Recomputes triangle_centroids and triangle_reach alone (a restored checkpoint has the rest).
+  void update_triangle_bounds();
   // Sizes the load arrays to the mesh and zeroes them (call after the mesh changes).
   void reset_loads();
   // Zeroes the per-step loads (triangle_force, vertex_force, totals).

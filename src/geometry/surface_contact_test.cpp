@@ -248,5 +248,52 @@ TEST(SurfaceContact, SphereAroundAFacetedPillarFeelsOneContactAtTheClosedFormDis
   }
 }
 
+// The triangles' bounds (a disc of the sphere in each triangle's plane against the triangle's
+// reach from its centroid) only skip triangles that no point of within R: the contacts are those
+// found without them (every candidate's closest point computed), for spheres of every size
+// against a box and a faceted pillar with caps, wherever they stand, and for spheres that just
+// reach a vertex, an edge's midpoint or a face's centre (overlap a part in 10⁹ of R).
+TEST(SurfaceContact, TheTrianglesBoundsSkipOnlyTrianglesOutOfReach) {
+  std::mt19937_64 random(20261204);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (const Surface& bounded : {make_box({0, 0, 0}, {1, 1, 1}, 4),
+                                 make_cylinder({0.5, 0.5, 0}, {0, 0, 1}, 0.4, 1.0, 24, true, true)}) {
+    ASSERT_EQ(bounded.triangle_reach.size(), bounded.triangle_count());
+    Surface unbounded = bounded;
+    unbounded.triangle_reach.clear();
+    unbounded.triangle_centroids.clear();
+    const MeshTopology topology = build_topology(bounded);
+    const std::vector<std::uint32_t> candidates = all_triangles(bounded);
+    std::vector<SurfaceContact> with, without;
+    std::size_t touching = 0;
+    const auto compare = [&](const Vec3& centre, double radius) {
+      find_surface_contacts(bounded, topology, centre, radius, candidates, with);
+      find_surface_contacts(unbounded, topology, centre, radius, candidates, without);
+      ASSERT_EQ(with.size(), without.size()) << "centre " << centre.x << " " << centre.y << " " << centre.z;
+      for (std::size_t k = 0; k < with.size(); ++k) {
+        EXPECT_EQ(with[k].triangle, without[k].triangle);
+        EXPECT_EQ(with[k].feature, without[k].feature);
+        EXPECT_EQ(with[k].feature_index, without[k].feature_index);
+        EXPECT_EQ(with[k].overlap, without[k].overlap);
+      }
+      touching += !with.empty();
+    };
+    for (int n = 0; n < 4000; ++n) {
+      const Vec3 centre{1.4 * unit(random) - 0.2, 1.4 * unit(random) - 0.2, 1.4 * unit(random) - 0.2};  // m
+      compare(centre, 0.3 * std::pow(10.0, -3.0 * unit(random)));  // 0.3 mm to 0.3 m
+    }
+    for (std::size_t t = 0; t < bounded.triangle_count(); ++t) {
+      const auto& tri = bounded.triangles[t];
+      const Vec3 a = bounded.vertices[tri[0]], b = bounded.vertices[tri[1]], c = bounded.vertices[tri[2]];
+      for (const Vec3& target : {a, (a + b) / 2.0, (a + b + c) / 3.0}) {
+        const double radius = 0.01 + 0.05 * unit(random);  // m
+        const Vec3 away = normalized(Vec3{unit(random) - 0.5, unit(random) - 0.5, unit(random) - 0.5});
+        compare(target + away * (radius * (1.0 - 1e-9)), radius);
+      }
+    }
+    EXPECT_GT(touching, 1000u);  // the comparison saw contacts, not only misses
+  }
+}
+
 }  // namespace
 }  // namespace quarry

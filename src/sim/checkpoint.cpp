@@ -437,9 +437,12 @@ RestoredWorld read_payload(std::istream& in, std::uint64_t payload_bytes) {
   validate(world);
   // The skin is the last build's (an automatic skin was chosen then; a fixed one is the deck's).
   if (world.pairs.builds > 0) world.skin = world.pairs.skin;
-  // The search grids of moving surfaces are those of the last list build.
-  for (WorldSurface& s : world.surfaces)
+  // The triangles' bounds follow the restored vertices; the search grids of moving surfaces
+  // are those of the last list build.
+  for (WorldSurface& s : world.surfaces) {
+    s.mesh.update_triangle_bounds();
     if (s.moving()) build_search_grid(world, s);
+  }
   world.initialized = true;
   return restored;
 }
