@@ -15,6 +15,7 @@ namespace {
 struct LocalGeometry {
   ElementFrame frame;
   std::array<double, 4> x{}, y{};    // in-plane coordinates of the nodes (m)
+  std::array<double, 4> z{};         // heights above the frame's plane: a warped quad's (m)
   std::array<double, 4> b1{}, b2{};  // ∂N_I/∂x̂, ∂N_I/∂ŷ at the centre (1/m)
   double area = 0.0;                 // A (m²)
   // Quad: centre Jacobian columns g_ξ = ∂x/∂ξ, g_η = ∂x/∂η (m) and its determinant (m²).
@@ -30,6 +31,7 @@ LocalGeometry plane_geometry(const std::array<Vec3, 4>& x, int node_count) {
     const Vec3 r = x[i] - g.frame.origin;
     g.x[i] = dot(r, g.frame.e1);
     g.y[i] = dot(r, g.frame.e2);
+    g.z[i] = dot(r, g.frame.e3);
   }
   if (node_count == 4) {
     // A = ½ (x31 y42 + x24 y31) (Belytschko, Lin & Tsay 1984 eq. 14), 0-based node numbers.
@@ -344,6 +346,7 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
     }
     std::array<double, 4> gamma{};
     std::array<double, 5> rate{};  // γ·v̂x, γ·v̂y, γ·v̂z, γ·θ̂x, γ·θ̂y
+    double hz = 0.0, spin_x = 0.0, spin_y = 0.0;
     for (int i = 0; i < 4; ++i) {
       gamma[i] = h[i] - hx * g.b1[i] - hy * g.b2[i];
       rate[0] += gamma[i] * vl[i].x;
@@ -351,7 +354,19 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
       rate[2] += gamma[i] * vl[i].z;
       rate[3] += gamma[i] * wl[i].x;
       rate[4] += gamma[i] * wl[i].y;
+      hz += h[i] * g.z[i];
+      spin_x += wl[i].x;
+      spin_y += wl[i].y;
     }
+    // Warping correction (Belytschko, Wong & Chiang 1992, CMAME 96:93, eqs. 47-48): a warped
+    // quad's nodes sit at heights z_I = ±(h·z)/4 off its plane, so a rigid rotation Ω about an
+    // in-plane axis moves them in the plane by Ω × z_I e3, an in-plane hourglass pattern:
+    // γ·v̂x = Ω_y (h·z), γ·v̂y = −Ω_x (h·z). Less that rigid part, with Ω the nodes' mean spin,
+    // the in-plane hourglass rates vanish in rigid motion, and their forces (with the moments
+    // conjugate to the correction, added below) are in moment equilibrium; without it those
+    // forces at ±z_I carried a net moment 4 z_I Q that drove a twisted mesh ever further.
+    rate[0] -= 0.25 * hz * spin_y;
+    rate[1] += 0.25 * hz * spin_x;
     // With edge-tied shear, the w mode is measured from the edge shears, (c_C − c_A) +
     // (c_B − c_D) less its constant-shear part (h·x̂) γ_x + (h·ŷ) γ_y: equal to γ·ŵ when the
     // rotations are zero, but zero for every Kirchhoff field of constant curvature (whose edge
@@ -390,8 +405,8 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
       local[i][0] += gamma[i] * state.hourglass[0];
       local[i][1] += gamma[i] * state.hourglass[1];
       if (!edge_tied) local[i][2] += gamma[i] * state.hourglass[2];
-      local[i][3] += gamma[i] * state.hourglass[3];
-      local[i][4] += gamma[i] * state.hourglass[4];
+      local[i][3] += gamma[i] * state.hourglass[3] + 0.25 * hz * state.hourglass[1];
+      local[i][4] += gamma[i] * state.hourglass[4] - 0.25 * hz * state.hourglass[0];
     }
     if (edge_tied) {
       const double q = state.hourglass[2];
@@ -400,7 +415,35 @@ ElementForces shell_internal_forces(const std::array<Vec3, 4>& x, const std::arr
     }
   }
 
-  // Back to global axes (the drilling moment local[i][5] is zero: no drilling stiffness).
+  // Drilling stiffness (Hughes & Brezzi 1989, CMAME 72:105, with the rotation's in-plane part
+  // tied to the element's spin, Kanok-Nukulchai 1979, IJNME 14:179): the nodes' mean spin
+  // about the normal, less the in-plane spin of the translations ½(∂v̂y/∂x − ∂v̂x/∂y), drives
+  // a resultant M_d of stiffness α G t A (section.drilling = α). A flat mesh never loads it;
+  // where neighbouring elements are not coplanar (a twisted or doubly curved wall) a node's
+  // spin about one element's normal is a bending rotation of the next one's, and without it a
+  // uniform spin about the normals let a twisted strip bend with no element straining (the
+  // MacNeal–Harder twisted beam kept deflecting). Zero in rigid motion; its work is counted
+  // with the hourglass work (artificial energy). State: a quad's unused third shear slot, a
+  // triangle's first hourglass slot (it has no hourglass control).
+  if (section.drilling > 0.0) {
+    double spin = 0.0, in_plane = 0.0;
+    for (int i = 0; i < n; ++i) {
+      spin += wl[i].z;
+      in_plane += g.b1[i] * vl[i].y - g.b2[i] * vl[i].x;
+    }
+    const double increment = (spin * shape - 0.5 * in_plane) * dt;
+    double& drill = n == 4 ? state.shear[2] : state.hourglass[0];
+    const double old = drill;
+    drill += section.drilling * section.shear_modulus * t * a * increment;
+    out.hourglass_energy_increment += 0.5 * (old + drill) * increment;
+    for (int i = 0; i < n; ++i) {
+      local[i][0] += 0.5 * g.b2[i] * drill;
+      local[i][1] -= 0.5 * g.b1[i] * drill;
+      local[i][5] += shape * drill;
+    }
+  }
+
+  // Back to global axes.
   for (int i = 0; i < n; ++i) {
     const Vec3 fg = local[i][0] * f.e1 + local[i][1] * f.e2 + local[i][2] * f.e3;
     const Vec3 mg = local[i][3] * f.e1 + local[i][4] * f.e2 + local[i][5] * f.e3;

@@ -154,11 +154,12 @@ template <int W>
   const V3 e2 = cross(e3, e1);
 
   // local_geometry.
-  V x[4], y[4];
+  V x[4], y[4], height[4];
   for (int i = 0; i < 4; ++i) {
     const V3 r = xn[i] - origin;
     x[i] = dot(r, e1);
     y[i] = dot(r, e2);
+    height[i] = dot(r, e3);
   }
   const V area = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]));
   const V inverse = 1.0 / (2.0 * area);
@@ -213,6 +214,12 @@ template <int W>
   }
   V gamma[4];
   V rate[5] = {zero, zero, zero, zero, zero};
+  V hz = zero, spin_x = zero, spin_y = zero;
+  V spin_z = zero, in_plane = zero;  // the drilling rate's sums (shell_element.cpp)
+  for (int i = 0; i < 4; ++i) {
+    spin_z += wl[i].z;
+    in_plane += b1[i] * vl[i].y - b2[i] * vl[i].x;
+  }
   for (int i = 0; i < 4; ++i) {
     gamma[i] = h[i] - hx * b1[i] - hy * b2[i];
     rate[0] += gamma[i] * vl[i].x;
@@ -220,7 +227,13 @@ template <int W>
     rate[2] += gamma[i] * vl[i].z;
     rate[3] += gamma[i] * wl[i].x;
     rate[4] += gamma[i] * wl[i].y;
+    hz += h[i] * height[i];
+    spin_x += wl[i].x;
+    spin_y += wl[i].y;
   }
+  // The warping correction of the in-plane hourglass rates (shell_element.cpp).
+  rate[0] -= 0.25 * hz * spin_y;
+  rate[1] += 0.25 * hz * spin_x;
 
   // Through the thickness: the elastic trial in vector form, the return map per yielding lane.
   const double t = section.thickness;
@@ -330,14 +343,28 @@ template <int W>
   for (int i = 0; i < 4; ++i) {
     local[i][0] += gamma[i] * resultant[0];
     local[i][1] += gamma[i] * resultant[1];
-    local[i][3] += gamma[i] * resultant[3];
-    local[i][4] += gamma[i] * resultant[4];
+    local[i][3] += gamma[i] * resultant[3] + 0.25 * hz * resultant[1];
+    local[i][4] += gamma[i] * resultant[4] - 0.25 * hz * resultant[0];
   }
   const V q = resultant[2];
   add_edge_forces<V>(x, y, {q * w_weight[0], q * w_weight[1], q * w_weight[2], q * w_weight[3]},
                      local);
 
-  // Back to global axes (local[i][5], the drilling moment, is zero but is added as there).
+  // Drilling stiffness (shell_element.cpp), its resultant in the third shear slot.
+  if (section.drilling > 0.0) {
+    const V increment = (spin_z * 0.25 - 0.5 * in_plane) * dt;
+    const V old = load<W>(lanes.shear + 2 * kQuadLanes);
+    const V drill = old + section.drilling * section.shear_modulus * t * a * increment;
+    store(lanes.shear + 2 * kQuadLanes, drill);
+    hourglass_work += 0.5 * (old + drill) * increment;
+    for (int i = 0; i < 4; ++i) {
+      local[i][0] += 0.5 * b2[i] * drill;
+      local[i][1] -= 0.5 * b1[i] * drill;
+      local[i][5] += 0.25 * drill;
+    }
+  }
+
+  // Back to global axes.
   for (int i = 0; i < 4; ++i) {
     const V3 fg = e1 * local[i][0] + e2 * local[i][1] + e3 * local[i][2];
     const V3 mg = e1 * local[i][3] + e2 * local[i][4] + e3 * local[i][5];

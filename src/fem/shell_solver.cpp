@@ -82,6 +82,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
     p.hourglass_transverse = options_.hourglass_transverse;
     p.hourglass_bending = options_.hourglass_bending;
     p.quad_shear = options_.quad_shear;
+    p.drilling = options_.drilling;
     properties_.push_back(p);
   }
 

@@ -26,6 +26,7 @@ struct ShellSolverOptions {
   double shear_factor = 5.0 / 6.0;  // κ, transverse shear correction (1)
   double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
   QuadShear quad_shear = QuadShear::edge_tied;
+  double drilling = 0.1;  // α: drilling stiffness α G t A (SectionProperties::drilling)
   // Quads of one section (edge-tied shear) eight at a time through the vector kernel
   // (shell_element_batch.h); false: every element through the scalar kernel. Same bits either
   // way, and with either kernel (shell_element_batch_test checks it); the switches are there
