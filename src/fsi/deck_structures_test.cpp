@@ -18,7 +18,7 @@ materials:
   - {name: steel, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
 structures:
   - {name: bed, model: )" + model + R"(, material: steel, constraint_set: 1, surface: 2,
-     period: 1.0e-4, filter: 3.0e-4, mass_scaling_time_step: 1.0e-6, damping: 50, export: true}
+     period: 1.0e-4, filter: 3.0e-4, mass_scaling_time_step: 1.0e-6, damping: 50, drilling: 0.5, export: true}
   - {name: liner, model: )" + model + R"(, material: steel}
 )",
                                                 "deck.yaml");
@@ -34,11 +34,13 @@ structures:
   EXPECT_DOUBLE_EQ(bed.filter->value, 3e-4);
   EXPECT_DOUBLE_EQ(bed.mass_scaling_time_step.value, 1e-6);
   EXPECT_DOUBLE_EQ(bed.damping.value, 50.0);
+  EXPECT_DOUBLE_EQ(bed.drilling.value, 0.5);
   EXPECT_TRUE(bed.export_loads.value);
   EXPECT_EQ(bed.where.line, 7);
   const StructureSpec& liner = spec.structures[1];
   EXPECT_FALSE(liner.period || liner.filter || liner.constraint_set || liner.surface);
   EXPECT_EQ(liner.damping.value, 0.0);
+  EXPECT_EQ(liner.drilling.value, 0.1);
   EXPECT_FALSE(liner.export_loads.value);
 }
 
