@@ -25,6 +25,12 @@ double element_area(const std::array<Vec3, 4>& x, int node_count);
 // L_c for the stable step (LS-DYNA's shell rule): quad A / max(edge), triangle 2A / max(edge),
 // i.e. the smallest altitude (m).
 double characteristic_length(const std::array<Vec3, 4>& x, int node_count);
+// A quad's warpage (degrees): the larger over its two diagonals of the angle between the normals
+// of the two triangles the diagonal cuts it into (0 for a flat quad).
+double quad_warpage_degrees(const std::array<Vec3, 4>& x);
+// LS-DYNA's default limit of shell warpage (*CONTROL_SHELL WRPANG, 20°): beyond it a one-point
+// quad on its projection, even with the warping correction, is a poor model of the surface.
+inline constexpr double kWarpageLimitDegrees = 20.0;
 
 // Transverse shear of the quad: the Belytschko–Tsay centre value (fails the bending patch test
 // on distorted meshes), or edge-tied assumed strains evaluated at the centre (default).

@@ -165,4 +165,22 @@ std::vector<std::vector<std::int32_t>> support_groups(const ShellModel& model) {
   return groups;
 }
 
+WarpedQuads warped_quads(const ShellModel& model) {
+  WarpedQuads out;
+  for (std::size_t e = 0; e < model.elements.size(); ++e) {
+    const ShellElement& element = model.elements[e];
+    if (element.node_count != 4) continue;
+    std::array<Vec3, 4> x;
+    for (int k = 0; k < 4; ++k) x[k] = model.nodes[static_cast<std::size_t>(element.nodes[k])];
+    const double warpage = quad_warpage_degrees(x);
+    if (!(warpage > kWarpageLimitDegrees)) continue;
+    ++out.count;
+    if (warpage > out.worst_degrees) {
+      out.worst_degrees = warpage;
+      out.worst_element = static_cast<int>(e);
+    }
+  }
+  return out;
+}
+
 }  // namespace quarry::fem

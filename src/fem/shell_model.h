@@ -72,4 +72,13 @@ void validate_shell_model(const ShellModel& model);
 // Groups in the order of their smallest node, nodes ascending. Pre: a valid model. O(size).
 std::vector<std::vector<std::int32_t>> support_groups(const ShellModel& model);
 
+// The quads warped beyond kWarpageLimitDegrees (shell_element.h): how many, and the worst one's
+// index and warpage (degrees). Cost: O(elements).
+struct WarpedQuads {
+  int count = 0;
+  int worst_element = -1;
+  double worst_degrees = 0.0;
+};
+WarpedQuads warped_quads(const ShellModel& model);
+
 }  // namespace quarry::fem

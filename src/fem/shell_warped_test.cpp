@@ -96,6 +96,28 @@ TEST(WarpedQuad, ARigidRotationStrainsNothing) {
   }
 }
 
+// Warpage: the angle between the normals of the two triangles either diagonal cuts the quad
+// into. For the square of side s with corners at ±w: cos θ = (s² − 8w²)/(s² + 8w²) (the
+// normals (±2ws, ∓2ws, s²)); a run warns of quads beyond 20° (LS-DYNA's default limit).
+TEST(WarpedQuad, WarpageIsTheAngleBetweenTheDiagonalsTriangles) {
+  const double side = 0.04;
+  for (const double warp : {0.0, 0.002, 0.006}) {
+    const double expected =
+        std::acos((side * side - 8 * warp * warp) / (side * side + 8 * warp * warp)) * 180.0 / kPi;
+    EXPECT_NEAR(quad_warpage_degrees(warped_square(warp)), expected, 1e-9) << "warp " << warp;
+  }
+  ShellModel model;
+  for (const Vec3& p : warped_square(0.002)) model.nodes.push_back(p);  // 16.1°
+  for (const Vec3& p : warped_square(0.006)) model.nodes.push_back(p);  // 46.0°
+  model.elements.push_back({{0, 1, 2, 3}, 4, 0});
+  model.elements.push_back({{4, 5, 6, 7}, 4, 0});
+  model.elements.push_back({{0, 1, 2, 0}, 3, 0});  // triangles are never warped
+  const WarpedQuads warped = warped_quads(model);
+  EXPECT_EQ(warped.count, 1);
+  EXPECT_EQ(warped.worst_element, 1);
+  EXPECT_NEAR(warped.worst_degrees, 45.98, 0.01);
+}
+
 // Whatever the element's state, its nodal forces and moments are self-equilibrated:
 // Σ f = 0 and Σ (x × f + m) = 0 about any point (else they would push and turn the mesh by
 // themselves). Without the correction, in-plane hourglass forces at heights ±z carried a net

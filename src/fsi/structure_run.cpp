@@ -131,6 +131,14 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
         structure.mesh.triangles.size() + structure.mesh.quads.size(), surfaces, entry->solver->total_mass(),
         entry->solver->added_mass(), stable.time_step, structure.adapted.element_id.at(static_cast<std::size_t>(stable.element)),
         schedule.period, schedule.filter, fem::quad_kernel_name(entry->solver->quad_kernel()));
+    if (const fem::WarpedQuads warped = fem::warped_quads(structure.adapted.model); warped.count > 0) {
+      log << fmt::format(
+          "structure \"{}\": warning: {} quads warped by more than {:g}° (largest {:.1f}°, element {}): "
+          "a one-point shell works on the quad's projection, which stands for such a quad poorly; "
+          "split them into triangles or refine there (docs/fem.md, \"Elements\")\n",
+          entry->name, warped.count, fem::kWarpageLimitDegrees, warped.worst_degrees,
+          structure.adapted.element_id.at(static_cast<std::size_t>(warped.worst_element)));
+    }
     Entry* raw = entry.get();
     // The structure's steps between synchronisations run alongside the DEM's (on a thread of
     // their own when the team has two), the synchronisation at the end of the DEM's step.
