@@ -12,6 +12,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fem/shell_element.h"
@@ -263,7 +264,14 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(TwistCase{90.0, {0, 0, 1}, 0.005424}, TwistCase{90.0, {0, 1, 0}, 0.001754},
                       TwistCase{9.0, {0, 0, 1}, 0.0}, TwistCase{0.0, {0, 0, 1}, 0.0},
                       TwistCase{90.0, {0, 0, 1}, 0.005424, testing::MeshKind::triangles},
-                      TwistCase{9.0, {0, 0, 1}, 0.0, testing::MeshKind::triangles}));
+                      TwistCase{9.0, {0, 0, 1}, 0.0, testing::MeshKind::triangles}),
+    // e.g. quads_90deg_along_thickness, triangles_9deg_along_thickness
+    [](const ::testing::TestParamInfo<TwistCase>& param_info) {
+      const TwistCase& c = param_info.param;
+      return std::string(c.kind == testing::MeshKind::quads ? "quads_" : "triangles_") +
+             std::to_string(static_cast<int>(c.twist_degrees)) + "deg_along_" +
+             (c.direction.z != 0.0 ? "thickness" : "width");
+    });
 
 // MacNeal & Harder's pinched hemisphere (1985): R 10, t 0.04, E 6.825e7, ν 0.3, an 18° hole at
 // the pole, a quarter modelled with symmetry on x = 0 and y = 0, n × n quads; unit loads at
