@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace quarry::fem {
 namespace {
@@ -240,7 +241,7 @@ double characteristic_length(const std::array<Vec3, 4>& x, int node_count) {
 
 double quad_warpage_degrees(const std::array<Vec3, 4>& x) {
   const auto angle = [](const Vec3& a, const Vec3& b) {  // between two normals (degrees)
-    return std::atan2(norm(cross(a, b)), dot(a, b)) * 180.0 / 3.14159265358979323846;
+    return std::atan2(norm(cross(a, b)), dot(a, b)) * 180.0 / std::numbers::pi;
   };
   const double along_02 = angle(cross(x[1] - x[0], x[2] - x[0]), cross(x[2] - x[0], x[3] - x[0]));
   const double along_13 = angle(cross(x[2] - x[1], x[3] - x[1]), cross(x[3] - x[1], x[0] - x[1]));

@@ -219,8 +219,6 @@ template <int W>
   for (int i = 0; i < 4; ++i) {
     spin_z += wl[i].z;
     in_plane += b1[i] * vl[i].y - b2[i] * vl[i].x;
-  }
-  for (int i = 0; i < 4; ++i) {
     gamma[i] = h[i] - hx * b1[i] - hy * b2[i];
     rate[0] += gamma[i] * vl[i].x;
     rate[1] += gamma[i] * vl[i].y;

@@ -33,17 +33,8 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
-// One element's history, owned.
-struct History {
-  std::vector<double> stress, plastic, shear, hourglass;
-  ElementState state() { return {stress.data(), plastic.data(), shear.data(), hourglass.data()}; }
-};
-
-Vec3 rotate(const Vec3& p, const Vec3& axis, double angle) {
-  // Rodrigues: p cos + (k × p) sin + k (k·p)(1 − cos), k a unit axis.
-  return p * std::cos(angle) + cross(axis, p) * std::sin(angle) +
-         axis * (dot(axis, p) * (1.0 - std::cos(angle)));
-}
+using testing::History;
+using testing::rotate;
 
 // The kernels this processor runs (eight lanes need AVX-512; the test says when it is skipped).
 std::vector<QuadKernel> available_kernels() {

@@ -7,6 +7,8 @@
 #include <functional>
 #include <vector>
 
+#include "core/vec3.h"
+#include "fem/shell_element.h"
 #include "fem/shell_model.h"
 
 namespace quarry::fem::testing {
@@ -60,5 +62,22 @@ inline std::vector<std::int32_t> nodes_where(const ShellModel& model,
 }
 
 inline bool near(double a, double b) { return std::abs(a - b) < 1e-9; }
+
+// One element's history, owned: `points` through-thickness points, all zero, or filled by the
+// caller (3 stresses and one plastic strain per point, 3 shear and 5 hourglass resultants).
+struct History {
+  std::vector<double> stress, plastic, shear, hourglass;
+  static History zero(int points) {
+    return {std::vector<double>(3 * points, 0.0), std::vector<double>(points, 0.0),
+            std::vector<double>(3, 0.0), std::vector<double>(5, 0.0)};
+  }
+  ElementState state() { return {stress.data(), plastic.data(), shear.data(), hourglass.data()}; }
+};
+
+// Rodrigues: p cos + (k × p) sin + k (k·p)(1 − cos), k a unit axis.
+inline Vec3 rotate(const Vec3& p, const Vec3& axis, double angle) {
+  return p * std::cos(angle) + cross(axis, p) * std::sin(angle) +
+         axis * (dot(axis, p) * (1.0 - std::cos(angle)));
+}
 
 }  // namespace quarry::fem::testing
