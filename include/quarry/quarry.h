@@ -259,8 +259,8 @@ QUARRY_API quarry_status quarry_get_particles(quarry_sim sim, quarry_particle_da
 QUARRY_API quarry_status quarry_particle_index(quarry_sim sim, uint64_t id, uint64_t* index);
 
 /* Zero-copy views of the engine's own arrays (in-process handles; on a remote handle the view
- * is a copy held by the handle). A view is in ENGINE order, not type order (with one particle
- * type the two are the same; QUARRY_FIELD_TYPE_ORDER gives order[k] = engine index of the k-th
+ * is a copy held by the handle, over ipc:// written by the server into shared memory). A view
+ * is in ENGINE order, not type order (with one particle type the two are the same; QUARRY_FIELD_TYPE_ORDER gives order[k] = engine index of the k-th
  * particle in type order). Valid until the next call on the handle that changes the simulation
  * (advance, step, add, remove, set, restore, close); its epoch tells whether the particles are
  * still the same ones. Read-only, except custom properties (quarry_view_property). */

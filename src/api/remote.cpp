@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <functional>
 #include <map>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "api/protocol.h"
@@ -24,6 +26,7 @@ using wire::Op;
 
 constexpr int kDefaultTimeoutMs = 60000;               // quarry_open_info.timeout_ms = 0
 constexpr std::uint64_t kFirstSegmentBytes = 1 << 20;  // grown on demand
+constexpr std::uint64_t kFirstViewBytes = 1 << 16;     // a view's segment: replaced when short
 
 // A reply, checked: its header read, the server's ABI major compared, the request it answers
 // matched; `in` stands at the payload. An error status is thrown (ApiError with the server's
@@ -221,6 +224,11 @@ class RemoteBackend final : public Backend {
   int timeout_ms_;
   std::map<std::int32_t, std::vector<std::byte>> particle_views_;  // field → its copy
   std::map<std::uint32_t, std::vector<std::byte>> property_views_;
+  // Over ipc with shared memory a view is written by the server into a segment of its own (one
+  // copy, none through the socket), kept until the next view of the same field or property.
+  std::optional<quarry_view> shared_view(Op op, std::uint32_t which);
+  std::map<std::uint64_t, std::unique_ptr<SharedSegment>> view_segments_;
+  bool shared_views_ = true;  // false once the server answered that it has no such operation
 };
 
 RemoteBackend::RemoteBackend(const quarry_open_info& info)
@@ -314,7 +322,57 @@ void RemoteBackend::get_particles(quarry_particle_data& d) {
   r.read_outputs(reply.in);
 }
 
+std::optional<quarry_view> RemoteBackend::shared_view(Op op, std::uint32_t which) {
+  if (!segment_ || !shared_views_) return std::nullopt;
+  std::unique_ptr<SharedSegment>& segment =
+      view_segments_[(static_cast<std::uint64_t>(op) << 32) | which];
+  std::uint64_t wanted = kFirstViewBytes;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    if (!segment || segment->size() < wanted) {
+      try {
+        segment = SharedSegment::create(wanted);
+      } catch (const std::runtime_error&) {
+        segment.reset();
+        return std::nullopt;  // no shared memory to spare: this view comes in the reply
+      }
+    }
+    wire::Request r = request(op);
+    r.fields().put(which);
+    r.fields().text(segment->name());
+    try {
+      Reply reply = send(r);
+      quarry_view view = protocol::read<quarry_view>(reply.in);
+      const auto bytes = reply.in.get<std::uint64_t>();
+      const auto written = reply.in.get<std::uint8_t>();
+      const std::size_t row = protocol::dtype_bytes(view.dtype) * view.components;
+      if (row == 0 || bytes != view.count * row || (written && bytes > segment->size()))
+        throw ApiError(QUARRY_ERROR_TRANSPORT,
+                       fmt::format("{}: the server at {} describes a view of {} bytes as {} "
+                                   "particles of {} bytes",
+                                   wire::op_name(static_cast<std::uint32_t>(op)),
+                                   connection_.endpoint(), bytes, view.count, row));
+      if (written) {
+        view.data = view.count > 0 ? segment->at(0) : nullptr;
+        view.stride = static_cast<std::int64_t>(row);
+        view.writable = 0;  // a copy: writes would not reach the server (quarry_set_property)
+        return view;
+      }
+      wanted = bytes + bytes / 4;  // a larger segment, with room for some growth, and once more
+    } catch (const ApiError& e) {
+      if (e.status() != QUARRY_ERROR_UNSUPPORTED ||
+          std::string_view(e.what()).find("is not one this server") == std::string_view::npos)
+        throw;
+      shared_views_ = false;  // a server from before shared views: they come in the replies
+      view_segments_.clear();
+      return std::nullopt;
+    }
+  }
+  return std::nullopt;
+}
+
 quarry_view RemoteBackend::view_particles(std::int32_t field) {
+  if (auto view = shared_view(Op::view_particles_shared, static_cast<std::uint32_t>(field)))
+    return *view;
   wire::Request r = request(Op::view_particles);
   r.fields().put(field);
   Reply reply = send(r);
@@ -385,6 +443,7 @@ void RemoteBackend::set_property(std::uint32_t index, const double* values, std:
 }
 
 quarry_view RemoteBackend::view_property(std::uint32_t index) {
+  if (auto view = shared_view(Op::view_property_shared, index)) return *view;
   wire::Request r = request(Op::view_property);
   r.fields().put(index);
   Reply reply = send(r);

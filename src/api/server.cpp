@@ -146,7 +146,10 @@ std::string Server::call(const wire::RequestHeader& header, const std::byte* req
                           : wire::error_reply(header.request_id, QUARRY_ERROR_IO, failed);
   }
   try {
-    call_handler(op)(backend(), in, out);
+    if (op == wire::Op::view_particles_shared || op == wire::Op::view_property_shared)
+      shared_view(op, in, out);
+    else
+      call_handler(op)(backend(), in, out);
   } catch (const wire::WireError& e) {
     return wire::error_reply(header.request_id, QUARRY_ERROR_TRANSPORT,
                              fmt::format("{}: malformed request: {}", name, e.what()));
@@ -157,6 +160,36 @@ std::string Server::call(const wire::RequestHeader& header, const std::byte* req
   }
   in.write_outputs(out);
   return reply_with(out, header.request_id, QUARRY_OK, "");
+}
+
+void Server::shared_view(wire::Op op, wire::Reader& in, wire::Writer& out) {
+  const auto which = in.get<std::uint32_t>();
+  const std::string name = in.text();
+  in.expect_end();
+  const quarry_view view = op == wire::Op::view_particles_shared
+                               ? backend().view_particles(static_cast<std::int32_t>(which))
+                               : backend().view_property(which);
+  // Attached only once the field or property is known to exist: a session holds at most one
+  // segment per view there is.
+  std::unique_ptr<SharedSegment>& segment =
+      session_->views[(static_cast<std::uint64_t>(op) << 32) | which];
+  if (!segment || segment->name() != name) {
+    try {
+      segment = SharedSegment::attach(name);
+    } catch (const std::runtime_error& e) {
+      segment.reset();
+      throw ApiError(QUARRY_ERROR_IO,
+                     fmt::format("{}: the server cannot map the client's shared memory for the "
+                                 "view: {}",
+                                 wire::op_name(static_cast<std::uint32_t>(op)), e.what()));
+    }
+  }
+  const std::uint64_t bytes = view_bytes(view);
+  const bool fits = bytes <= segment->size();
+  if (fits && bytes > 0) copy_view(view, segment->at(0));
+  protocol::fields(out, view);
+  out.put(bytes);
+  out.put(static_cast<std::uint8_t>(fits));
 }
 
 std::string Server::open(const wire::RequestHeader& header, wire::Reader& in, int connection) {

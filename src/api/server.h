@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -56,9 +57,16 @@ class Server {
     std::int64_t client_pid = 0;
     std::unique_ptr<SharedSegment> segment;
     wire::OutputSlots outputs;  // what replies carry back, kept between requests
+    // The client's segments its views are written into, by (op << 32 | field or property).
+    std::map<std::uint64_t, std::unique_ptr<SharedSegment>> views;
   };
   std::string open(const wire::RequestHeader& header, wire::Reader& in, int connection);
   std::string call(const wire::RequestHeader& header, const std::byte* request, std::size_t size);
+  // Op::view_particles_shared / view_property_shared: u32 field or property index, the name of
+  // the client's segment for that view; the reply: the view's fields, u64 the bytes its values
+  // take, u8 1 if they were written at the segment's start (0: it is too small; the client makes
+  // a larger one and asks again).
+  void shared_view(wire::Op op, wire::Reader& in, wire::Writer& out);
   void end_session(const std::string& reason);
   Backend& backend();
   void log(const std::string& line) const;
@@ -83,5 +91,9 @@ void serve(const ServerOptions& options,
 // Throws wire::WireError for a malformed request (lengths that do not match included).
 using CallHandler = void (*)(Backend& backend, wire::Reader& in, wire::Writer& out);
 CallHandler call_handler(wire::Op op);
+
+// A view's values packed (count × components, no stride) into `to`, which holds view_bytes.
+std::uint64_t view_bytes(const quarry_view& view);
+void copy_view(const quarry_view& view, std::byte* to);
 
 }  // namespace quarry::api

@@ -78,15 +78,7 @@ void plain(Backend& b, Reader& in, Writer& out) {
 void write_view(Writer& out, const quarry_view& view) {
   protocol::fields(out, view);
   out.align();
-  const std::size_t row = protocol::dtype_bytes(view.dtype) * view.components;  // bytes a particle
-  std::byte* to = out.extend(view.count * row);
-  const auto* from = static_cast<const std::byte*>(view.data);
-  if (static_cast<std::size_t>(view.stride) == row) {
-    if (view.count > 0) std::memcpy(to, from, view.count * row);
-    return;
-  }
-  for (std::uint64_t k = 0; k < view.count; ++k)
-    std::memcpy(to + k * row, from + k * view.stride, row);
+  copy_view(view, out.extend(view_bytes(view)));
 }
 
 // ---- building ----
@@ -341,6 +333,21 @@ void get_surface_loads(Backend& b, Reader& in, Writer& out) {
 
 }  // namespace
 
+std::uint64_t view_bytes(const quarry_view& view) {
+  return view.count * protocol::dtype_bytes(view.dtype) * view.components;
+}
+
+void copy_view(const quarry_view& view, std::byte* to) {
+  const std::size_t row = protocol::dtype_bytes(view.dtype) * view.components;  // bytes a particle
+  const auto* from = static_cast<const std::byte*>(view.data);
+  if (static_cast<std::size_t>(view.stride) == row) {
+    if (view.count > 0) std::memcpy(to, from, view.count * row);
+    return;
+  }
+  for (std::uint64_t k = 0; k < view.count; ++k)
+    std::memcpy(to + k * row, from + k * view.stride, row);
+}
+
 CallHandler call_handler(wire::Op op) {
   using wire::Op;
   switch (op) {
@@ -425,6 +432,9 @@ CallHandler call_handler(wire::Op op) {
       return get_surface_nodes;
     case Op::get_surface_loads:
       return get_surface_loads;
+    case Op::view_particles_shared:
+    case Op::view_property_shared:
+      return nullptr;  // the session's own (Server: the client's segments for them)
   }
   return nullptr;
 }

@@ -55,6 +55,8 @@ constexpr std::array<const char*, kLastOp + 1> kOpNames = {
     "quarry_set_surface_nodes",
     "quarry_get_surface_nodes",
     "quarry_get_surface_loads",
+    "quarry_view_particles",
+    "quarry_view_property",
 };
 
 template <class T>

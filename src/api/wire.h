@@ -81,9 +81,13 @@ enum class Op : std::uint32_t {
   set_surface_nodes,
   get_surface_nodes,
   get_surface_loads,
+  // Views written into a shared-memory segment of the client's own for that view (ipc with
+  // shared memory only; a server before these answers UNSUPPORTED and the client falls back).
+  view_particles_shared,
+  view_property_shared,
 };
 inline constexpr std::uint32_t kFirstOp = static_cast<std::uint32_t>(Op::open);
-inline constexpr std::uint32_t kLastOp = static_cast<std::uint32_t>(Op::get_surface_loads);
+inline constexpr std::uint32_t kLastOp = static_cast<std::uint32_t>(Op::view_property_shared);
 
 // The C function an operation stands for ("quarry_get_particles"), or nullptr if unknown.
 const char* op_name(std::uint32_t op);

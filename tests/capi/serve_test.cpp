@@ -541,6 +541,160 @@ TEST(Serve, HooksAreUnsupportedAndViewsAreCopies) {
   EXPECT_EQ(quarry_close(sim), QUARRY_OK);
 }
 
+// Mappings of this process of files under /dev/shm whose name starts with `prefix` (a shared
+// segment's name is removed once the server maps it: the mapping then reads "(deleted)").
+int shared_mappings(const std::string& prefix) {
+  std::ifstream maps("/proc/self/maps");
+  int found = 0;
+  for (std::string line; std::getline(maps, line);)
+    found += line.find("/dev/shm/" + prefix) != std::string::npos;
+  return found;
+}
+
+// Over ipc a view is written by the server into a segment of the client's own for that field
+// (one copy, none through the socket): the same values as the copies, also for a view larger
+// than the first segment (64 KiB: 3000 positions are 72 kB), after steps, for every field and a
+// custom property, and the pointer of a field's view stays put from one view to the next.
+TEST(Serve, ViewsOverIpcAreWrittenIntoSharedMemoryAndMatchTheCopies) {
+  Server server;
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  build_one_particle(sim);
+  constexpr std::uint64_t added = 2999, n = added + 1;
+  std::vector<double> position(3 * added), velocity(3 * added);
+  for (std::uint64_t k = 0; k < added; ++k) {
+    position[3 * k] = 3e-3 * static_cast<double>(k % 50 + 1);  // m: spheres of 1 mm, apart
+    position[3 * k + 1] = 3e-3 * static_cast<double>(k / 50);
+    velocity[3 * k + 2] = 1e-3 * static_cast<double>(k % 7);  // m/s
+  }
+  quarry_new_particles add = {sizeof add, added,   nullptr, 0,      position.data(),
+                              velocity.data(), nullptr, nullptr, nullptr};
+  ASSERT_EQ(quarry_add_particles(sim, &add), QUARRY_OK) << last_error(sim);
+  const std::string prefix = "quarry-" + std::to_string(::getpid()) + "-";
+  const int mapped_before = shared_mappings(prefix);
+  ASSERT_EQ(quarry_register_property(sim, "charge", 2, "C", 0.5, nullptr), QUARRY_OK)
+      << last_error(sim);
+  const void* first_position = nullptr;
+  for (int round = 0; round < 2; ++round) {
+    ASSERT_EQ(quarry_step(sim, 3), QUARRY_OK) << last_error(sim);
+    std::vector<std::uint64_t> ids(n);
+    std::vector<std::uint32_t> types(n);
+    std::vector<double> x(3 * n), v(3 * n), radius(n);
+    quarry_particle_data data = {sizeof data, n,      ids.data(), types.data(), x.data(),
+                                 v.data(),    nullptr, radius.data(), nullptr,  nullptr,
+                                 nullptr,     nullptr, 0,       0};
+    ASSERT_EQ(quarry_get_particles(sim, &data), QUARRY_OK) << last_error(sim);
+    ASSERT_EQ(data.count, n);
+    quarry_view view;
+    const auto same = [&](int field, const void* expected, std::size_t bytes) {
+      ASSERT_EQ(quarry_view_particles(sim, field, &view), QUARRY_OK) << last_error(sim);
+      ASSERT_EQ(view.count, n);
+      EXPECT_EQ(view.writable, 0u);
+      EXPECT_EQ(view.stride * static_cast<std::int64_t>(n), static_cast<std::int64_t>(bytes));
+      EXPECT_EQ(std::memcmp(view.data, expected, bytes), 0) << "field " << field;
+    };
+    same(QUARRY_FIELD_POSITION, x.data(), x.size() * sizeof(double));  // one type: same order
+    if (round == 0) first_position = view.data;
+    EXPECT_EQ(view.data, first_position);  // the field's segment is written again in place
+    same(QUARRY_FIELD_VELOCITY, v.data(), v.size() * sizeof(double));
+    same(QUARRY_FIELD_ID, ids.data(), ids.size() * sizeof(std::uint64_t));
+    same(QUARRY_FIELD_RADIUS, radius.data(), radius.size() * sizeof(double));
+    ASSERT_EQ(quarry_view_particles(sim, QUARRY_FIELD_TYPE, &view), QUARRY_OK);
+    EXPECT_EQ(view.dtype, static_cast<std::uint32_t>(QUARRY_DTYPE_UINT16));
+    for (std::uint64_t k = 0; k < n; ++k)
+      EXPECT_EQ(static_cast<const std::uint16_t*>(view.data)[k], 0u);
+    ASSERT_EQ(quarry_view_property(sim, 0, &view), QUARRY_OK) << last_error(sim);
+    ASSERT_EQ(view.count, n);
+    EXPECT_EQ(view.components, 2u);
+    for (std::uint64_t k = 0; k < 2 * n; ++k)
+      EXPECT_EQ(static_cast<const double*>(view.data)[k], 0.5);
+  }
+  // Five views (position, velocity, id, radius, type) and a property view: each in a segment
+  // the client mapped, none of them the session's segment for the requests' arrays.
+  EXPECT_GE(shared_mappings(prefix) - mapped_before, 6);
+  // A view after the particles changed (as many again, 0.5 m higher): the count follows.
+  std::vector<double> higher = position;
+  for (std::uint64_t k = 0; k < added; ++k) higher[3 * k + 2] += 0.5;
+  add.position = higher.data();
+  ASSERT_EQ(quarry_add_particles(sim, &add), QUARRY_OK) << last_error(sim);
+  quarry_view grown;
+  ASSERT_EQ(quarry_view_particles(sim, QUARRY_FIELD_POSITION, &grown), QUARRY_OK)
+      << last_error(sim);
+  EXPECT_EQ(grown.count, n + added);
+  EXPECT_EQ(std::memcmp(static_cast<const double*>(grown.data) + 3 * n, higher.data(),
+                        higher.size() * sizeof(double)),
+            0);
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK);
+  EXPECT_EQ(shared_mappings(prefix), 0);  // every segment unmapped with the handle
+}
+
+// A server from before shared views answers their operation UNSUPPORTED: the client takes the
+// view from the reply instead, and does not ask again.
+TEST(Serve, AServerWithoutSharedViewsSendsThemInTheReply) {
+  const std::string endpoint = ipc_endpoint();
+  void* context = zmq_ctx_new();
+  void* rep = zmq_socket(context, ZMQ_REP);
+  ASSERT_EQ(zmq_bind(rep, endpoint.c_str()), 0);
+  std::atomic<int> shared_asked{0}, plain_asked{0};
+  const double values[6] = {1.0, 2.0, 3.0, 4.0, 5.0, 6.0};
+  std::thread fake([rep, &shared_asked, &plain_asked, &values] {
+    const int wait_ms = 5000;
+    zmq_setsockopt(rep, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
+    std::vector<char> buffer(1 << 16);
+    for (int k = 0; k < 5; ++k) {  // open, view (shared, refused), view, view, close
+      const int size = zmq_recv(rep, buffer.data(), buffer.size(), 0);
+      if (size < 0) return;
+      const wire::RequestHeader request = wire::read_request_header(buffer.data(), size);
+      wire::Writer out;
+      out.bytes().assign(wire::kReplyHeaderBytes, '\0');
+      const auto op = static_cast<wire::Op>(request.op);
+      std::string reply;
+      if (op == wire::Op::open) {
+        protocol::write_values(out, protocol::OpenReply{7, 1, "0.1.0"});
+      } else if (op == wire::Op::view_particles_shared) {
+        shared_asked += 1;  // what a server of the operations before answers
+        reply = wire::error_reply(request.request_id, QUARRY_ERROR_UNSUPPORTED,
+                                  "quarry serve: operation 42 is not one this server (ABI 1.1) "
+                                  "knows (operations 1 to 41); is the client of a newer version?");
+      } else if (op == wire::Op::view_particles) {
+        plain_asked += 1;
+        quarry_view view{};
+        view.count = 2;
+        view.dtype = QUARRY_DTYPE_FLOAT64;
+        view.components = 3;
+        view.stride = 24;
+        view.epoch = 1;
+        protocol::fields(out, view);
+        out.align();
+        out.raw(values, sizeof values);
+      }
+      if (reply.empty()) {
+        wire::ReplyHeader header;
+        header.request_id = request.request_id;
+        wire::write_reply_header(out.bytes(), header);
+        reply = out.bytes();
+      }
+      zmq_send(rep, reply.data(), reply.size(), 0);
+    }
+  });
+  quarry_sim sim;
+  ASSERT_EQ(open(endpoint, sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  for (int k = 0; k < 2; ++k) {
+    quarry_view view;
+    ASSERT_EQ(quarry_view_particles(sim, QUARRY_FIELD_POSITION, &view), QUARRY_OK)
+        << last_error(sim);
+    ASSERT_EQ(view.count, 2u);
+    EXPECT_EQ(std::memcmp(view.data, values, sizeof values), 0);
+  }
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  fake.join();
+  EXPECT_EQ(shared_asked.load(), 1);
+  EXPECT_EQ(plain_asked.load(), 2);
+  zmq_close(rep);
+  zmq_ctx_term(context);
+  fs::remove(endpoint.substr(6));
+}
+
 // Periodic axes (ABI 1.1) set through a remote handle reach the server's simulation: a sphere
 // leaving through the x face re-enters at the other; the server's checks come back as texts.
 TEST(Serve, PeriodicSettingsReachTheServersSimulation) {
