@@ -1,8 +1,8 @@
 // coupling_exchange (issue 16 §6): the cost of one coupling exchange — positions and velocities
 // out, external forces in — as a share of one engine step, on the settled-bed lattice at 100k and
 // 1M particles (bench/settled_bed_scene.h), through the C ABI: in process with zero-copy views
-// and with copies, and through `quarry serve` over ipc:// (arrays in shared memory) and over
-// tcp://127.0.0.1. Medians of interleaved repetitions, printed as a table. Not a test.
+// and with copies, and through `quarry serve` over ipc:// (arrays in shared memory; copies, and
+// views the server writes into segments of their own) and over tcp://127.0.0.1. Medians of interleaved repetitions, printed as a table. Not a test.
 #include <fcntl.h>
 #include <fmt/chrono.h>
 #include <fmt/format.h>
@@ -41,6 +41,7 @@ struct Options {
   int repetitions = 9;
   int threads = 1;
   bool tcp = true;  // also through tcp (at 1M it moves some 150 MB of fresh pages a repetition)
+  bool remote_steps = true;  // a remote handle steps before its exchange too (as in a coupled run)
   std::string quarry = QUARRY_BIN;
 };
 
@@ -203,7 +204,7 @@ void exchange_by_views(quarry_sim sim, Partner& partner, std::uint64_t n, Timing
 struct Path {
   std::string name;
   quarry_sim sim;
-  bool views = false;  // views for the particle data (in process only), else copies
+  bool views = false;  // views for the particle data, else copies
   Timing timing;
   // Measured in a block of its own after the interleaved ones: each tcp exchange of 1M particles
   // has the kernel map and zero ~150 MB of fresh pages in both processes (ZeroMQ allocates every
@@ -225,12 +226,11 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
                            wanted);
   const fs::path bed = write_bed(wanted, directory);
   const quarry_sim local = open(bed, nullptr, options.threads);
+  const quarry_sim remote = open(bed, ipc.endpoint().c_str(), options.threads);
   std::vector<Path> paths = {{"in process, views", local, true, {}},
                              {"in process, copies", local, false, {}},
-                             {"quarry serve, ipc + shared memory",
-                              open(bed, ipc.endpoint().c_str(), options.threads),
-                              false,
-                              {}}};
+                             {"quarry serve, ipc + shared memory", remote, false, {}},
+                             {"quarry serve, ipc, views", remote, true, {}}};
   if (tcp)
     paths.push_back({"quarry serve, tcp 127.0.0.1",
                      open(bed, tcp->endpoint().c_str(), options.threads),
@@ -246,36 +246,60 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
   Timing unused;
   exchange_by_copies(local, partner, n, unused);
   for (std::size_t k = 2; k < paths.size(); ++k) {
+    if (paths[k].views) {  // one particle type: engine order is type order
+      quarry_view position;
+      check(paths[k].sim, quarry_view_particles(paths[k].sim, QUARRY_FIELD_POSITION, &position),
+            "quarry_view_particles");
+      if (position.count != n ||
+          std::memcmp(position.data, partner.position.data(), 3 * n * sizeof(double)) != 0)
+        throw std::runtime_error(paths[k].name + ": the view differs from the in-process copy");
+      continue;
+    }
     exchange_by_copies(paths[k].sim, other, n, unused);
     if (other.position != partner.position || other.velocity != partner.velocity)
       throw std::runtime_error(paths[k].name + ": the copy differs from the in-process one");
   }
   for (Path& path : paths) exchange(path, partner, n, unused);
+  // Each exchange follows a step of its own handle, as in a coupled run (step, then exchange):
+  // the engine's arrays are then where a step leaves them, in the caches of the core that ran it
+  // (the server's core for a remote handle), and the client has waited out the server's step.
+  // The in-process steps give the step's time. --no-remote-steps: the server never steps (the
+  // method of the results before 2026-12-04).
   Timing step;
-  std::vector<std::function<void()>> measurements = {[&] {
+  const auto step_then_exchange = [&](Path& path) {
     const auto start = Clock::now();
-    check(local, quarry_step(local, 1), "quarry_step");
-    step.get.push_back(since(start));
-  }};
+    const bool in_process = path.sim.id == local.id;
+    if (in_process || options.remote_steps)
+      check(path.sim, quarry_step(path.sim, 1), "quarry_step");
+    if (in_process) step.get.push_back(since(start));
+    exchange(path, partner, n, path.timing);
+  };
+  std::vector<std::function<void()>> measurements;
   for (Path& path : paths)
-    if (!path.apart) measurements.push_back([&] { exchange(path, partner, n, path.timing); });
+    if (!path.apart) measurements.push_back([&] { step_then_exchange(path); });
   for (int r = 0; r < options.repetitions; ++r)
     for (std::size_t k = 0; k < measurements.size(); ++k)
       measurements[(k + r) % measurements.size()]();
   for (Path& path : paths)
-    for (int r = 0; r < options.repetitions && path.apart; ++r)
-      exchange(path, partner, n, path.timing);
+    for (int r = 0; r < options.repetitions && path.apart; ++r) step_then_exchange(path);
   // The fixed cost of a call through the server: one without arrays (quarry_epoch).
+  // (Once per server: the views path shares the ipc handle of the copies path.)
+  const auto first_of_its_handle = [&](std::size_t k) {
+    for (std::size_t j = 0; j < k; ++j)
+      if (paths[j].sim.id == paths[k].sim.id) return false;
+    return true;
+  };
   std::vector<std::vector<double>> round_trips(paths.size());
   for (int r = 0; r < 5 * options.repetitions; ++r)
     for (std::size_t k = 2; k < paths.size(); ++k) {
+      if (!first_of_its_handle(k)) continue;
       std::uint64_t epoch = 0;
       const auto start = Clock::now();
       check(paths[k].sim, quarry_epoch(paths[k].sim, &epoch), "quarry_epoch");
       round_trips[k].push_back(since(start));
     }
-  for (std::size_t k = 1; k < paths.size(); ++k)
-    check(paths[k].sim, quarry_close(paths[k].sim), "quarry_close");
+  for (std::size_t k = 0; k < paths.size(); ++k)
+    if (first_of_its_handle(k)) check(paths[k].sim, quarry_close(paths[k].sim), "quarry_close");
 
   const double step_time = median(step.get);
   const Timing& copies = paths[1].timing;
@@ -295,7 +319,8 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
         (get + set) / copy_time);
   }
   for (std::size_t k = 2; k < paths.size(); ++k)
-    std::cout << fmt::format("a call without arrays (quarry_epoch), {}: {:.3f} ms (median of {})\n",
+    if (first_of_its_handle(k))
+      std::cout << fmt::format("a call without arrays (quarry_epoch), {}: {:.3f} ms (median of {})\n",
                              paths[k].name, 1e3 * median(round_trips[k]), round_trips[k].size());
   std::cout << std::flush;
 }
@@ -327,6 +352,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", options.threads, "OpenMP threads of the simulations");
   app.add_option("--quarry", options.quarry, "the quarry executable that serves");
   app.add_flag("!--no-tcp", options.tcp, "leave out the exchange through tcp");
+  app.add_flag("!--no-remote-steps", options.remote_steps,
+               "the server's simulation does not step before its exchanges");
   CLI11_PARSE(app, argc, argv);
   const fs::path directory =
       fs::temp_directory_path() / fmt::format("quarry-coupling-exchange-{}", ::getpid());
