@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "api/channel.h"
 #include "api/protocol.h"
 #include "api/shared_memory.h"
 #include "api/transport.h"
@@ -203,8 +204,16 @@ class RemoteBackend final : public Backend {
     const char* call = wire::op_name(static_cast<std::uint32_t>(op));
     const int wait = op == Op::advance || op == Op::step ? -1 : timeout_ms_;
     const std::uint64_t id = next_request_++;
-    return Reply(connection_.exchange(std::move(request.message(id, session_)), wait, call), id,
-                 connection_.endpoint(), call, on_error);
+    std::string& message = request.message(id, session_);
+    // Through the channel, but for the calls whose reply may outgrow it (a whole state, views
+    // taken into the reply) and the close (which ends the session the channel belongs to).
+    if (channel_ && op != Op::close && op != Op::save_state && op != Op::view_particles &&
+        op != Op::view_property && message.size() <= Channel::kCapacity)
+      return Reply(connection_.exchange(*channel_, message, wait, call), id,
+                   connection_.endpoint(), call, on_error);
+    if (channel_) channel_->post_socket_request();
+    return Reply(connection_.exchange(std::move(message), wait, call), id, connection_.endpoint(),
+                 call, on_error);
   }
 
   // A request of these fields whose reply begins with a value of R (void: nothing).
@@ -218,6 +227,7 @@ class RemoteBackend final : public Backend {
 
   ClientConnection connection_;
   std::unique_ptr<SharedSegment> segment_;
+  std::unique_ptr<Channel> channel_;  // the requests through shared memory (api/channel.h)
   std::uint64_t session_ = 0;
   std::uint32_t server_abi_version_ = 0;  // from the open reply's header
   std::uint64_t next_request_ = 1;
@@ -256,6 +266,20 @@ RemoteBackend::RemoteBackend(const quarry_open_info& info)
   session_ = answer.session;
   server_abi_version_ = reply.header.abi_version;
   if (!answer.shared_memory) segment_.reset();
+  if (!segment_) return;
+  // Where the server maps our segment it can take requests through shared memory too.
+  try {
+    std::unique_ptr<Channel> channel = Channel::create();
+    wire::Request attach(Op::attach_channel, segment_.get());
+    attach.fields().text(channel->name());
+    send(attach);
+    channel_ = std::move(channel);
+  } catch (const ApiError& e) {
+    // A server from before the channel (UNSUPPORTED), or one that cannot map it: the socket.
+    if (e.status() != QUARRY_ERROR_UNSUPPORTED && e.status() != QUARRY_ERROR_IO) throw;
+  } catch (const std::runtime_error&) {
+    // No shared memory to spare for it here: the socket.
+  }
 }
 
 // The fields the server's minor knows (an older server refuses trailing bytes as malformed); a

@@ -16,6 +16,7 @@ namespace quarry::api {
 namespace {
 
 constexpr int kPollMs = 200;  // how often the loop looks at the stop flag when idle
+constexpr int kChannelSliceMs = 20;  // ... and at the socket while a session's channel is idle
 
 // A reply with this status and text whose payload is what `out` holds after its header room
 // (without a text, `out` becomes the reply: a payload of megabytes is not copied again).
@@ -146,9 +147,22 @@ std::string Server::call(const wire::RequestHeader& header, const std::byte* req
                           : wire::error_reply(header.request_id, QUARRY_ERROR_IO, failed);
   }
   try {
-    if (op == wire::Op::view_particles_shared || op == wire::Op::view_property_shared)
+    if (op == wire::Op::view_particles_shared || op == wire::Op::view_property_shared) {
       shared_view(op, in, out);
-    else
+    } else if (op == wire::Op::attach_channel) {
+      const std::string channel = in.text();
+      in.expect_end();
+      try {
+        session_->channel = Channel::attach(channel);
+        session_->socket_requests = 0;
+      } catch (const std::runtime_error& e) {
+        throw ApiError(QUARRY_ERROR_IO,
+                       fmt::format("quarry_open: the server cannot map the client's request "
+                                   "channel: {}; the requests go over the socket",
+                                   e.what()));
+      }
+      log(fmt::format("session {}: requests through shared memory", session_->number));
+    } else
       call_handler(op)(backend(), in, out);
   } catch (const wire::WireError& e) {
     return wire::error_reply(header.request_id, QUARRY_ERROR_TRANSPORT,
@@ -190,6 +204,52 @@ void Server::shared_view(wire::Op op, wire::Reader& in, wire::Writer& out) {
   protocol::fields(out, view);
   out.put(bytes);
   out.put(static_cast<std::uint8_t>(fits));
+}
+
+bool Server::serve_channel(std::chrono::microseconds spin, std::chrono::milliseconds budget) {
+  if (!session_->channel->wait_request(spin, budget)) return false;
+  bool oversized = false;
+  const std::string request = session_->channel->take_request(oversized);
+  if (request.empty() && !oversized) return false;  // it rang for a request on the socket
+  // Held through the call: a close ends the session (and a second attach replaces it).
+  std::unique_ptr<Channel> channel = std::move(session_->channel);
+  std::string reply =
+      oversized ? wire::error_reply(0, QUARRY_ERROR_TRANSPORT,
+                                    fmt::format("quarry serve: a request of more than the "
+                                                "channel's {} bytes",
+                                                Channel::kCapacity))
+                : handle(reinterpret_cast<const std::byte*>(request.data()), request.size(),
+                         session_->connection);
+  if (reply.size() > Channel::kCapacity) {
+    const wire::RequestHeader header = wire::read_request_header(request.data(), request.size());
+    reply = wire::error_reply(
+        header.request_id, QUARRY_ERROR_INTERNAL,
+        fmt::format("{}: its reply of {} bytes does not fit the request channel's {}; a client "
+                    "of this version sends such calls over the socket",
+                    wire::op_name(header.op) ? wire::op_name(header.op) : "a call", reply.size(),
+                    Channel::kCapacity));
+  }
+  channel->post_reply(reply);
+  if (session_ && !session_->channel) session_->channel = std::move(channel);
+  return true;
+}
+
+bool Server::socket_request_due() const {
+  return has_channel() && session_->channel->socket_posted() > session_->socket_requests;
+}
+
+void Server::settle_socket_requests() {
+  if (has_channel()) session_->socket_requests = session_->channel->socket_posted();
+}
+
+void Server::count_socket_request(const std::byte* request, std::size_t size) {
+  if (!has_channel()) return;
+  try {
+    if (wire::read_request_header(request, size).session == session_->token)
+      ++session_->socket_requests;
+  } catch (const wire::WireError&) {
+    // not a request of the session's (handle() answers it)
+  }
 }
 
 std::string Server::open(const wire::RequestHeader& header, wire::Reader& in, int connection) {
@@ -293,14 +353,30 @@ void serve(const ServerOptions& options,
   server.set_endpoint(socket.endpoint());
   on_listening(socket.endpoint());
   const auto stopping = [&] { return options.stop && options.stop->load() != 0; };
+  bool answered = false;  // a request came through the channel just now: the next may follow
   while (!stopping()) {
+    int wait = kPollMs;
+    if (server.has_channel()) {
+      // The session's requests come through its channel; the socket is looked at between
+      // them and every slice (another client, a closed connection, a call too large).
+      answered = server.serve_channel(answered ? Channel::kSpin : std::chrono::microseconds(0),
+                                      std::chrono::milliseconds(kChannelSliceMs));
+      if (answered) continue;
+      wait = server.socket_request_due() ? kPollMs : 0;
+    }
     Message request;
     int connection = -1;
-    if (!socket.receive(request, connection, kPollMs,
-                        [&](int closed) { server.connection_closed(closed); }))
+    if (!socket.receive(request, connection, wait,
+                        [&](int closed) { server.connection_closed(closed); })) {
+      if (server.has_channel() && !ServerSocket::peer_alive(server.session_connection()))
+        server.connection_closed(server.session_connection());
+      // A request announced for the socket that never came must not keep the channel waiting.
+      if (wait > 0 && server.has_channel()) server.settle_socket_requests();
       continue;
+    }
     if (!ServerSocket::peer_alive(server.session_connection()))
       server.connection_closed(server.session_connection());
+    server.count_socket_request(request.data(), request.size());
     socket.reply(server.handle(request.data(), request.size(), connection));
   }
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <string>
 
+#include "api/channel.h"
 #include "api/local_backend.h"
 #include "api/shared_memory.h"
 #include "api/wire.h"
@@ -49,6 +51,19 @@ class Server {
   // The endpoint quoted in messages (set by serve once bound).
   void set_endpoint(const std::string& endpoint) { endpoint_ = endpoint; }
 
+  // The session's request channel (api/channel.h), when its client attached one.
+  bool has_channel() const { return session_ && session_->channel; }
+  // Waits for the channel's doorbell (spinning `spin` first) at most `budget`; answers a request
+  // that came through it and returns true. False when nothing came, or the doorbell rang for a
+  // request on the socket.
+  bool serve_channel(std::chrono::microseconds spin, std::chrono::milliseconds budget);
+  // True while the session's client has sent more requests over the socket than came in.
+  bool socket_request_due() const;
+  // Counts a request that came over the socket for the session (socket_request_due).
+  void count_socket_request(const std::byte* request, std::size_t size);
+  // Takes the socket's requests announced so far as come (one waited for in vain).
+  void settle_socket_requests();
+
  private:
   struct Session {
     std::uint64_t token = 0;   // the requests' session field
@@ -59,6 +74,8 @@ class Server {
     wire::OutputSlots outputs;  // what replies carry back, kept between requests
     // The client's segments its views are written into, by (op << 32 | field or property).
     std::map<std::uint64_t, std::unique_ptr<SharedSegment>> views;
+    std::unique_ptr<Channel> channel;   // requests by shared memory (Op::attach_channel)
+    std::uint64_t socket_requests = 0;  // came over the socket since the channel was attached
   };
   std::string open(const wire::RequestHeader& header, wire::Reader& in, int connection);
   std::string call(const wire::RequestHeader& header, const std::byte* request, std::size_t size);

@@ -434,6 +434,7 @@ CallHandler call_handler(wire::Op op) {
       return get_surface_loads;
     case Op::view_particles_shared:
     case Op::view_property_shared:
+    case Op::attach_channel:
       return nullptr;  // the session's own (Server: the client's segments for them)
   }
   return nullptr;

@@ -15,9 +15,11 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 #include "api/backend.h"
+#include "api/channel.h"
 #include "api/wire.h"
 
 namespace quarry::api {
@@ -26,6 +28,8 @@ namespace {
 
 constexpr const char* kMonitor = "inproc://monitor";  // one per context, so one name serves
 constexpr int kPollSliceMs = 1000;  // the longest a wait goes without looking at the clock
+// The longest a wait on the request channel goes without looking at the connection's events.
+constexpr int kChannelSliceMs = 20;
 
 void set_option(void* socket, int option, int value) {
   zmq_setsockopt(socket, option, &value, sizeof value);
@@ -103,6 +107,14 @@ bool is_ipc(const std::string& endpoint) {
   return endpoint.rfind("ipc://", 0) == 0;
 }
 
+Message Message::copy_of(const std::byte* bytes, std::size_t size) {
+  Message message;
+  zmq_msg_close(&message.message_);
+  zmq_msg_init_size(&message.message_, size);
+  if (size > 0) std::memcpy(zmq_msg_data(&message.message_), bytes, size);
+  return message;
+}
+
 Message::Message(Message&& other) noexcept {
   zmq_msg_init(&message_);
   zmq_msg_move(&message_, &other.message_);
@@ -171,21 +183,34 @@ void ClientConnection::fail(int status, const std::string& text) {
   throw ApiError(status, text);
 }
 
-Message ClientConnection::exchange(std::string&& request, int timeout_ms, const char* call) {
+template <class Send, class Receive>
+Message ClientConnection::round_trip(int timeout_ms, const char* call, int slice_ms, Send&& send,
+                                     Receive&& receive) {
   if (!socket_) throw ApiError(QUARRY_ERROR_TRANSPORT, fmt::format("{}: {}", call, dead_));
   if (!watch_events()) fail(QUARRY_ERROR_TRANSPORT, fmt::format("{}: {}", call, dead_));
-  if (!send_message(socket_, std::move(request), ZMQ_DONTWAIT))
-    fail(QUARRY_ERROR_TRANSPORT,
-         fmt::format("{}: cannot send to {}: {}", call, endpoint_, zmq_strerror(errno)));
+  send();
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::milliseconds(std::max(timeout_ms, 0));
   for (;;) {
-    int wait = kPollSliceMs;
+    int wait = slice_ms;
     if (timeout_ms >= 0) {
       const auto left =
           std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-      wait = static_cast<int>(std::clamp<long long>(left, 0, kPollSliceMs));
+      wait = static_cast<int>(std::clamp<long long>(left, 0, slice_ms));
     }
+    if (std::optional<Message> reply = receive(wait)) return std::move(*reply);
+    if (!watch_events()) fail(QUARRY_ERROR_TRANSPORT, fmt::format("{}: {}", call, dead_));
+    if (timeout_ms >= 0 && Clock::now() >= deadline) fail_timeout(call, timeout_ms);
+  }
+}
+
+Message ClientConnection::exchange(std::string&& request, int timeout_ms, const char* call) {
+  const auto send = [&] {
+    if (!send_message(socket_, std::move(request), ZMQ_DONTWAIT))
+      fail(QUARRY_ERROR_TRANSPORT,
+           fmt::format("{}: cannot send to {}: {}", call, endpoint_, zmq_strerror(errno)));
+  };
+  const auto receive = [&](int wait) -> std::optional<Message> {
     zmq_pollitem_t items[] = {{socket_, 0, ZMQ_POLLIN, 0}, {monitor_, 0, ZMQ_POLLIN, 0}};
     if (zmq_poll(items, 2, wait) < 0 && zmq_errno() != EINTR)
       fail(QUARRY_ERROR_TRANSPORT,
@@ -194,21 +219,34 @@ Message ClientConnection::exchange(std::string&& request, int timeout_ms, const 
       Message reply;
       if (zmq_msg_recv(reply.get(), socket_, 0) >= 0) return reply;
     }
-    if ((items[1].revents & ZMQ_POLLIN) && !watch_events())
-      fail(QUARRY_ERROR_TRANSPORT, fmt::format("{}: {}", call, dead_));
-    if (timeout_ms >= 0 && Clock::now() >= deadline)
-      fail(QUARRY_ERROR_TIMEOUT,
-           fmt::format(
-               "{}: no reply from the server at {} within {} ms{}; this handle is closed for calls "
-               "now "
-               "(close it and open again, with a longer quarry_open_info.timeout_ms if the server "
-               "is slow)",
-               call, endpoint_, timeout_ms,
-               connected_ ? ""
-                          : fmt::format(" (no connection was made: is `quarry serve --endpoint {}` "
-                                        "running?)",
-                                        endpoint_)));
-  }
+    return std::nullopt;
+  };
+  return round_trip(timeout_ms, call, kPollSliceMs, send, receive);
+}
+
+Message ClientConnection::exchange(Channel& channel, const std::string& request, int timeout_ms,
+                                   const char* call) {
+  const auto send = [&] { channel.post_request(request); };
+  const auto receive = [&](int wait) -> std::optional<Message> {
+    if (!channel.wait_reply(std::chrono::milliseconds(wait))) return std::nullopt;
+    const auto reply = channel.reply();
+    return Message::copy_of(reply.data(), reply.size());
+  };
+  return round_trip(timeout_ms, call, kChannelSliceMs, send, receive);
+}
+
+void ClientConnection::fail_timeout(const char* call, int timeout_ms) {
+  fail(QUARRY_ERROR_TIMEOUT,
+       fmt::format(
+           "{}: no reply from the server at {} within {} ms{}; this handle is closed for calls "
+           "now "
+           "(close it and open again, with a longer quarry_open_info.timeout_ms if the server "
+           "is slow)",
+           call, endpoint_, timeout_ms,
+           connected_ ? ""
+                      : fmt::format(" (no connection was made: is `quarry serve --endpoint {}` "
+                                    "running?)",
+                                    endpoint_)));
 }
 
 // ---- server ----

@@ -42,6 +42,8 @@ class Message {
   }
   std::size_t size() const { return zmq_msg_size(&message_); }
   zmq_msg_t* get() { return &message_; }
+  // A message holding a copy of `bytes` (a reply that came through the request channel).
+  static Message copy_of(const std::byte* bytes, std::size_t size);
 
  private:
   zmq_msg_t message_;
@@ -65,12 +67,23 @@ class ClientConnection {
   // was lost before), TIMEOUT when the time is up — then the socket is closed and every later
   // call fails with TRANSPORT (a late reply must not be taken for another request's).
   Message exchange(std::string&& request, int timeout_ms, const char* call);
+  // The same through the request channel of a session on this host (api/channel.h): the
+  // connection is still watched, so a lost server gives TRANSPORT and a slow one TIMEOUT (then
+  // this connection is closed, as above).
+  Message exchange(class Channel& channel, const std::string& request, int timeout_ms,
+                   const char* call);
   const std::string& endpoint() const { return endpoint_; }
 
  private:
   // Reads the monitor's events; returns false once the connection was lost.
   bool watch_events();
   [[noreturn]] void fail(int status, const std::string& text);
+  [[noreturn]] void fail_timeout(const char* call, int timeout_ms);
+  // Sends with `send`, then waits with receive(ms) — the reply once it is in, else nothing — in
+  // slices of at most slice_ms, watching the connection, until the reply or the call's timeout.
+  template <class Send, class Receive>
+  Message round_trip(int timeout_ms, const char* call, int slice_ms, Send&& send,
+                     Receive&& receive);
 
   std::string endpoint_;
   void* context_ = nullptr;

@@ -57,6 +57,7 @@ constexpr std::array<const char*, kLastOp + 1> kOpNames = {
     "quarry_get_surface_loads",
     "quarry_view_particles",
     "quarry_view_property",
+    "quarry_open",  // the request channel, attached right after the open
 };
 
 template <class T>

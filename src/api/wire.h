@@ -85,9 +85,12 @@ enum class Op : std::uint32_t {
   // shared memory only; a server before these answers UNSUPPORTED and the client falls back).
   view_particles_shared,
   view_property_shared,
+  // The client's request channel (api/channel.h) for the session's further requests (ipc with
+  // shared memory only; a server before it answers UNSUPPORTED and the socket carries them).
+  attach_channel,
 };
 inline constexpr std::uint32_t kFirstOp = static_cast<std::uint32_t>(Op::open);
-inline constexpr std::uint32_t kLastOp = static_cast<std::uint32_t>(Op::view_property_shared);
+inline constexpr std::uint32_t kLastOp = static_cast<std::uint32_t>(Op::attach_channel);
 
 // The C function an operation stands for ("quarry_get_particles"), or nullptr if unknown.
 const char* op_name(std::uint32_t op);

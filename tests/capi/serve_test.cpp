@@ -12,6 +12,7 @@
 #include <unistd.h>
 #include <zmq.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -541,6 +542,41 @@ TEST(Serve, HooksAreUnsupportedAndViewsAreCopies) {
   EXPECT_EQ(quarry_close(sim), QUARRY_OK);
 }
 
+// Over ipc the session's requests come through its channel in shared memory, and the calls
+// that go over the socket instead (a whole state) fit in between: a state saved (socket),
+// steps (channel), the state restored (channel) and the same steps again give the same bits.
+TEST(Serve, RequestsGoThroughTheChannelAndTheSocketInTurn) {
+  Server server;
+  quarry_sim sim;
+  ASSERT_EQ(open(server.endpoint(), sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  build_one_particle(sim);
+  double velocity[3] = {0.1, -0.2, 0.3};
+  EXPECT_EQ(quarry_set_external_loads(sim, velocity, nullptr, 1, QUARRY_LOAD_REPLACE,
+                                      QUARRY_HOLD_UNTIL_CHANGED),
+            QUARRY_OK);
+  EXPECT_TRUE(server.wait_for("requests through shared memory", 2000)) << server.log();
+  std::uint64_t needed = 0;
+  ASSERT_EQ(quarry_save_state(sim, nullptr, 0, &needed), QUARRY_OK) << last_error(sim);
+  std::vector<char> state(needed);
+  ASSERT_EQ(quarry_save_state(sim, state.data(), state.size(), &needed), QUARRY_OK);
+  const auto run = [&] {
+    std::array<double, 3> position{};
+    for (int k = 0; k < 20; ++k) EXPECT_EQ(quarry_step(sim, 5), QUARRY_OK) << last_error(sim);
+    quarry_particle_data data = {sizeof data, 1,       nullptr, nullptr,         position.data(),
+                                 nullptr,     nullptr, nullptr, nullptr,         nullptr,
+                                 nullptr,     nullptr, 0,       0};
+    EXPECT_EQ(quarry_get_particles(sim, &data), QUARRY_OK) << last_error(sim);
+    return position;
+  };
+  const std::array<double, 3> first = run();
+  ASSERT_EQ(quarry_restore_state(sim, state.data(), state.size()), QUARRY_OK) << last_error(sim);
+  const std::array<double, 3> again = run();
+  EXPECT_EQ(std::memcmp(first.data(), again.data(), sizeof first), 0);
+  EXPECT_GT(first[0], 0.0);  // the held load moved it
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK);
+  EXPECT_TRUE(server.wait_for("session 1 ended: the client closed it", 2000)) << server.log();
+}
+
 // Mappings of this process of files under /dev/shm whose name starts with `prefix` (a shared
 // segment's name is removed once the server maps it: the mapping then reads "(deleted)").
 int shared_mappings(const std::string& prefix) {
@@ -628,8 +664,8 @@ TEST(Serve, ViewsOverIpcAreWrittenIntoSharedMemoryAndMatchTheCopies) {
   EXPECT_EQ(shared_mappings(prefix), 0);  // every segment unmapped with the handle
 }
 
-// A server from before shared views answers their operation UNSUPPORTED: the client takes the
-// view from the reply instead, and does not ask again.
+// A server from before shared views (and the request channel) answers their operations
+// UNSUPPORTED: the client takes the view from the reply instead, and does not ask again.
 TEST(Serve, AServerWithoutSharedViewsSendsThemInTheReply) {
   const std::string endpoint = ipc_endpoint();
   void* context = zmq_ctx_new();
@@ -641,7 +677,8 @@ TEST(Serve, AServerWithoutSharedViewsSendsThemInTheReply) {
     const int wait_ms = 5000;
     zmq_setsockopt(rep, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
     std::vector<char> buffer(1 << 16);
-    for (int k = 0; k < 5; ++k) {  // open, view (shared, refused), view, view, close
+    // open, channel (refused), view (shared, refused), view, view, close
+    for (int k = 0; k < 6; ++k) {
       const int size = zmq_recv(rep, buffer.data(), buffer.size(), 0);
       if (size < 0) return;
       const wire::RequestHeader request = wire::read_request_header(buffer.data(), size);
@@ -651,8 +688,8 @@ TEST(Serve, AServerWithoutSharedViewsSendsThemInTheReply) {
       std::string reply;
       if (op == wire::Op::open) {
         protocol::write_values(out, protocol::OpenReply{7, 1, "0.1.0"});
-      } else if (op == wire::Op::view_particles_shared) {
-        shared_asked += 1;  // what a server of the operations before answers
+      } else if (op == wire::Op::view_particles_shared || op == wire::Op::attach_channel) {
+        shared_asked += op == wire::Op::view_particles_shared;  // as a server before them answers
         reply = wire::error_reply(request.request_id, QUARRY_ERROR_UNSUPPORTED,
                                   "quarry serve: operation 42 is not one this server (ABI 1.1) "
                                   "knows (operations 1 to 41); is the client of a newer version?");
