@@ -20,7 +20,8 @@ struct StructureSpec {
   std::optional<Located<double>> period, filter;  // s; absent: the EDEM card's (or its defaults)
   Located<double> mass_scaling_time_step{0.0};    // s; 0: none (fem::ShellSolverOptions)
   Located<double> damping{0.0};                   // 1/s, mass-proportional
-  Located<double> drilling{0.1};                  // α of the drilling stiffness α G t A (1)
+  // α of the drilling stiffness α G t A (1); absent: fem::SectionProperties' default.
+  std::optional<Located<double>> drilling;
   Located<bool> export_loads{false};  // the coupling surface in the FEM load export (`export:`)
   SourceLocation where;                           // the entry, for messages
 };

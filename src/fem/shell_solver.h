@@ -23,10 +23,13 @@ struct ShellSolverOptions {
   // Mass scaling: elements whose L_c/c is below this get their density raised so that it is
   // met exactly; 0 disables. (s)
   double mass_scaling_time_step = 0.0;
-  double shear_factor = 5.0 / 6.0;  // κ, transverse shear correction (1)
-  double hourglass_membrane = 0.05, hourglass_transverse = 0.05, hourglass_bending = 0.05;
-  QuadShear quad_shear = QuadShear::edge_tied;
-  double drilling = 0.1;  // α: drilling stiffness α G t A (SectionProperties::drilling)
+  double shear_factor = SectionProperties{}.shear_factor;  // κ, transverse shear correction (1)
+  // The element's coefficients, by default the section's (SectionProperties).
+  double hourglass_membrane = SectionProperties{}.hourglass_membrane,
+         hourglass_transverse = SectionProperties{}.hourglass_transverse,
+         hourglass_bending = SectionProperties{}.hourglass_bending;
+  QuadShear quad_shear = SectionProperties{}.quad_shear;
+  double drilling = SectionProperties{}.drilling;  // α: drilling stiffness α G t A
   // Quads of one section (edge-tied shear) eight at a time through the vector kernel
   // (shell_element_batch.h); false: every element through the scalar kernel. Same bits either
   // way, and with either kernel (shell_element_batch_test checks it); the switches are there

@@ -34,13 +34,14 @@ structures:
   EXPECT_DOUBLE_EQ(bed.filter->value, 3e-4);
   EXPECT_DOUBLE_EQ(bed.mass_scaling_time_step.value, 1e-6);
   EXPECT_DOUBLE_EQ(bed.damping.value, 50.0);
-  EXPECT_DOUBLE_EQ(bed.drilling.value, 0.5);
+  ASSERT_TRUE(bed.drilling);
+  EXPECT_DOUBLE_EQ(bed.drilling->value, 0.5);
   EXPECT_TRUE(bed.export_loads.value);
   EXPECT_EQ(bed.where.line, 7);
   const StructureSpec& liner = spec.structures[1];
-  EXPECT_FALSE(liner.period || liner.filter || liner.constraint_set || liner.surface);
+  EXPECT_FALSE(liner.period || liner.filter || liner.constraint_set || liner.surface ||
+               liner.drilling);
   EXPECT_EQ(liner.damping.value, 0.0);
-  EXPECT_EQ(liner.drilling.value, 0.1);
   EXPECT_FALSE(liner.export_loads.value);
 }
 

@@ -100,7 +100,7 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
     fem::ShellSolverOptions options;
     options.mass_scaling_time_step = spec.mass_scaling_time_step.value;
     options.damping = spec.damping.value;
-    options.drilling = spec.drilling.value;
+    if (spec.drilling) options.drilling = spec.drilling->value;
     options.threading = world.threading;
     entry->solver = std::make_unique<fem::ShellSolver>(structure.adapted.model, options);
 

@@ -88,7 +88,8 @@ void read_structures_section(MapReader& root, const DeckParseOptions& options, c
     map.read("mass_scaling_time_step", structure.mass_scaling_time_step, non_negative(), "s");
     map.read("damping", structure.damping, non_negative(), "1/s");
     // Above 1 the drilling mode of a lone square element can outrun the stable step (docs/fem.md).
-    map.read("drilling", structure.drilling, interval(0.0, true, 1.0, true), "1");
+    Located<double> alpha;
+    if (map.read("drilling", alpha, interval(0.0, true, 1.0, true), "1")) structure.drilling = alpha;
     map.read("export", structure.export_loads);
     structures.push_back(std::move(structure));
   }
