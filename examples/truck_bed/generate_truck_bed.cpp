@@ -148,8 +148,9 @@ constexpr double yield_stress = 355e6, hardening = 1.0e9;  // Pa: S355, a biline
 // (translations fixed), the supports of the one-way export in examples/truck_bed.
 constexpr double rail_inner = 0.14, rail_outer = 0.26;  // m
 // Coupling PERIOD (s): about two DEM steps of the flagship (9.37e-5 s), the seed's minimum. The
-// staggered exchange lags the bed's loads by a period, which grows vibration of light shell
-// nodes under the ore; the deck's damping holds it (docs/fem.md "Stability of PERIOD").
+// staggered exchange lags the bed's loads by a period, which drives the bed's modes of a few
+// periods through the ore's contacts; the deck's damping holds it (docs/fem.md "Damping the
+// structure").
 constexpr double coupling_period = 2.0e-4;
 
 void write_shells(const std::string& path) {

@@ -113,6 +113,7 @@ class ShellSolver {
   void set_loads(std::span<const NodalLoad> loads);
   // Changes the mass-proportional damping α (1/s, ≥ 0) from the next step on.
   void set_damping(double alpha);
+  double damping() const { return options_.damping; }  // α (1/s)
   // The team of the following steps (a coupled run passes its world's at every exchange, so that
   // the run loop's thread governor applies here too). Results do not depend on it.
   void set_threading(const Threading& threading) { options_.threading = threading; }

@@ -7,7 +7,12 @@
 // coordinates (r, ṙ) and the impulse in transit J this is a linear map over one period (the
 // rigid motion drops out); it is stable when the roots of its characteristic cubic lie in the
 // unit circle (Jury's test). docs/fem.md "Stability of PERIOD" has the derivation and a table.
+// The same exchange with the structure's own dynamics at the node (its mode Ω and the
+// mass-proportional damping α) is a 5×5 map, whose spectral radius is found numerically; it
+// gives the damping a structure needs for a PERIOD.
 #pragma once
+
+#include <numbers>
 
 namespace quarry::fsi {
 
@@ -23,5 +28,37 @@ bool exchange_is_stable(double omega_period, double damping_ratio, double mass_r
 // (a negative damping of about k·P·m_p/(m_p + m_n)) grows the contact mode at any period.
 // Throws std::invalid_argument for a value out of range.
 double critical_omega_period(double damping_ratio, double mass_ratio);
+
+// The structure at the node, besides its mass: a spring to ground K = m_n Ω² (the node's own
+// mode, Ω in rad/s; 0 for a free mass) and mass-proportional damping, force −α m_n v (α in 1/s).
+// Both as multiples of 1/P.
+struct NodeDynamics {
+  double omega_period = 0.0;    // Ω·P (1), ≥ 0
+  double damping_period = 0.0;  // α·P (1), ≥ 0
+};
+
+// ln of the spectral radius of the per-period map in (x_p, v_p, x_n, v_n, J): the contact
+// mode's (or the node's) growth per period, > 0 when the exchange grows; a free node's rigid
+// motion counts as 0. Numerically (Gelfand's formula over 2^40 periods), to about 1e-10.
+// Throws std::invalid_argument for a value out of range.
+double exchange_growth_per_period(double omega_period, double damping_ratio, double mass_ratio, NodeDynamics node);
+
+// The least α·P for which the exchange with the node's mode Ω·P does not grow (0 if it does
+// not grow undamped), to 1e-3 relative; +∞ above α·P = 100 (a node damped that much no longer
+// vibrates: the PERIOD, not damping, is the remedy).
+double required_damping_period(double omega_period, double damping_ratio, double mass_ratio,
+                               double node_omega_period);
+
+// The most damping any mode of the structure may need: required_damping_period over the
+// free node (Ω = 0) and Ω·P from 0.05 to the structure's highest mode (at most 2π; central
+// differences reach Ω = 2/dt) in steps of 0.05, refined around the worst. Modes with Ω·P beyond
+// 2π fall in bands that need less (the held force acts on them as a step). Returns α·P and the
+// Ω·P where it is needed.
+struct DampingNeed {
+  double damping_period = 0.0;     // α·P (1)
+  double node_omega_period = 0.0;  // Ω·P (1) of the worst mode; 0: the free node
+};
+DampingNeed required_damping_over_modes(double omega_period, double damping_ratio, double mass_ratio,
+                                        double highest_node_omega_period = 2.0 * std::numbers::pi);
 
 }  // namespace quarry::fsi

@@ -156,7 +156,8 @@ void StructureCoupler::check_period_stability() {
         schedule.period()));
     return;
   }
-  if (schedule.period() > margin * worst.critical)
+  const double period = schedule.period();  // s
+  if (period > margin * worst.critical)
     side_.add_message(fmt::format(
         "warning: coupling PERIOD {:.4g} s is long for the contact: a particle of radius {:.4g} m ({:.4g} kg) on a "
         "node of {:.4g} kg (S_n {:.4g} N/m at {:.3g} m/s, ω {:.4g} rad/s, damping ratio {:.3g}, mass ratio {:.3g}) "
@@ -164,6 +165,38 @@ void StructureCoupler::check_period_stability() {
         "with a smaller DEM step if that is under 2 DEM steps (docs/fem.md, \"Stability of PERIOD\")",
         schedule.period(), worst.radius, worst.particle_mass, node_mass, worst.stiffness, speed, worst.omega,
         worst.damping_ratio, worst.mass_ratio, worst.critical, worst.critical * worst.omega, margin * worst.critical));
+
+  // The structure's own modes (period_stability.h, the node with its mode Ω and the damping α):
+  // the held force of a period reaches a mode with Ω·P between about 1 and π a period late and
+  // drives it, at any PERIOD (a shorter one moves the band to higher modes); the damping that
+  // stops it is about proportional to ω, not to the PERIOD. Modes up to the structure's highest,
+  // 2/dt at its stable step. Warned when the structure's α is below the larger need of the two
+  // particles: an estimate at the impact overlap, stiffer than a settled bed's contacts.
+  const double highest = 2.0 * period / solver.stable_time_step().time_step;  // Ω_max·P
+  const double alpha = solver.damping();                                         // 1/s
+  Estimate neediest = estimate(smallest);
+  DampingNeed need = required_damping_over_modes(neediest.omega * period, neediest.damping_ratio, neediest.mass_ratio, highest);
+  if (largest != smallest) {
+    const Estimate other = estimate(largest);
+    const DampingNeed other_need = required_damping_over_modes(other.omega * period, other.damping_ratio, other.mass_ratio, highest);
+    if (other_need.damping_period > need.damping_period) neediest = other, need = other_need;
+  }
+  const double required = need.damping_period / period;  // 1/s (+∞: more than 100/PERIOD)
+  if (!(alpha < required)) return;
+  const std::string modes = need.node_omega_period == 0.0
+                                ? std::string("the contact mode (the node as a free mass)")
+                                : fmt::format("the structure's modes near {:.4g} rad/s (Ω·PERIOD {:.3g})", need.node_omega_period / period,
+                                              need.node_omega_period);
+  const std::string amount = std::isfinite(required) ? fmt::format("α ≥ {:.4g} 1/s", required)
+                                                      : fmt::format("more than α = {:.4g} 1/s", 100.0 / period);
+  side_.add_message(fmt::format(
+      "warning: the structure's damping α = {:.4g} 1/s is below what the exchange asks at PERIOD {:.4g} s: for a "
+      "particle of radius {:.4g} m on a node of {:.4g} kg (S_n {:.4g} N/m at {:.3g} m/s, ω {:.4g} rad/s) the exchange drives {} "
+      "unless the structure is damped at {} (mass-proportional: `damping` in the deck's structures entry){}; a "
+      "settled bed's contacts are softer than this estimate and ask less (docs/fem.md, \"Damping the structure\")",
+      alpha, period, neediest.radius, node_mass, neediest.stiffness, speed, neediest.omega, modes, amount,
+      need.node_omega_period == 0.0 ? " or a shorter PERIOD"
+                                    : "; a shorter PERIOD moves the band of such modes, it does not remove it"));
 }
 
 CouplerState StructureCoupler::state() const {
