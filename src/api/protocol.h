@@ -86,7 +86,9 @@ void fields(A& a, S& s) {
 }
 
 // Its reply: the session the client's later requests name, whether the server mapped the
-// segment (else arrays travel in the messages), and the server's version text.
+// segment (else arrays travel in the messages), and the server's version text; then, since the
+// shared views, a u32 after these fields: the last wire::Op the server knows (a client asks no
+// later one of it, and none of view_particles_shared and after where it is absent).
 struct OpenReply {
   std::uint64_t session = 0;
   std::uint8_t shared_memory = 0;

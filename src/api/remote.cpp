@@ -10,7 +10,6 @@
 #include <functional>
 #include <map>
 #include <optional>
-#include <string_view>
 #include <vector>
 
 #include "api/channel.h"
@@ -71,6 +70,14 @@ struct Reply {
   std::string error;
 };
 
+// A view of values copied to the client (`data`: its first, dense rows of `row` bytes).
+quarry_view copied_view(quarry_view view, void* data, std::size_t row) {
+  view.data = view.count > 0 ? data : nullptr;
+  view.stride = static_cast<std::int64_t>(row);
+  view.writable = 0;  // a copy: writes would not reach the server (quarry_set_property does)
+  return view;
+}
+
 // The values of a view that came in a reply, kept in `buffer` (the handle's copy).
 quarry_view read_view(wire::Reader& in, std::vector<std::byte>& buffer) {
   quarry_view view = protocol::read<quarry_view>(in);
@@ -79,10 +86,7 @@ quarry_view read_view(wire::Reader& in, std::vector<std::byte>& buffer) {
   in.align();
   const auto bytes = in.raw(view.count * view.components * element);
   buffer.assign(bytes.begin(), bytes.end());
-  view.data = view.count > 0 ? buffer.data() : nullptr;
-  view.stride = static_cast<std::int64_t>(view.components * element);
-  view.writable = 0;  // a copy: writes would not reach the server (quarry_set_property does)
-  return view;
+  return copied_view(view, buffer.data(), view.components * element);
 }
 
 std::uint64_t vectors(const void* data, std::uint64_t count) {
@@ -238,7 +242,10 @@ class RemoteBackend final : public Backend {
   // copy, none through the socket), kept until the next view of the same field or property.
   std::optional<quarry_view> shared_view(Op op, std::uint32_t which);
   std::map<std::uint64_t, std::unique_ptr<SharedSegment>> view_segments_;
-  bool shared_views_ = true;  // false once the server answered that it has no such operation
+  // The highest operation the server knows (its open reply's; 0 from a server before the
+  // shared views, which sent none): later ones are not asked of it.
+  std::uint32_t server_last_op_ = 0;
+  bool server_knows(Op op) const { return static_cast<std::uint32_t>(op) <= server_last_op_; }
 };
 
 RemoteBackend::RemoteBackend(const quarry_open_info& info)
@@ -265,8 +272,9 @@ RemoteBackend::RemoteBackend(const quarry_open_info& info)
   const auto answer = protocol::read<protocol::OpenReply>(reply.in);
   session_ = answer.session;
   server_abi_version_ = reply.header.abi_version;
+  server_last_op_ = reply.in.remaining() >= sizeof(std::uint32_t) ? reply.in.get<std::uint32_t>() : 0;
   if (!answer.shared_memory) segment_.reset();
-  if (!segment_) return;
+  if (!segment_ || !server_knows(Op::attach_channel)) return;
   // Where the server maps our segment it can take requests through shared memory too.
   try {
     std::unique_ptr<Channel> channel = Channel::create();
@@ -275,8 +283,8 @@ RemoteBackend::RemoteBackend(const quarry_open_info& info)
     send(attach);
     channel_ = std::move(channel);
   } catch (const ApiError& e) {
-    // A server from before the channel (UNSUPPORTED), or one that cannot map it: the socket.
-    if (e.status() != QUARRY_ERROR_UNSUPPORTED && e.status() != QUARRY_ERROR_IO) throw;
+    // A server that cannot map it: the socket.
+    if (e.status() != QUARRY_ERROR_IO) throw;
   } catch (const std::runtime_error&) {
     // No shared memory to spare for it here: the socket.
   }
@@ -347,9 +355,9 @@ void RemoteBackend::get_particles(quarry_particle_data& d) {
 }
 
 std::optional<quarry_view> RemoteBackend::shared_view(Op op, std::uint32_t which) {
-  if (!segment_ || !shared_views_) return std::nullopt;
+  if (!segment_ || !server_knows(op)) return std::nullopt;
   std::unique_ptr<SharedSegment>& segment =
-      view_segments_[(static_cast<std::uint64_t>(op) << 32) | which];
+      view_segments_[wire::view_key(op, which)];
   std::uint64_t wanted = kFirstViewBytes;
   for (int attempt = 0; attempt < 2; ++attempt) {
     if (!segment || segment->size() < wanted) {
@@ -363,33 +371,19 @@ std::optional<quarry_view> RemoteBackend::shared_view(Op op, std::uint32_t which
     wire::Request r = request(op);
     r.fields().put(which);
     r.fields().text(segment->name());
-    try {
-      Reply reply = send(r);
-      quarry_view view = protocol::read<quarry_view>(reply.in);
-      const auto bytes = reply.in.get<std::uint64_t>();
-      const auto written = reply.in.get<std::uint8_t>();
-      const std::size_t row = protocol::dtype_bytes(view.dtype) * view.components;
-      if (row == 0 || bytes != view.count * row || (written && bytes > segment->size()))
-        throw ApiError(QUARRY_ERROR_TRANSPORT,
-                       fmt::format("{}: the server at {} describes a view of {} bytes as {} "
-                                   "particles of {} bytes",
-                                   wire::op_name(static_cast<std::uint32_t>(op)),
-                                   connection_.endpoint(), bytes, view.count, row));
-      if (written) {
-        view.data = view.count > 0 ? segment->at(0) : nullptr;
-        view.stride = static_cast<std::int64_t>(row);
-        view.writable = 0;  // a copy: writes would not reach the server (quarry_set_property)
-        return view;
-      }
-      wanted = bytes + bytes / 4;  // a larger segment, with room for some growth, and once more
-    } catch (const ApiError& e) {
-      if (e.status() != QUARRY_ERROR_UNSUPPORTED ||
-          std::string_view(e.what()).find("is not one this server") == std::string_view::npos)
-        throw;
-      shared_views_ = false;  // a server from before shared views: they come in the replies
-      view_segments_.clear();
-      return std::nullopt;
-    }
+    Reply reply = send(r);
+    quarry_view view = protocol::read<quarry_view>(reply.in);
+    const auto bytes = reply.in.get<std::uint64_t>();
+    const auto written = reply.in.get<std::uint8_t>();
+    const std::size_t row = protocol::dtype_bytes(view.dtype) * view.components;
+    if (row == 0 || bytes != view.count * row || (written && bytes > segment->size()))
+      throw ApiError(QUARRY_ERROR_TRANSPORT,
+                     fmt::format("{}: the server at {} describes a view of {} bytes as {} "
+                                 "particles of {} bytes",
+                                 wire::op_name(static_cast<std::uint32_t>(op)),
+                                 connection_.endpoint(), bytes, view.count, row));
+    if (written) return copied_view(view, segment->at(0), row);
+    wanted = bytes + bytes / 4;  // a larger segment, with room for some growth, and once more
   }
   return std::nullopt;
 }

@@ -186,7 +186,7 @@ void Server::shared_view(wire::Op op, wire::Reader& in, wire::Writer& out) {
   // Attached only once the field or property is known to exist: a session holds at most one
   // segment per view there is.
   std::unique_ptr<SharedSegment>& segment =
-      session_->views[(static_cast<std::uint64_t>(op) << 32) | which];
+      session_->views[wire::view_key(op, which)];
   if (!segment || segment->name() != name) {
     try {
       segment = SharedSegment::attach(name);
@@ -325,6 +325,7 @@ std::string Server::open(const wire::RequestHeader& header, wire::Reader& in, in
   wire::Writer out;
   out.bytes().assign(wire::kReplyHeaderBytes, '\0');
   protocol::fields(out, reply);
+  out.put(wire::kLastOp);  // the operations it may ask (a server before the shared views sent none)
   return reply_with(out, header.request_id, QUARRY_OK, "");
 }
 

@@ -82,13 +82,19 @@ enum class Op : std::uint32_t {
   get_surface_nodes,
   get_surface_loads,
   // Views written into a shared-memory segment of the client's own for that view (ipc with
-  // shared memory only; a server before these answers UNSUPPORTED and the client falls back).
+  // shared memory only). The open reply names the last operation a server knows: a client asks
+  // these, and the channel, only of a server that names them; others send views in the replies.
   view_particles_shared,
   view_property_shared,
   // The client's request channel (api/channel.h) for the session's further requests (ipc with
-  // shared memory only; a server before it answers UNSUPPORTED and the socket carries them).
+  // shared memory only; without it, the socket carries them).
   attach_channel,
 };
+// The key of a shared view's segment in a session, on both sides: the operation (particles or
+// property) and which field or property.
+inline constexpr std::uint64_t view_key(Op op, std::uint32_t which) {
+  return (static_cast<std::uint64_t>(op) << 32) | which;
+}
 inline constexpr std::uint32_t kFirstOp = static_cast<std::uint32_t>(Op::open);
 inline constexpr std::uint32_t kLastOp = static_cast<std::uint32_t>(Op::attach_channel);
 
