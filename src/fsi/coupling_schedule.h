@@ -39,6 +39,7 @@ class CouplingSchedule {
   double filter() const { return filter_; }   // s
   double requested() const { return requested_; }  // s, the pending requested sync point
   std::int64_t synchronisations() const { return synchronisations_; }
+  bool reset_done() const { return reset_done_; }  // the cycle-2 reset has been made (PERIOD final)
 
   // To call before the structure's step number `cycle` (1-based) with the step sizes (s) the
   // two solvers use. At cycle 2, once in a run, DT_user becomes max(DT_user, 2·dt_structure,
