@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "fsi/period_stability.h"
+#include "insert/size_distribution.h"
 #include "sim/step.h"
 
 namespace quarry::fsi {
@@ -90,64 +91,75 @@ void StructureCoupler::exchange() {
 // §11.4); the linear law's k. ζ: the DEM's dashpot against a wall, c/(2√(S_n m_p)) = √(5/6)|β|
 // for Hertz–Mindlin (c = −2√(5/6) β √(S_n m_p)), |β| for the linear law. The smallest particle
 // and the lightest coupled node that can move give the largest ω, the largest particle the
-// smallest m_node/m_p: the shorter of their limits counts. The ratio is taken at most 1: a node heavier than one particle is, under a bed, loaded by
-// the column above it through several contacts, and a bed of 1.8–2.2 mm beads on a clamped
-// plate (tests/fsi/plate_bed.yaml without mass scaling, ratio 7 for one bead, where the model
-// is stable at any PERIOD) grew at ω·P ≈ 1.1 (at ratio 1 and e = 0.3 the limit is 0.94).
+// smallest m_node/m_p: the shorter of their limits counts. The particles: the smallest and the
+// largest each particle type can have (those a factory inserts later too). The ratio is taken
+// at most 1: a node heavier than one particle is, under a bed, loaded by the column above it
+// through several contacts, and a bed of 1.8–2.2 mm beads on a clamped plate
+// (tests/fsi/plate_bed.yaml without mass scaling, ratio 7 for one bead, where the model is
+// stable at any PERIOD) grew at ω·P ≈ 1.1 (at ratio 1 and e = 0.3 the limit is 0.94).
 // Warned once, above half the limit: S_n, the overlap and the ratio are estimates (ω·P_crit
 // 0.70 at m_node/m_p = 0.48, 0.60 at 0.23, 0.49 at 0.1 for e = 0.4).
 void StructureCoupler::check_period_stability() {
   // After the cycle-2 reset: a PERIOD below twice a solver's step is raised there.
   if (stability_checked_ || world_.particles.size() == 0 || !side_.schedule().reset_done()) return;
   stability_checked_ = true;
-  const ParticleStore& p = world_.particles;
-  // The smallest particle has the largest ω, the largest the smallest mass ratio: both are tried.
-  std::size_t smallest = 0, largest = 0;
-  for (std::size_t i = 1; i < p.size(); ++i) {
-    if (p.radius[i] < p.radius[smallest]) smallest = i;
-    if (p.radius[i] > p.radius[largest]) largest = i;
+  struct Particle {
+    double radius = 0.0, mass = 0.0;  // m, kg
+    std::size_t material = 0;
+  };
+  std::vector<Particle> particles;
+  for (const ParticleTypeInfo& type : particle_type_infos(world_.spec)) {
+    if (type.fixed) continue;
+    const SizeSampler sizes(type.size);
+    for (const double radius : {sizes.min_radius(), sizes.max_radius()})
+      particles.push_back({radius, type.density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius,
+                           type.material_index});
   }
-  // The lightest node that can move along any axis: a node whose translations are all
+  if (particles.empty()) return;
+  // The coupled nodes that can move along some axis: a node whose translations are all
   // prescribed (a clamped edge) takes any force without moving, an infinite mass here.
-  double node_mass = 1e300;  // kg
   const fem::ShellSolver& solver = side_.solver();
+  std::vector<double> masses;  // kg
   for (std::int32_t n : side_.node_of_vertex()) {
     const auto node = static_cast<std::size_t>(n);
     if ((solver.prescribed_dofs()[node] & fem::dof::translations) != fem::dof::translations)
-      node_mass = std::min(node_mass, solver.nodal_masses()[node]);
+      masses.push_back(solver.nodal_masses()[node]);
   }
-  if (node_mass == 1e300) return;  // nothing coupled moves
+  if (masses.empty()) return;  // nothing coupled moves
+  const double node_mass = *std::min_element(masses.begin(), masses.end());  // kg, the lightest
   const std::size_t wall = world_.surfaces[surface_].mesh.material;
   const double speed = world_.spec.simulation.impact_speed ? world_.spec.simulation.impact_speed->value : 1.0;
+  const auto damping_ratio = [](const InteractionParameters& pair) {
+    return (pair.normal_model == NormalModel::linear ? 1.0 : std::sqrt(5.0 / 6.0)) * -pair.damping_ratio_beta;
+  };
   struct Estimate {
     double radius = 0.0, particle_mass = 0.0;  // m, kg
     double stiffness = 0.0, omega = 0.0;        // N/m, rad/s
     double damping_ratio = 0.0, mass_ratio = 0.0, critical = 0.0;  // 1, 1, s
   };
-  const auto estimate = [&](std::size_t i) {
-    const InteractionParameters& pair = world_.materials.between(p.material[i], wall);
+  const auto estimate = [&](const Particle& particle) {
+    const InteractionParameters& pair = world_.materials.between(particle.material, wall);
     const double effective_modulus = pair.effective_youngs_modulus;  // E* (Pa), a rigid wall's compliance 0
     Estimate e;
-    e.radius = p.radius[i];
-    e.particle_mass = 1.0 / p.inv_mass[i];
-    const double effective_mass = 1.0 / (p.inv_mass[i] + 1.0 / node_mass);  // kg
-    const bool linear = pair.normal_model == NormalModel::linear;
+    e.radius = particle.radius;
+    e.particle_mass = particle.mass;
+    const double effective_mass = 1.0 / (1.0 / particle.mass + 1.0 / node_mass);  // kg
     e.stiffness = pair.linear_normal_stiffness;
-    if (!linear) {
+    if (pair.normal_model != NormalModel::linear) {
       const double overlap =
           std::pow(15.0 * effective_mass * speed * speed / (16.0 * effective_modulus * std::sqrt(e.radius)), 0.4);  // m
       e.stiffness = 2.0 * effective_modulus * std::sqrt(e.radius * overlap);
     }
-    e.damping_ratio = (linear ? 1.0 : std::sqrt(5.0 / 6.0)) * -pair.damping_ratio_beta;
+    e.damping_ratio = damping_ratio(pair);
     e.omega = std::sqrt(e.stiffness / effective_mass);
     e.mass_ratio = std::min(node_mass / e.particle_mass, 1.0);
     e.critical = critical_omega_period(e.damping_ratio, e.mass_ratio) / e.omega;
     return e;
   };
-  Estimate worst = estimate(smallest);
-  if (largest != smallest) {
-    const Estimate other = estimate(largest);
-    if (other.critical < worst.critical) worst = other;
+  Estimate worst = estimate(particles.front());
+  for (const Particle& particle : particles) {
+    const Estimate e = estimate(particle);
+    if (e.critical < worst.critical) worst = e;
   }
   constexpr double margin = 0.5;
   const CouplingSchedule& schedule = side_.schedule();
@@ -165,7 +177,7 @@ void StructureCoupler::check_period_stability() {
         "node of {:.4g} kg (S_n {:.4g} N/m at {:.3g} m/s, ω {:.4g} rad/s, damping ratio {:.3g}, mass ratio {:.3g}) "
         "makes the exchange unstable (growing) for PERIOD > {:.4g} s (ω·PERIOD > {:.3g}); use PERIOD ≤ {:.4g} s, "
         "with a smaller DEM step if that is under 2 DEM steps (docs/fem.md, \"Stability of PERIOD\")",
-        schedule.period(), worst.radius, worst.particle_mass, node_mass, worst.stiffness, speed, worst.omega,
+        period, worst.radius, worst.particle_mass, node_mass, worst.stiffness, speed, worst.omega,
         worst.damping_ratio, worst.mass_ratio, worst.critical, worst.critical * worst.omega, margin * worst.critical));
 
   // The structure's own modes (period_stability.h, the node with its mode Ω and the damping α):
@@ -174,52 +186,44 @@ void StructureCoupler::check_period_stability() {
   // stops it is about proportional to ω, not to the PERIOD. Modes up to the structure's highest,
   // 2/dt at its stable step. The contact that lasts, not an impact's: a particle at rest under its
   // own weight (a bed's weight stiffens it), on a node of the surface's median mass taken at most
-  // as heavy as the particle (a column above it), the larger need of the smallest and largest
-  // particle. On two measured beds (docs/fem.md, "Damping the structure") the damping that stops
-  // the growth lay between 0.28 and 0.77 of this estimate.
-  std::vector<double> masses;  // kg, of the coupled nodes that can move
-  for (std::int32_t n : side_.node_of_vertex()) {
-    const auto node = static_cast<std::size_t>(n);
-    if ((solver.prescribed_dofs()[node] & fem::dof::translations) != fem::dof::translations)
-      masses.push_back(solver.nodal_masses()[node]);
-  }
+  // as heavy as the particle (a column above it); the largest need of the particles above. On two
+  // measured beds (docs/fem.md, "Damping the structure") the damping that stops the growth lay
+  // between 0.21 and 0.77 of this estimate.
   std::nth_element(masses.begin(), masses.begin() + static_cast<std::ptrdiff_t>(masses.size() / 2), masses.end());
   const double median_mass = masses[masses.size() / 2];  // kg
-  const double weight_per_mass = norm(world_.spec.simulation.gravity.value);  // m/s²
+  const double gravity = norm(world_.spec.simulation.gravity.value);  // m/s²
+  const double highest = 2.0 * period / solver.stable_time_step().time_step;  // Ω_max·P
   struct Resting {
     double radius = 0.0, stiffness = 0.0, omega = 0.0;  // m, N/m, rad/s
     DampingNeed need;
   };
-  const double highest = 2.0 * period / solver.stable_time_step().time_step;  // Ω_max·P
-  const auto resting = [&](std::size_t i) {
-    const InteractionParameters& pair = world_.materials.between(p.material[i], wall);
+  const auto resting = [&](const Particle& particle) {
+    const InteractionParameters& pair = world_.materials.between(particle.material, wall);
     const double effective_modulus = pair.effective_youngs_modulus;  // E* (Pa)
-    const double particle_mass = 1.0 / p.inv_mass[i];                // kg
-    const double node = std::min(median_mass, particle_mass);        // kg
+    const double node = std::min(median_mass, particle.mass);        // kg
     Resting r;
-    r.radius = p.radius[i];
+    r.radius = particle.radius;
     r.stiffness = pair.linear_normal_stiffness;
     if (pair.normal_model != NormalModel::linear) {
       // Hertz at rest: m g = (4/3) E* √R δ^(3/2) (Johnson, Contact Mechanics, §4.2); without
       // gravity, the impact overlap of the PERIOD check.
       const double overlap =
-          weight_per_mass > 0.0
-              ? std::pow(3.0 * particle_mass * weight_per_mass / (4.0 * effective_modulus * std::sqrt(r.radius)), 2.0 / 3.0)
-              : std::pow(15.0 * (1.0 / (1.0 / particle_mass + 1.0 / node)) * speed * speed /
+          gravity > 0.0
+              ? std::pow(3.0 * particle.mass * gravity / (4.0 * effective_modulus * std::sqrt(r.radius)), 2.0 / 3.0)
+              : std::pow(15.0 * (1.0 / (1.0 / particle.mass + 1.0 / node)) * speed * speed /
                              (16.0 * effective_modulus * std::sqrt(r.radius)),
                          0.4);  // m
       r.stiffness = 2.0 * effective_modulus * std::sqrt(r.radius * overlap);
     }
-    const double damping_ratio =
-        (pair.normal_model == NormalModel::linear ? 1.0 : std::sqrt(5.0 / 6.0)) * -pair.damping_ratio_beta;
-    r.omega = std::sqrt(r.stiffness * (1.0 / particle_mass + 1.0 / node));
-    r.need = damping_ratio > 0.0 ? required_damping_over_modes(r.omega * period, damping_ratio, node / particle_mass, highest)
-                                 : DampingNeed{std::numeric_limits<double>::infinity(), 0.0};
+    r.omega = std::sqrt(r.stiffness * (1.0 / particle.mass + 1.0 / node));
+    const double zeta = damping_ratio(pair);
+    r.need = zeta > 0.0 ? required_damping_over_modes(r.omega * period, zeta, node / particle.mass, highest)
+                        : DampingNeed{std::numeric_limits<double>::infinity(), 0.0};
     return r;
   };
-  Resting neediest = resting(smallest);
-  if (largest != smallest) {
-    const Resting other = resting(largest);
+  Resting neediest = resting(particles.front());
+  for (std::size_t k = 1; k < particles.size(); ++k) {
+    const Resting other = resting(particles[k]);
     if (other.need.damping_period > neediest.need.damping_period) neediest = other;
   }
   const double alpha = solver.damping();                           // 1/s
@@ -236,7 +240,7 @@ void StructureCoupler::check_period_stability() {
       "warning: the structure's damping α = {:.4g} 1/s may be too low for the exchange at PERIOD {:.4g} s: a "
       "particle of radius {:.4g} m at rest on a node of {:.4g} kg (the median; S_n {:.4g} N/m, ω {:.4g} rad/s) "
       "drives {} unless the structure is damped at {} (mass-proportional: `damping` in the deck's structures "
-      "entry){}; on two measured beds the damping that stopped it lay between 0.3 and 0.8 of this estimate; "
+      "entry){}; on two measured beds the damping that stopped it lay between 0.2 and 0.8 of this estimate; "
       "watch the structure's kinetic energy (docs/fem.md, \"Damping the structure\")",
       alpha, period, neediest.radius, median_mass, neediest.stiffness, neediest.omega, modes, amount,
       need.node_omega_period == 0.0 ? " or a shorter PERIOD"
