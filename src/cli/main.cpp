@@ -23,6 +23,7 @@
 #include "cfdem/fluid_setup.h"
 #include "cli/udf_build.h"
 #include "core/allocator.h"
+#include "fsi/structure_run.h"
 #include "io/deck.h"
 #include "quarry_version.h"
 #include "sim/estimate.h"
@@ -94,8 +95,17 @@ int command_check(const std::string& deck) {
   if (d.has_errors()) throw UserError(d);
   std::cerr << d.format();
   World world = build_world(spec);
-  // The fluid: section's checks (grid, time step, UDF, blocked cells).
-  const auto fluid = cfdem::attach_fluid_from_spec(world);
+  // The fluid: section's checks (grid, time step, UDF, blocked cells) and the structures' (their
+  // models read and adapted, their line each, then the exchange's stability at the PERIOD the
+  // run will hold, for the particles the deck's types can be).
+  const api::BuiltInSolvers attached = api::attach_built_in_solvers(world, std::cerr);
+  const auto& fluid = attached.fluid;
+  if (attached.structures)
+    for (std::size_t k = 0; k < attached.structures->size(); ++k) {
+      const fsi::StructureCoupler& coupler = attached.structures->coupler(k);
+      for (const std::string& line : coupler.stability_warnings(coupler.period_after_reset()))
+        std::cerr << "structure \"" << attached.structures->name(k) << "\": " << line << "\n";
+    }
   // The world's own notes (e.g. facets an STL reader removed); the time step's are printed above.
   for (const std::string& note : world.warnings)
     if (std::none_of(choice.problems.begin(), choice.problems.end(), [&](const Diagnostic& p) { return p.message == note; }))

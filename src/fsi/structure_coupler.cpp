@@ -103,6 +103,17 @@ void StructureCoupler::check_period_stability() {
   // After the cycle-2 reset: a PERIOD below twice a solver's step is raised there.
   if (stability_checked_ || world_.particles.size() == 0 || !side_.schedule().reset_done()) return;
   stability_checked_ = true;
+  for (std::string& line : stability_warnings(side_.schedule().period())) side_.add_message(std::move(line));
+}
+
+double StructureCoupler::period_after_reset() const {
+  const CouplingSchedule& schedule = side_.schedule();
+  if (schedule.reset_done()) return schedule.period();
+  return std::max({schedule.period(), 2.0 * side_.structure_step(), 2.0 * world_.dt});
+}
+
+std::vector<std::string> StructureCoupler::stability_warnings(double period) const {
+  std::vector<std::string> lines;
   struct Particle {
     double radius = 0.0, mass = 0.0;  // m, kg
     std::size_t material = 0;
@@ -115,7 +126,7 @@ void StructureCoupler::check_period_stability() {
       particles.push_back({radius, type.density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius,
                            type.material_index});
   }
-  if (particles.empty()) return;
+  if (particles.empty()) return lines;
   // The coupled nodes that can move along some axis: a node whose translations are all
   // prescribed (a clamped edge) takes any force without moving, an infinite mass here.
   const fem::ShellSolver& solver = side_.solver();
@@ -125,7 +136,7 @@ void StructureCoupler::check_period_stability() {
     if ((solver.prescribed_dofs()[node] & fem::dof::translations) != fem::dof::translations)
       masses.push_back(solver.nodal_masses()[node]);
   }
-  if (masses.empty()) return;  // nothing coupled moves
+  if (masses.empty()) return lines;  // nothing coupled moves
   const double node_mass = *std::min_element(masses.begin(), masses.end());  // kg, the lightest
   const std::size_t wall = world_.surfaces[surface_].mesh.material;
   const double speed = world_.spec.simulation.impact_speed ? world_.spec.simulation.impact_speed->value : 1.0;
@@ -162,17 +173,15 @@ void StructureCoupler::check_period_stability() {
     if (e.critical < worst.critical) worst = e;
   }
   constexpr double margin = 0.5;
-  const CouplingSchedule& schedule = side_.schedule();
   if (worst.critical == 0.0) {  // restitution 1: nothing opposes the lag's negative damping
-    side_.add_message(fmt::format(
+    lines.push_back(fmt::format(
         "warning: coupling PERIOD {:.4g} s: the particle–structure contact has no damping (restitution 1), so the "
         "exchange's lag grows its oscillation at any PERIOD (docs/fem.md, \"Stability of PERIOD\")",
-        schedule.period()));
-    return;
+        period));
+    return lines;
   }
-  const double period = schedule.period();  // s
   if (period > margin * worst.critical)
-    side_.add_message(fmt::format(
+    lines.push_back(fmt::format(
         "warning: coupling PERIOD {:.4g} s is long for the contact: a particle of radius {:.4g} m ({:.4g} kg) on a "
         "node of {:.4g} kg (S_n {:.4g} N/m at {:.3g} m/s, ω {:.4g} rad/s, damping ratio {:.3g}, mass ratio {:.3g}) "
         "makes the exchange unstable (growing) for PERIOD > {:.4g} s (ω·PERIOD > {:.3g}); use PERIOD ≤ {:.4g} s, "
@@ -228,7 +237,7 @@ void StructureCoupler::check_period_stability() {
   }
   const double alpha = solver.damping();                           // 1/s
   const double required = neediest.need.damping_period / period;  // 1/s (+∞: more than 100/PERIOD)
-  if (!(alpha < required)) return;
+  if (!(alpha < required)) return lines;
   const DampingNeed& need = neediest.need;
   const std::string modes = need.node_omega_period == 0.0
                                 ? std::string("the contact mode (the node as a free mass)")
@@ -236,7 +245,7 @@ void StructureCoupler::check_period_stability() {
                                               need.node_omega_period / period, need.node_omega_period);
   const std::string amount = std::isfinite(required) ? fmt::format("α ≈ {:.4g} 1/s", required)
                                                       : fmt::format("more than α = {:.4g} 1/s", 100.0 / period);
-  side_.add_message(fmt::format(
+  lines.push_back(fmt::format(
       "warning: the structure's damping α = {:.4g} 1/s may be too low for the exchange at PERIOD {:.4g} s: a "
       "particle of radius {:.4g} m at rest on a node of {:.4g} kg (the median; S_n {:.4g} N/m, ω {:.4g} rad/s) "
       "drives {} unless the structure is damped at {} (mass-proportional: `damping` in the deck's structures "
@@ -245,6 +254,7 @@ void StructureCoupler::check_period_stability() {
       alpha, period, neediest.radius, median_mass, neediest.stiffness, neediest.omega, modes, amount,
       need.node_omega_period == 0.0 ? " or a shorter PERIOD"
                                     : "; a shorter PERIOD moves the band of such modes, it does not remove it"));
+  return lines;
 }
 
 CouplerState StructureCoupler::state() const {

@@ -74,6 +74,14 @@ class StructureCoupler {
   void advance_to(double time);
 
   const CouplingSchedule& schedule() const { return side_.schedule(); }
+  // The PERIOD (s) the schedule holds after the cycle-2 reset (now, or as it will be made with
+  // the solvers' present steps): max(DT_user, 2·dt_structure, 2·dt_dem).
+  double period_after_reset() const;
+  // The stability checks of the exchange at `period` (s) (period_stability.h; docs/fem.md
+  // "Stability of PERIOD", "Damping the structure"), for the particles each of the deck's types
+  // can be: the warning lines, none when both pass. The coupler gives them once, after its
+  // first period with particles; `quarry check` before a run.
+  std::vector<std::string> stability_warnings(double period) const;
   // Lines to print: the cycle-2 reset, the PERIOD stability warning (each once).
   const std::vector<std::string>& messages() const { return side_.messages(); }
   // The impulse (N·s, summed over nodes) the exchange holds: given by the particles but not yet

@@ -41,6 +41,7 @@ class CoupledStructures {
   CoupledStructures(World& world, std::ostream& log);
 
   std::size_t size() const { return entries_.size(); }
+  const std::string& name(std::size_t k) const { return entries_[k]->name; }
   const fem::ShellSolver& solver(std::size_t k) const { return *entries_[k]->solver; }
   const StructureCoupler& coupler(std::size_t k) const { return *entries_[k]->coupler; }
 
