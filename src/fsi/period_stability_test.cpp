@@ -183,51 +183,70 @@ factories:
 output: {directory: out_fsi_period, interval: 0, plots: false}
 )";
 
-Oscillation run_at(double fraction_of_critical, double end_time) {
-  CoupledStructure structure = coupled_structure_from_text(pyramid_plate(), "pyramid.bdf");
-  SimulationSpec spec = parse_deck_string(kDeck, "ball.yaml");
+// The scene of both runs below: the pyramid plate of `youngs_modulus` (Pa), the deck's sphere at
+// rest on its apex at the static overlap (the node takes the weight from the second period), and
+// the linearised contact there.
+struct PyramidScene {
+  CoupledStructure structure;
+  World world;
+  std::size_t surface = 0, centre = 0;                            // the coupled surface, the apex node
+  double particle_mass = 0.0, node_mass = 0.0;                    // kg
+  double overlap = 0.0, stiffness = 0.0, effective_mass = 0.0;  // m, N/m, kg
+  double zeta = 0.0;                                              // the dashpot's ratio against a wall
+};
+
+PyramidScene pyramid_scene(double youngs_modulus, const std::string& deck) {
+  CoupledStructure structure = coupled_structure_from_text(pyramid_plate(youngs_modulus), "pyramid.bdf");
+  SimulationSpec spec = parse_deck_string(deck, "ball.yaml");
   spec.surfaces.push_back(coupling_surface_spec(structure.mesh, "plate", "steel"));
-  const std::size_t surface = spec.surfaces.size() - 1;
-  World world = build_world(spec);
-  sim::initialize(world);
-  EXPECT_EQ(world.particles.size(), 1u);
-  const fem::ShellModel& model = structure.adapted.model;
-  int centre = -1;
+  PyramidScene s{std::move(structure), build_world(spec)};
+  s.surface = s.world.surfaces.size() - 1;
+  sim::initialize(s.world);
+  EXPECT_EQ(s.world.particles.size(), 1u);
+  const fem::ShellModel& model = s.structure.adapted.model;
   for (std::size_t n = 0; n < model.nodes.size(); ++n)
-    if (model.nodes[n].z > 0.5 * kBump) centre = static_cast<int>(n);
-  EXPECT_GE(centre, 0);
-  fem::ShellSolver solver(model);
-  const double node_mass = solver.nodal_masses()[static_cast<std::size_t>(centre)];  // kg
-  const double particle_mass = 1.0 / world.particles.inv_mass[0];                   // kg
+    if (model.nodes[n].z > 0.5 * kBump) s.centre = n;
+  EXPECT_GT(model.nodes[s.centre].z, 0.5 * kBump);
+  s.node_mass = fem::ShellSolver(model).nodal_masses()[s.centre];
+  s.particle_mass = 1.0 / s.world.particles.inv_mass[0];
 
   // The linearised contact at rest under the weight.
   const double compliance = (1.0 - 0.25 * 0.25) / 1.0e9 + (1.0 - 0.3 * 0.3) / 2.0e11;  // 1/Pa
   const double modulus = 1.0 / compliance;                                               // E* (Pa)
-  const double overlap = std::pow(3.0 * particle_mass * 9.81 / (4.0 * modulus * std::sqrt(kRadius)), 2.0 / 3.0);
-  const double stiffness = 2.0 * modulus * std::sqrt(kRadius * overlap);            // N/m
-  const double effective_mass = 1.0 / (1.0 / particle_mass + 1.0 / node_mass);      // kg
+  s.overlap = std::pow(3.0 * s.particle_mass * 9.81 / (4.0 * modulus * std::sqrt(kRadius)), 2.0 / 3.0);
+  s.stiffness = 2.0 * modulus * std::sqrt(kRadius * s.overlap);
+  s.effective_mass = 1.0 / (1.0 / s.particle_mass + 1.0 / s.node_mass);
   const double beta = std::log(0.4) / std::sqrt(std::log(0.4) * std::log(0.4) + std::numbers::pi * std::numbers::pi);
-  const double zeta = -std::sqrt(5.0 / 6.0) * beta;
+  s.zeta = -std::sqrt(5.0 / 6.0) * beta;
+
+  const Vec3 apex = model.nodes[s.centre];
+  s.world.particles.position[0] = {apex.x, apex.y, apex.z + kRadius - s.overlap};
+  s.world.particles.velocity[0] = {};
+  s.world.particles.angular_velocity[0] = {};
+  return s;
+}
+
+Oscillation run_at(double fraction_of_critical, double end_time) {
+  PyramidScene scene = pyramid_scene(1.56e7, kDeck);
+  World& world = scene.world;
+  const std::size_t centre = scene.centre;
+  const double node_mass = scene.node_mass, particle_mass = scene.particle_mass;  // kg
+  const double stiffness = scene.stiffness, effective_mass = scene.effective_mass, zeta = scene.zeta;
+  fem::ShellSolver solver(scene.structure.adapted.model);
   Oscillation run;
   run.omega = std::sqrt(stiffness / effective_mass);
   run.critical = critical_omega_period(zeta, node_mass / particle_mass) / run.omega;
-
-  // At rest on the apex at the static overlap (the node takes the weight from the second period).
-  const Vec3 apex = model.nodes[static_cast<std::size_t>(centre)];
-  world.particles.position[0] = {apex.x, apex.y, apex.z + kRadius - overlap};
-  world.particles.velocity[0] = {};
-  world.particles.angular_velocity[0] = {};
 
   // Whole DEM steps per period; the structure at a small fraction of its (soft) stable step, so
   // that it takes several steps in each period.
   const double period = std::round(fraction_of_critical * run.critical / world.dt) * world.dt;  // s
   const double fraction = std::min(0.9, 0.1 * period / solver.stable_time_step().time_step);
-  StructureCoupler coupler(world, surface, solver, structure.mesh.node_of_vertex,
+  StructureCoupler coupler(world, scene.surface, solver, scene.structure.mesh.node_of_vertex,
                            {.schedule = resolve_schedule(period, std::nullopt, 1.0),
                             .structure_step_fraction = fraction});
   while (world.time < end_time) {
     coupler.advance_period();
-    const double relative = world.particles.velocity[0].z - solver.velocities()[static_cast<std::size_t>(centre)].z;
+    const double relative = world.particles.velocity[0].z - solver.velocities()[centre].z;
     const double energy = 0.5 * effective_mass * relative * relative;  // J
     if (world.time <= 0.002) run.early = std::max(run.early, energy);
     if (world.time >= end_time - 0.002) run.late = std::max(run.late, energy);
@@ -275,18 +294,12 @@ struct NodeModeRun {
 };
 
 NodeModeRun run_stiff_node(double damping_fraction, double end_time) {
-  CoupledStructure structure = coupled_structure_from_text(pyramid_plate(2.0e11), "pyramid.bdf");
   std::string deck = kDeck;
   deck.replace(deck.find("time_step: 1.0e-6"), 17, "time_step: 2.5e-7");
-  SimulationSpec spec = parse_deck_string(deck, "ball.yaml");
-  spec.surfaces.push_back(coupling_surface_spec(structure.mesh, "plate", "steel"));
-  const std::size_t surface = spec.surfaces.size() - 1;
-  World world = build_world(spec);
-  sim::initialize(world);
-  const fem::ShellModel& model = structure.adapted.model;
-  std::size_t centre = 0;
-  for (std::size_t n = 0; n < model.nodes.size(); ++n)
-    if (model.nodes[n].z > 0.5 * kBump) centre = n;
+  PyramidScene scene = pyramid_scene(2.0e11, deck);
+  World& world = scene.world;
+  const fem::ShellModel& model = scene.structure.adapted.model;
+  const std::size_t centre = scene.centre;
   // The structure's step: a whole fraction of the PERIOD (below), about half its stable step.
   const double stable = fem::ShellSolver(model).stable_time_step().time_step;  // s
   const auto step_fraction = [&](double period) { return period / std::ceil(period / (0.5 * stable)) / stable; };
@@ -314,15 +327,8 @@ NodeModeRun run_stiff_node(double damping_fraction, double end_time) {
   }
 
   fem::ShellSolver solver(model);
-  const double node_mass = solver.nodal_masses()[centre];             // kg
-  const double particle_mass = 1.0 / world.particles.inv_mass[0];     // kg
-  const double compliance = (1.0 - 0.25 * 0.25) / 1.0e9 + (1.0 - 0.3 * 0.3) / 2.0e11;  // 1/Pa
-  const double modulus = 1.0 / compliance;
-  const double overlap = std::pow(3.0 * particle_mass * 9.81 / (4.0 * modulus * std::sqrt(kRadius)), 2.0 / 3.0);
-  const double stiffness = 2.0 * modulus * std::sqrt(kRadius * overlap);  // N/m
-  const double effective_mass = 1.0 / (1.0 / particle_mass + 1.0 / node_mass);
-  const double beta = std::log(0.4) / std::sqrt(std::log(0.4) * std::log(0.4) + std::numbers::pi * std::numbers::pi);
-  const double zeta = -std::sqrt(5.0 / 6.0) * beta;
+  const double node_mass = scene.node_mass, particle_mass = scene.particle_mass;  // kg
+  const double stiffness = scene.stiffness, effective_mass = scene.effective_mass, zeta = scene.zeta;
   run.omega = std::sqrt(stiffness / effective_mass);
   run.period = std::round(1.9 / run.node_omega / world.dt) * world.dt;  // s, whole DEM steps
   const double fraction = step_fraction(run.period);
@@ -336,11 +342,7 @@ NodeModeRun run_stiff_node(double damping_fraction, double end_time) {
                                                 {run.node_omega * run.period, damping * run.period}) /
                      run.period;
 
-  const Vec3 apex = model.nodes[centre];
-  world.particles.position[0] = {apex.x, apex.y, apex.z + kRadius - overlap};
-  world.particles.velocity[0] = {};
-  world.particles.angular_velocity[0] = {};
-  StructureCoupler coupler(world, surface, solver, structure.mesh.node_of_vertex,
+  StructureCoupler coupler(world, scene.surface, solver, scene.structure.mesh.node_of_vertex,
                            {.schedule = resolve_schedule(run.period, std::nullopt, 1.0),
                             .structure_step_fraction = fraction});
   // Windows of 0.3 ms (several of the node's periods): the largest energy in each.
