@@ -9,7 +9,9 @@
 
 #include <fmt/format.h>
 
+#include "contact/normal_hertz.h"
 #include "fsi/period_stability.h"
+#include "integrate/timestep.h"
 #include "insert/size_distribution.h"
 #include "sim/step.h"
 
@@ -140,6 +142,13 @@ std::vector<std::string> StructureCoupler::stability_warnings(double period) con
   const double node_mass = *std::min_element(masses.begin(), masses.end());  // kg, the lightest
   const std::size_t wall = world_.surfaces[surface_].mesh.material;
   const double speed = world_.spec.simulation.impact_speed ? world_.spec.simulation.impact_speed->value : 1.0;
+  // The contact's normal stiffness (N/m): the linear law's k, or Hertz's tangent stiffness
+  // 2E*√(R δ) at the overlap `overlap()` gives (m).
+  const auto stiffness = [](const InteractionParameters& pair, double radius, auto overlap) {
+    return pair.normal_model == NormalModel::linear
+               ? pair.linear_normal_stiffness
+               : contact::hertz_normal_spring(pair.effective_youngs_modulus, radius, overlap()).stiffness;
+  };
   const auto damping_ratio = [](const InteractionParameters& pair) {
     return (pair.normal_model == NormalModel::linear ? 1.0 : std::sqrt(5.0 / 6.0)) * -pair.damping_ratio_beta;
   };
@@ -155,12 +164,9 @@ std::vector<std::string> StructureCoupler::stability_warnings(double period) con
     e.radius = particle.radius;
     e.particle_mass = particle.mass;
     const double effective_mass = 1.0 / (1.0 / particle.mass + 1.0 / node_mass);  // kg
-    e.stiffness = pair.linear_normal_stiffness;
-    if (pair.normal_model != NormalModel::linear) {
-      const double overlap =
-          std::pow(15.0 * effective_mass * speed * speed / (16.0 * effective_modulus * std::sqrt(e.radius)), 0.4);  // m
-      e.stiffness = 2.0 * effective_modulus * std::sqrt(e.radius * overlap);
-    }
+    e.stiffness = stiffness(pair, e.radius, [&] {
+      return hertz_peak_overlap(effective_mass, e.radius, effective_modulus, speed);
+    });
     e.damping_ratio = damping_ratio(pair);
     e.omega = std::sqrt(e.stiffness / effective_mass);
     e.mass_ratio = std::min(node_mass / e.particle_mass, 1.0);
@@ -168,8 +174,8 @@ std::vector<std::string> StructureCoupler::stability_warnings(double period) con
     return e;
   };
   Estimate worst = estimate(particles.front());
-  for (const Particle& particle : particles) {
-    const Estimate e = estimate(particle);
+  for (std::size_t k = 1; k < particles.size(); ++k) {
+    const Estimate e = estimate(particles[k]);
     if (e.critical < worst.critical) worst = e;
   }
   constexpr double margin = 0.5;
@@ -212,18 +218,13 @@ std::vector<std::string> StructureCoupler::stability_warnings(double period) con
     const double node = std::min(median_mass, particle.mass);        // kg
     Resting r;
     r.radius = particle.radius;
-    r.stiffness = pair.linear_normal_stiffness;
-    if (pair.normal_model != NormalModel::linear) {
-      // Hertz at rest: m g = (4/3) E* √R δ^(3/2) (Johnson, Contact Mechanics, §4.2); without
-      // gravity, the impact overlap of the PERIOD check.
-      const double overlap =
-          gravity > 0.0
-              ? std::pow(3.0 * particle.mass * gravity / (4.0 * effective_modulus * std::sqrt(r.radius)), 2.0 / 3.0)
-              : std::pow(15.0 * (1.0 / (1.0 / particle.mass + 1.0 / node)) * speed * speed /
-                             (16.0 * effective_modulus * std::sqrt(r.radius)),
-                         0.4);  // m
-      r.stiffness = 2.0 * effective_modulus * std::sqrt(r.radius * overlap);
-    }
+    // Hertz at rest: m g = (4/3) E* √R δ^(3/2) (Johnson, Contact Mechanics, §4.2); without
+    // gravity, the impact overlap of the PERIOD check.
+    r.stiffness = stiffness(pair, r.radius, [&] {
+      return gravity > 0.0
+                 ? std::pow(3.0 * particle.mass * gravity / (4.0 * effective_modulus * std::sqrt(r.radius)), 2.0 / 3.0)
+                 : hertz_peak_overlap(1.0 / (1.0 / particle.mass + 1.0 / node), r.radius, effective_modulus, speed);
+    });
     r.omega = std::sqrt(r.stiffness * (1.0 / particle.mass + 1.0 / node));
     const double zeta = damping_ratio(pair);
     r.need = zeta > 0.0 ? required_damping_over_modes(r.omega * period, zeta, node / particle.mass, highest)
