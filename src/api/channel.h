@@ -31,6 +31,9 @@ class Channel {
   // How long a side spins before it sleeps on the futex: a reply of a short call, or the next
   // call of a partner's exchange, usually comes sooner.
   static constexpr std::chrono::microseconds kSpin{100};
+  // The longest either side waits in the channel before it looks at the ZeroMQ connection
+  // again (a peer gone, another client, a call that goes over the socket).
+  static constexpr std::chrono::milliseconds kWatchSlice{20};
 
   // The client's: a new segment. Throws std::runtime_error (no shared memory).
   static std::unique_ptr<Channel> create();

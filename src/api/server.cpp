@@ -16,7 +16,6 @@ namespace quarry::api {
 namespace {
 
 constexpr int kPollMs = 200;  // how often the loop looks at the stop flag when idle
-constexpr int kChannelSliceMs = 20;  // ... and at the socket while a session's channel is idle
 
 // A reply with this status and text whose payload is what `out` holds after its header room
 // (without a text, `out` becomes the reply: a payload of megabytes is not copied again).
@@ -361,7 +360,7 @@ void serve(const ServerOptions& options,
       // The session's requests come through its channel; the socket is looked at between
       // them and every slice (another client, a closed connection, a call too large).
       answered = server.serve_channel(answered ? Channel::kSpin : std::chrono::microseconds(0),
-                                      std::chrono::milliseconds(kChannelSliceMs));
+                                      Channel::kWatchSlice);
       if (answered) continue;
       wait = server.socket_request_due() ? kPollMs : 0;
     }

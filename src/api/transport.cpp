@@ -28,8 +28,6 @@ namespace {
 
 constexpr const char* kMonitor = "inproc://monitor";  // one per context, so one name serves
 constexpr int kPollSliceMs = 1000;  // the longest a wait goes without looking at the clock
-// The longest a wait on the request channel goes without looking at the connection's events.
-constexpr int kChannelSliceMs = 20;
 
 void set_option(void* socket, int option, int value) {
   zmq_setsockopt(socket, option, &value, sizeof value);
@@ -232,7 +230,7 @@ Message ClientConnection::exchange(Channel& channel, const std::string& request,
     const auto reply = channel.reply();
     return Message::copy_of(reply.data(), reply.size());
   };
-  return round_trip(timeout_ms, call, kChannelSliceMs, send, receive);
+  return round_trip(timeout_ms, call, static_cast<int>(Channel::kWatchSlice.count()), send, receive);
 }
 
 void ClientConnection::fail_timeout(const char* call, int timeout_ms) {
