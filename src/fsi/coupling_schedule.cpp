@@ -26,14 +26,18 @@ ScheduleSettings resolve_schedule(std::optional<double> period, std::optional<do
 CouplingSchedule::CouplingSchedule(ScheduleSettings settings)
     : period_(settings.period), filter_(settings.filter), requested_(settings.period) {}
 
+double CouplingSchedule::period_after_reset(double dt_structure, double dt_dem) const {
+  return reset_done_ ? period_ : std::max({period_, 2.0 * dt_structure, 2.0 * dt_dem});
+}
+
 std::optional<std::string> CouplingSchedule::before_structure_cycle(std::int64_t cycle,
                                                                     double dt_structure,
                                                                     double dt_dem) {
   if (cycle != 2 || reset_done_) return std::nullopt;
-  reset_done_ = true;
   // Seed 000: "reset by OptiStruct at cycle 2 ... DT_user = max(DT_user, 2*DT_os, 2*DT_edem)",
   // once per run.
-  const double reset = std::max({period_, 2.0 * dt_structure, 2.0 * dt_dem});
+  const double reset = period_after_reset(dt_structure, dt_dem);
+  reset_done_ = true;
   if (reset == period_) return std::nullopt;
   const double old = period_;
   period_ = reset;

@@ -40,6 +40,9 @@ class CouplingSchedule {
   double requested() const { return requested_; }  // s, the pending requested sync point
   std::int64_t synchronisations() const { return synchronisations_; }
   bool reset_done() const { return reset_done_; }  // the cycle-2 reset has been made (PERIOD final)
+  // DT_user after the cycle-2 reset with these steps (s): max(DT_user, 2·dt_structure, 2·dt_dem),
+  // or DT_user once the reset is made.
+  double period_after_reset(double dt_structure, double dt_dem) const;
 
   // To call before the structure's step number `cycle` (1-based) with the step sizes (s) the
   // two solvers use. At cycle 2, once in a run, DT_user becomes max(DT_user, 2·dt_structure,

@@ -109,9 +109,7 @@ void StructureCoupler::check_period_stability() {
 }
 
 double StructureCoupler::period_after_reset() const {
-  const CouplingSchedule& schedule = side_.schedule();
-  if (schedule.reset_done()) return schedule.period();
-  return std::max({schedule.period(), 2.0 * side_.structure_step(), 2.0 * world_.dt});
+  return side_.schedule().period_after_reset(side_.structure_step(), world_.dt);
 }
 
 std::vector<std::string> StructureCoupler::stability_warnings(double period) const {
