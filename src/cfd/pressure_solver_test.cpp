@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -166,6 +167,47 @@ TEST(PressureSolverTest, AnisotropicCellsKeepFewIterations) {
   std::printf("anisotropic 16x64x4, couplings 1:64: %d iterations\n", report.iterations);
   EXPECT_TRUE(report.converged);
   EXPECT_LE(report.iterations, 15);
+}
+
+// The smoother runs its half sweeps as a wavefront over blocks of planes, one block per thread,
+// the planes at a block's ends after a barrier (multigrid_cg.cpp, smooth_sweeps): any team must
+// give the bits of one thread. Teams of 1 to 3 on every loop (threshold 0), so blocks of one and
+// two planes occur; a periodic z (the wrap joins the first and last blocks), a bounded z with
+// blocked cells, and the singular periodic box.
+TEST(PressureSolverTest, AnyTeamGivesTheSameBits) {
+  struct Case {
+    std::array<int, 3> size;
+    std::array<bool, 3> periodic;
+    bool dirichlet;
+    double blocked;
+  };
+  for (const Case& c : {Case{{12, 10, 8}, {false, true, true}, true, 0.0},
+                        Case{{10, 8, 5}, {true, false, false}, true, 0.08},
+                        Case{{8, 8, 6}, {true, true, true}, false, 0.0}}) {
+    const StencilSystem s = rough_poisson(c.size, c.periodic, c.dirichlet, c.blocked, 7);
+    std::mt19937 random(8);
+    std::uniform_real_distribution<double> value(-1.0, 1.0);
+    std::vector<double> exact(s.count());
+    for (std::size_t p = 0; p < s.count(); ++p) exact[p] = s.active[p] ? value(random) : 0.0;
+    const std::vector<double> b = apply_reference(s, exact);
+    std::vector<std::vector<double>> solutions;
+    for (int threads : {1, 2, 3}) {
+      Threading threading;
+      threading.threads = threads;
+      threading.threshold = 0;
+      auto solver = make_multigrid_cg_solver(threading);
+      solver->set_system(s);
+      std::vector<double> x(s.count(), 0.0);
+      const SolveReport report = solver->solve(b, x, 1e-11, 200);
+      EXPECT_TRUE(report.converged) << threads << " threads";
+      solutions.push_back(x);
+    }
+    for (std::size_t t = 1; t < solutions.size(); ++t) {
+      EXPECT_EQ(std::memcmp(solutions[0].data(), solutions[t].data(), s.count() * sizeof(double)),
+                0)
+          << "team of " << t + 1 << ", grid " << c.size[0] << "x" << c.size[1] << "x" << c.size[2];
+    }
+  }
 }
 
 }  // namespace
