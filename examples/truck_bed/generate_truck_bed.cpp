@@ -5,7 +5,10 @@
 //   generate_truck_bed --shells examples/truck_bed_two_way/truck_bed_shells.bdf
 //       the steel bed of the two-way flagship as OptiStruct/Nastran bulk data: ~36 mm CQUAD4
 //       shells (about a coarse particle's diameter; 50 mm up the walls), a 4 mm floor and 3 mm
-//       walls of S355 steel pinned on two chassis rails, coupled through an EDEM card.
+//       walls of S355 steel pinned on two chassis rails, coupled through an EDEM card;
+//   generate_truck_bed --full-scale bench/truck_bed_full/truck_bed_full.stl
+//       the same body at full size (× 4.6: 5.5 m long, 3.2 m floor, 1.6 m walls) in 8,630
+//       triangles, about the 8,650 elements of seed 002's bed (issue 21's full-scale benchmark).
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -41,6 +44,9 @@ struct Cells {
 };
 constexpr Cells stl_cells{36, 10, 26, 14, 18};  // about 25 mm squares
 constexpr Cells shell_cells{26, 7, 19, 7, 9};   // 36.5 / 35.7 / 36.8 mm in plan, 50 mm up the walls
+// Full scale: the model's coordinates × 4.6, cells of about 90 mm in plan (115 mm up the walls).
+constexpr double full_scale = 4.6;
+constexpr Cells full_scale_cells{48, 13, 33, 14, 18};
 
 enum class Panel { floor, wall };
 
@@ -54,7 +60,7 @@ struct Quad {
 
 class BedMesher {
  public:
-  explicit BedMesher(const Cells& cells) : cells_(cells) {}
+  explicit BedMesher(const Cells& cells, double scale = 1.0) : cells_(cells), scale_(scale) {}
 
   std::vector<Quad> quads() const {
     std::vector<Quad> out;
@@ -111,11 +117,13 @@ class BedMesher {
   }
   static double wall_half_width(double z) { return half_width + z * std::tan(side_flare); }  // m, at height z
 
-  static void add(std::vector<Quad>& out, const std::array<Vec3, 4>& q, const Vec3& inward, Panel panel) {
-    out.push_back({q, dot(cross(q[1] - q[0], q[2] - q[0]), inward) <= 0.0, panel});
+  void add(std::vector<Quad>& out, const std::array<Vec3, 4>& q, const Vec3& inward, Panel panel) const {
+    out.push_back({{q[0] * scale_, q[1] * scale_, q[2] * scale_, q[3] * scale_},
+                   dot(cross(q[1] - q[0], q[2] - q[0]), inward) <= 0.0, panel});
   }
 
   Cells cells_;
+  double scale_;  // multiplies every coordinate (the model's numbers above are at scale 1)
 };
 
 // Two triangles per cell, wound into the bed.
@@ -131,11 +139,11 @@ std::vector<Vec3> triangle_soup(const std::vector<Quad>& quads) {
   return corners;
 }
 
-void write_stl(const std::string& path) {
+void write_stl(const std::string& path, const BedMesher& mesher) {
   // Seams computed by different formulas agree to round-off; 0.1 µm welds them for certain
   // before the float32 rounding of the file could separate them.
   const quarry::Surface bed =
-      quarry::surface_from_triangle_soup(triangle_soup(BedMesher(stl_cells).quads()), "truck_bed", 1e-7);
+      quarry::surface_from_triangle_soup(triangle_soup(mesher.quads()), "truck_bed", 1e-7);
   quarry::write_stl_binary(path, bed);
   std::printf("wrote %s: %zu triangles, %zu vertices\n", path.c_str(), bed.triangle_count(), bed.vertex_count());
 }
@@ -208,8 +216,10 @@ int main(int argc, char** argv) {
     const std::string first = argc > 1 ? argv[1] : "truck_bed.stl";
     if (first == "--shells")
       write_shells(argc > 2 ? argv[2] : "truck_bed_shells.bdf");
+    else if (first == "--full-scale")
+      write_stl(argc > 2 ? argv[2] : "truck_bed_full.stl", BedMesher(full_scale_cells, full_scale));
     else
-      write_stl(first);
+      write_stl(first, BedMesher(stl_cells));
   } catch (const std::exception& error) {
     std::fprintf(stderr, "generate_truck_bed: %s\n", error.what());
     return 1;
