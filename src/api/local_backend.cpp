@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <numbers>
 
 #include "fsi/structure_run.h"
 #include "coupling/sample_points.h"
@@ -15,6 +14,7 @@
 #include "sim/output.h"
 #include "sim/run.h"
 #include "sim/step.h"
+#include "core/sphere.h"
 
 namespace quarry::api {
 
@@ -392,7 +392,7 @@ void LocalBackend::get_particles(quarry_particle_data& data) {
     if (data.angular_velocity) put(data.angular_velocity, k, p.angular_velocity[i]);
     if (data.radius) data.radius[k] = p.radius[i];
     if (data.mass) data.mass[k] = p.mass(i);
-    if (data.volume) data.volume[k] = 4.0 / 3.0 * std::numbers::pi * p.radius[i] * p.radius[i] * p.radius[i];
+    if (data.volume) data.volume[k] = sphere_volume(p.radius[i]);
     if (data.force) put(data.force, k, p.force[i]);
     if (data.torque) put(data.torque, k, p.torque[i]);
   }

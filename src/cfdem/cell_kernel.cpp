@@ -4,13 +4,13 @@
 // blocked cells are moved onto the particle's fluid cells; the nearest fluid cell of each blocked
 // one comes from a Euclidean distance transform (Felzenszwalb & Huttenlocher 2012).
 #include "cfdem/cell_kernel.h"
+#include "core/sphere.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 
 namespace quarry::cfdem {
@@ -286,7 +286,7 @@ double void_fraction(const cfd::FluidGrid& grid, std::span<const CellWeights> we
   std::vector<double>& solid = void_fraction;
   solid.assign(grid.cell_count(), 0.0);
   scatter(weights, solid.size(), order, [&](std::size_t p, auto in) {
-    const double volume = 4.0 / 3.0 * std::numbers::pi * radius[p] * radius[p] * radius[p];
+    const double volume = sphere_volume(radius[p]);
     for (std::size_t c = 0; c < 8; ++c)
       if (in(weights[p].cell[c])) solid[weights[p].cell[c]] += weights[p].weight[c] * volume;
   });

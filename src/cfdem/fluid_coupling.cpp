@@ -10,17 +10,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <unordered_map>
 
 #include "core/diagnostics.h"
+#include "core/sphere.h"
 
 namespace quarry::cfdem {
 
 namespace {
-
-double sphere_volume(double radius) { return 4.0 / 3.0 * std::numbers::pi * radius * radius * radius; }
 
 void add_warning_once(World& world, const std::string& text) {
   if (std::find(world.warnings.begin(), world.warnings.end(), text) == world.warnings.end())

@@ -1,8 +1,8 @@
 // ParticleStore operations: add, remove (order-preserving), permute (re-sort), custom props.
 #include "core/particle_store.h"
+#include "core/sphere.h"
 
 #include <cassert>
-#include <numbers>
 #include <stdexcept>
 
 namespace quarry {
@@ -26,7 +26,7 @@ void for_each_array(ParticleStore& s, F&& f) {
 std::size_t ParticleStore::add(ParticleId pid, std::uint16_t type_index,
                                std::uint16_t material_index, const Vec3& x, const Vec3& v,
                                double radius_m, double density, double time) {
-  const double mass = density * 4.0 / 3.0 * std::numbers::pi * radius_m * radius_m * radius_m;
+  const double mass = sphere_mass(density, radius_m);
   position.push_back(x);
   velocity.push_back(v);
   angular_velocity.push_back({});

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -14,6 +13,7 @@
 #include "integrate/timestep.h"
 #include "insert/size_distribution.h"
 #include "sim/step.h"
+#include "core/sphere.h"
 
 namespace quarry::fsi {
 
@@ -123,7 +123,7 @@ std::vector<std::string> StructureCoupler::stability_warnings(double period) con
     if (type.fixed) continue;
     const SizeSampler sizes(type.size);
     for (const double radius : {sizes.min_radius(), sizes.max_radius()})
-      particles.push_back({radius, type.density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius,
+      particles.push_back({radius, sphere_mass(type.density, radius),
                            type.material_index});
   }
   if (particles.empty()) return lines;

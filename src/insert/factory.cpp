@@ -8,9 +8,9 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
-#include <numbers>
 
 #include "insert/placement_grid.h"
+#include "core/sphere.h"
 
 namespace quarry {
 
@@ -64,7 +64,7 @@ Factory::Factory(const FactorySpec& spec, const ParticleTypeInfo& type, std::uin
 
 double Factory::particle_mass(double radius) const {
   // Same expression as ParticleStore::add, so the factory's mass sums match the store's.
-  return type_.density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+  return sphere_mass(type_.density, radius);
 }
 
 void Factory::draw_one() {
