@@ -29,7 +29,10 @@ std::string show(const Vec3& v) {
 // ½ m* v_n² + U(δ) constant, U = 8/15 E* sqrt(R*) δ^(5/2) (Hertz, Johnson 1985 eq. 11.23) or
 // ½ k δ² (linear): the pair holds the energy of an impact at v_eq = sqrt(v_n² + 2U/m*). At
 // or below the deck's expected impact speed the overlap is what theory predicts for the
-// material and the speed; far above it, energy was created: the time step is too large.
+// material and the speed; far above it, energy was created (the time step is too large) —
+// unless a heavier particle of the deck, landing at that speed, brings at least that energy:
+// a 7 cm particle on a 3 cm one lying on the floor, or a dense stream behind it, presses the
+// pair further than its own impact could, and both readings are given.
 struct OverlapDiagnosis {
   std::string what, hint;
 };
@@ -43,7 +46,8 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
                                    std::sqrt(effective_radius) * std::pow(overlap, 2.5);  // J
   const double equivalent =
       std::sqrt(normal_speed * normal_speed + 2.0 * elastic / effective_mass);  // m/s
-  const double expected = choose_time_step(world.spec).impact_speed;            // m/s
+  const TimeStepChoice choice = choose_time_step(world.spec);
+  const double expected = choice.impact_speed;  // m/s
   const double guard = world.spec.simulation.max_overlap_fraction.value;
   // The stiffening that keeps this pair's peak overlap, all of its energy stored elastically,
   // at 80 % of the guard: the Hertz peak overlap goes as E^(-2/5), so E scales as
@@ -55,6 +59,9 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
           : std::pow(hertz_peak_overlap(effective_mass, effective_radius, p.effective_youngs_modulus,
                                         equivalent) / target,
                      2.5);
+  const std::string stiffen = fmt::format(
+      "a {:.2g}-fold {} keeps this pair's peak overlap at 80 % of the limit", stiffening,
+      p.normal_model == NormalModel::linear ? "normal stiffness" : "Young's modulus");
   if (equivalent <= 1.25 * expected)
     return {
         fmt::format(
@@ -62,12 +69,23 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
             "this overlap is what contact theory predicts for this material at this speed, not "
             "an instability",
             equivalent, expected),
-        fmt::format("stiffen the material (a {:.2g}-fold {} keeps this pair's peak overlap at 80 % of "
-                    "the limit), raise simulation.max_overlap_fraction (now {:.3g}), or lower the "
-                    "impact speed; `quarry check` compares the Hertz peak overlap with the guard",
-                    stiffening,
-                    p.normal_model == NormalModel::linear ? "normal stiffness" : "Young's modulus",
-                    guard)};
+        fmt::format("stiffen the material ({}), raise simulation.max_overlap_fraction (now {:.3g}), "
+                    "or lower the impact speed; `quarry check` compares the Hertz peak overlap "
+                    "with the guard",
+                    stiffen, guard)};
+  const double brought = 0.5 * choice.heaviest_mass * expected * expected;  // J
+  if (elastic <= brought && choice.heaviest_mass > 4.0 * effective_mass)
+    return {fmt::format("the pair holds the energy of an impact at {:.3g} m/s, above the "
+                        "expected {:.3g} m/s, but a '{}' particle ({:.3g} kg) landing at that "
+                        "speed brings {:.3g} J, more than the {:.3g} J stored here: a heavier "
+                        "particle or a dense stream pressing the pair against its neighbours or "
+                        "a wall (physics), or energy created numerically (an instability)",
+                        equivalent, expected, choice.heaviest_type, choice.heaviest_mass, brought,
+                        elastic),
+            fmt::format("if heavy particles land on light ones, stiffen the material ({}) or "
+                        "raise simulation.max_overlap_fraction (now {:.3g}); reducing "
+                        "simulation.time_step (now {:.4g} s) helps only against an instability",
+                        stiffen, guard, world.dt)};
   return {fmt::format("the pair holds the energy of an impact at {:.3g} m/s, far above the "
                       "expected {:.3g} m/s: "
                       "energy was created numerically (the run is going unstable)",

@@ -6,12 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <utility>
 
 #include "contact/contact_law.h"
 #include "insert/size_distribution.h"
 #include "integrate/timestep.h"
+#include "core/sphere.h"
 
 namespace quarry {
 
@@ -68,7 +68,12 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
   for (const auto& type : spec.particle_types) {
     const MaterialSpec* material = find_material(spec, type.material.value);
     if (!material) continue;
-    const double radius = SizeSampler(type.size).min_radius();  // m, the smallest one limits
+    const SizeSampler sizes(type.size);
+    const double radius = sizes.min_radius();  // m, the smallest one limits
+    if (!type.fixed.value && sphere_mass(material->density, sizes.max_radius()) > choice.heaviest_mass) {
+      choice.heaviest_mass = sphere_mass(material->density, sizes.max_radius());
+      choice.heaviest_type = type.name.value;
+    }
     const double shear = shear_modulus(material->youngs_modulus, material->poisson_ratio);
     const double rayleigh =
         rayleigh_time_step(radius, material->density, shear, material->poisson_ratio);
@@ -79,7 +84,7 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
     }
     // Hertz contact time: smallest particle against its own kind and against each wall.
     const MaterialProperties own = properties_of(*material);
-    const double mass = material->density * 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
+    const double mass = sphere_mass(material->density, radius);
     auto consider = [&](const MaterialProperties& other, double effective_mass,
                         double effective_radius, const std::string& what) {
       InteractionSpec neutral;

@@ -24,6 +24,10 @@ struct TimeStepChoice {
   // the contact it is for; compared with simulation.max_overlap_fraction (a warning above it).
   double peak_overlap_fraction = 0.0;
   std::string peak_overlap_limiter;
+  // The heaviest particle the deck's moving types can hold (kg; its largest radius) and its
+  // type: the overlap guard asks whether it could have pressed a pair as far as it finds it.
+  double heaviest_mass = 0.0;
+  std::string heaviest_type;
   std::vector<Diagnostic> problems;   // warnings (< 10 steps) and errors (< 6 steps)
 };
 
