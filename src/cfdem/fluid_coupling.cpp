@@ -323,10 +323,11 @@ void FluidCoupling::exchange(World& world) {
   // loop for the lowest such index, so the error is the same for any thread count.
   std::vector<char>& failed = scratch_.failed;
   failed.assign(p.size(), 0);
+  // ∇p at the particle only for a user's law (the built-in ones do not read it).
   const auto drag_of = [&](std::size_t i) {
     return evaluate_drag(world, i, interpolate(weights_[i], cell_velocity_),
                          interpolate(weights_[i], void_fraction_),
-                         interpolate(weights_[i], cell_pressure_gradient_));
+                         options_.drag_udf ? interpolate(weights_[i], cell_pressure_gradient_) : Vec3{});
   };
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::ptrdiff_t k = 0; k < n; ++k) {
