@@ -9,12 +9,12 @@
 
 #include "fsi/structure_run.h"
 #include "coupling/sample_points.h"
+#include "core/sphere.h"
 #include "io/deck.h"
 #include "io/deck_writer.h"
 #include "sim/output.h"
 #include "sim/run.h"
 #include "sim/step.h"
-#include "core/sphere.h"
 
 namespace quarry::api {
 

@@ -9,11 +9,11 @@
 #include <fmt/format.h>
 
 #include "contact/normal_hertz.h"
+#include "core/sphere.h"
 #include "fsi/period_stability.h"
 #include "integrate/timestep.h"
 #include "insert/size_distribution.h"
 #include "sim/step.h"
-#include "core/sphere.h"
 
 namespace quarry::fsi {
 

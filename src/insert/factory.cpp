@@ -9,8 +9,8 @@
 #include <cassert>
 #include <cmath>
 
-#include "insert/placement_grid.h"
 #include "core/sphere.h"
+#include "insert/placement_grid.h"
 
 namespace quarry {
 

@@ -9,9 +9,9 @@
 #include <utility>
 
 #include "contact/contact_law.h"
+#include "core/sphere.h"
 #include "insert/size_distribution.h"
 #include "integrate/timestep.h"
-#include "core/sphere.h"
 
 namespace quarry {
 
@@ -70,8 +70,9 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
     if (!material) continue;
     const SizeSampler sizes(type.size);
     const double radius = sizes.min_radius();  // m, the smallest one limits
-    if (!type.fixed.value && sphere_mass(material->density, sizes.max_radius()) > choice.heaviest_mass) {
-      choice.heaviest_mass = sphere_mass(material->density, sizes.max_radius());
+    const double largest_mass = sphere_mass(material->density, sizes.max_radius());  // kg
+    if (!type.fixed.value && largest_mass > choice.heaviest_mass) {
+      choice.heaviest_mass = largest_mass;
       choice.heaviest_type = type.name.value;
     }
     const double shear = shear_modulus(material->youngs_modulus, material->poisson_ratio);
