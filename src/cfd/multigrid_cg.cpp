@@ -12,8 +12,6 @@
 #include <span>
 #include <vector>
 
-#include <omp.h>
-
 #include "cfd/pressure_solver.h"
 
 namespace quarry::cfd {
@@ -537,10 +535,6 @@ class MultigridCgSolver final : public PressureSolver {
     }
   }
 
-  void smooth_plane(Level& level, int k, int colour) const {
-    for (int j = 0; j < level.system.size[1]; ++j) smooth_row(level, j, k, colour);
-  }
-
   // One Gauss-Seidel half sweep over the unknowns of colour (i + j + k) mod 2.
   void smooth_colour(Level& level, int colour) const {
     const StencilSystem& s = level.system;
@@ -550,41 +544,9 @@ class MultigridCgSolver final : public PressureSolver {
     for (int row = 0; row < rows; ++row) smooth_row(level, row % ny, row / ny, colour);
   }
 
-  // `stages` Gauss-Seidel half sweeps of alternating colours, the first of colour `first`, with
-  // the values smooth_colour would give one after the other but each level's arrays read once
-  // (a fine level of 64,000 unknowns is 3 MB, over a core's L2; a plane of 40 × 40 is 77 kB).
-  // Half sweep s runs on plane k − s after half sweep s − 1 on plane k − s + 1: it reads the
-  // other colour as half sweep s − 1 left it on planes k − s ± 1, and half sweep s + 1, which
-  // changes that colour again, comes to those planes later. A thread takes a block of planes
-  // and runs that wavefront where it stays inside the block (half sweep s on the planes at least
-  // s from its ends); the planes near the ends, which read the neighbour blocks', follow half
-  // sweep by half sweep, one barrier apart.
+  // `stages` Gauss-Seidel half sweeps of alternating colours, the first of colour `first`.
   void smooth_sweeps(Level& level, int first, int stages) const {
-    const StencilSystem& s = level.system;
-    const int nz = s.size[2];
-    auto colour = [&](int stage) { return (first + stage) % 2; };
-    if (!level.colours_independent) {  // the colouring does not hold across a periodic wrap
-      for (int stage = 0; stage < stages; ++stage) smooth_colour(level, colour(stage));
-      return;
-    }
-    const int team = std::min(threading_.team(s.count()), nz);
-#pragma omp parallel num_threads(team)
-    {
-      const int t = omp_get_thread_num(), threads = omp_get_num_threads();
-      const int k0 = nz * t / threads, k1 = nz * (t + 1) / threads;
-      for (int k = k0; k < k1 + stages; ++k) {
-        for (int stage = 0; stage < stages; ++stage) {
-          const int m = k - stage;
-          if (m >= k0 + stage && m < k1 - stage) smooth_plane(level, m, colour(stage));
-        }
-      }
-      for (int stage = 1; stage < stages; ++stage) {
-#pragma omp barrier
-        for (int m = k0; m < k1; ++m) {
-          if (m < k0 + stage || m >= k1 - stage) smooth_plane(level, m, colour(stage));
-        }
-      }
-    }
+    for (int stage = 0; stage < stages; ++stage) smooth_colour(level, (first + stage) % 2);
   }
 
   void solve_coarsest(Level& level) const {

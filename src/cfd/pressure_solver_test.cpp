@@ -169,11 +169,9 @@ TEST(PressureSolverTest, AnisotropicCellsKeepFewIterations) {
   EXPECT_LE(report.iterations, 15);
 }
 
-// The smoother runs its half sweeps as a wavefront over blocks of planes, one block per thread,
-// the planes at a block's ends after a barrier (multigrid_cg.cpp, smooth_sweeps): any team must
-// give the bits of one thread. Teams of 1 to 3 on every loop (threshold 0), so blocks of one and
-// two planes occur; a periodic z (the wrap joins the first and last blocks), a bounded z with
-// blocked cells, and the singular periodic box.
+// The half sweeps, transfers and sums split their rows among the team: any team must give the
+// bits of one thread. Teams of 1 to 3 on every loop (threshold 0); a periodic z, a bounded z
+// with blocked cells, and the singular periodic box.
 TEST(PressureSolverTest, AnyTeamGivesTheSameBits) {
   struct Case {
     std::array<int, 3> size;
