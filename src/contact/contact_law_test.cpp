@@ -189,13 +189,42 @@ TEST(EvaluateContact, SeparatedPairGivesNoForceAndReleasesTheSprings) {
 // The force loop's batch kernel must be the same law as evaluate_contact (contact_law.h):
 // random touching pairs, sticking and sliding, fresh and carried history, a batch size that is
 // not a whole number of vectors. Agreement to round-off (the two forms may fuse multiply-adds
-// differently, and the batch multiplies by 1/kt where the law divides).
+// differently, and the batch multiplies by 1/kt where the law divides). Every law the kernel
+// takes (batch_handles): plain Hertz–Mindlin, with SJKR cohesion (k = 3e5 J/m³: about a tenth
+// of the elastic force at these overlaps), with the constant directional rolling torque, both.
+void expect_batch_kernel_is_the_law(const InteractionParameters& parameters);
+
 TEST(EvaluateContact, HertzMindlinBatchKernelIsTheSameLaw) {
   InteractionSpec spec;
   spec.restitution = 0.5;
   spec.static_friction = 0.5;
-  const InteractionParameters parameters = make_interaction(steel, glass, spec);
-  ASSERT_TRUE(is_plain_hertz_mindlin(parameters));
+  ASSERT_TRUE(is_plain_hertz_mindlin(make_interaction(steel, glass, spec)));
+  struct Law {
+    const char* name;
+    double cohesion;  // J/m³
+    RollingModel rolling;
+  };
+  for (const Law law : {Law{"plain", 0.0, RollingModel::none}, Law{"SJKR", 3.0e5, RollingModel::none},
+                        Law{"SJKR and rolling", 3.0e5, RollingModel::constant_torque},
+                        Law{"rolling", 0.0, RollingModel::constant_torque}}) {
+    SCOPED_TRACE(law.name);
+    spec.cohesion_energy_density = law.cohesion;
+    spec.rolling_model = law.rolling;
+    spec.rolling_friction = law.rolling == RollingModel::none ? 0.0 : 0.1;
+    const InteractionParameters parameters = make_interaction(steel, glass, spec);
+    ASSERT_TRUE(batch_handles(parameters));
+    expect_batch_kernel_is_the_law(parameters);
+  }
+  // Laws the kernel leaves to the scalar path.
+  spec.rolling_model = RollingModel::epsd;
+  EXPECT_FALSE(batch_handles(make_interaction(steel, glass, spec)));
+  spec.rolling_model = RollingModel::none;
+  spec.cohesion_model = CohesionModel::jkr;
+  spec.surface_energy = 0.05;
+  EXPECT_FALSE(batch_handles(make_interaction(steel, glass, spec)));
+}
+
+void expect_batch_kernel_is_the_law(const InteractionParameters& parameters) {
   std::mt19937_64 random(2026);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const auto random_vec = [&](double scale) { return Vec3{unit(random), unit(random), unit(random)} * scale; };

@@ -36,31 +36,20 @@ namespace {
   b.tjx[m] = r.torque_j.x, b.tjy[m] = r.torque_j.y, b.tjz[m] = r.torque_j.z;
 }
 
-}  // namespace
-
-// GCC function multiversioning: one clone per target, chosen once at load time (ifunc).
-__attribute__((target_clones("arch=x86-64-v4", "default")))
-bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, HertzMindlinBatch& b,
-                                  double dt, double lead_time, double overlap_limit) {
-  // Pad to whole vectors with a resting contact of unit size: finite, and never read back.
-  const int padded = (b.count + HertzMindlinBatch::kLanes - 1) / HertzMindlinBatch::kLanes *
-                     HertzMindlinBatch::kLanes;
-  for (int m = b.count; m < padded; ++m) {
-    b.dx[m] = 1.0, b.dy[m] = b.dz[m] = 0.0, b.distance2[m] = 1.0;
-    b.radius_i[m] = b.radius_j[m] = 0.75;
-    b.inv_mass_i[m] = b.inv_mass_j[m] = 1.0;
-    b.vx[m] = b.vy[m] = b.vz[m] = 0.0;
-    b.wix[m] = b.wiy[m] = b.wiz[m] = b.wjx[m] = b.wjy[m] = b.wjz[m] = 0.0;
-    b.lvx[m] = b.lvy[m] = b.lvz[m] = 0.0;
-    b.lwix[m] = b.lwiy[m] = b.lwiz[m] = b.lwjx[m] = b.lwjy[m] = b.lwjz[m] = 0.0;
-    b.hx[m] = b.hy[m] = b.hz[m] = 0.0;
-    b.fn[m] = 0.0;
-  }
+// The vector loop over lanes [0, padded). kCohesion: SJKR's −k A n on touching pairs;
+// kRolling: the constant directional rolling torque on each body (contact_law.h). Both are
+// compiled out of the plain law. Returns nonzero if a contact passes the overlap guard.
+template <bool kCohesion, bool kRolling>
+[[gnu::always_inline]] inline int vector_lanes(const InteractionParameters& parameters,
+                                               HertzMindlinBatch& b, int padded, double dt,
+                                               double lead_time, double overlap_limit) {
   const double youngs = parameters.effective_youngs_modulus;      // Pa, E*
   const double shear = parameters.effective_shear_modulus;        // Pa, G*
   const double normal_damping_factor = parameters.hertz_normal_damping;
   const double tangential_damping_factor = parameters.hertz_tangential_damping;
   const double friction = parameters.static_friction;             // μs
+  const double cohesion_density = parameters.cohesion_energy_density;  // J/m³, k
+  const double rolling_friction = parameters.rolling_friction;         // μr
   const int count = b.count;
   int excessive = 0;
 #pragma omp simd reduction(| : excessive)
@@ -110,12 +99,21 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double root = std::sqrt(contact_radius * effective_mass);
     const double normal_damping = normal_damping_factor * root;  // N·s/m
     // The dashpot's velocity at the force's time, implicit in this contact's force.
+    // SJKR (cohesion_sjkr.h): k A, A the lens's circle at this overlap (N, attractive).
+    const double cohesion =
+        kCohesion ? contact::sjkr_cohesion_force(
+                        cohesion_density, contact::sphere_sphere_contact_area(ri, rj, lane_overlap))
+                  : 0.0;
     const double damped_normal_velocity = contact::implicit_normal_velocity(
-        normal_velocity, elastic_force, b.fn[m], normal_damping, lead_time * inverse_sum);
-    const double normal_force = elastic_force - normal_damping * damped_normal_velocity;  // N
+        normal_velocity, kCohesion ? elastic_force - cohesion : elastic_force, b.fn[m],
+        normal_damping, lead_time * inverse_sum);
+    // N: the load the contact circle carries (Coulomb's and the rolling limit), then with cohesion.
+    const double contact_force = elastic_force - normal_damping * damped_normal_velocity;
+    const double normal_force = kCohesion ? contact_force - cohesion : contact_force;
     b.fn[m] = scalar ? b.fn[m] : normal_force;
     const double tangential_damping = tangential_damping_factor * root;  // N·s/m
-    const double friction_limit = friction * std::fabs(normal_force);    // N
+    const double load = std::fabs(contact_force);                         // N, |Fn|
+    const double friction_limit = friction * load;                        // N
     // δt rotated into the tangent plane with its length kept, plus vt dt.
     const double hx = b.hx[m], hy = b.hy[m], hz = b.hz[m];
     const double along = hx * nx + hy * ny + hz * nz;
@@ -149,7 +147,50 @@ bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, Hertz
     const double cx = ny * fz - nz * fy, cy = nz * fx - nx * fz, cz = nx * fy - ny * fx;
     b.tix[m] = -lever_i * cx, b.tiy[m] = -lever_i * cy, b.tiz[m] = -lever_i * cz;
     b.tjx[m] = -lever_j * cx, b.tjy[m] = -lever_j * cy, b.tjz[m] = -lever_j * cz;
+    if constexpr (kRolling) {
+      // τ = −μr |Fn| R ω̂ on each body, ω at the force's time (its lead added); none at rest.
+      const double ax = b.wix[m] + b.lwix[m], ay = b.wiy[m] + b.lwiy[m], az = b.wiz[m] + b.lwiz[m];
+      const double bx = b.wjx[m] + b.lwjx[m], by = b.wjy[m] + b.lwjy[m], bz = b.wjz[m] + b.lwjz[m];
+      const double speed_i = std::sqrt(ax * ax + ay * ay + az * az);  // rad/s
+      const double speed_j = std::sqrt(bx * bx + by * by + bz * bz);
+      const double roll_i = -rolling_friction * load * ri / (speed_i > 0.0 ? speed_i : 1.0);
+      const double roll_j = -rolling_friction * load * rj / (speed_j > 0.0 ? speed_j : 1.0);
+      const double scale_i = speed_i > 0.0 ? roll_i : 0.0, scale_j = speed_j > 0.0 ? roll_j : 0.0;
+      b.tix[m] += ax * scale_i, b.tiy[m] += ay * scale_i, b.tiz[m] += az * scale_i;
+      b.tjx[m] += bx * scale_j, b.tjy[m] += by * scale_j, b.tjz[m] += bz * scale_j;
+    }
   }
+  return excessive;
+}
+
+}  // namespace
+
+// GCC function multiversioning: one clone per target, chosen once at load time (ifunc).
+__attribute__((target_clones("arch=x86-64-v4", "default")))
+bool evaluate_hertz_mindlin_batch(const InteractionParameters& parameters, HertzMindlinBatch& b,
+                                  double dt, double lead_time, double overlap_limit) {
+  // Pad to whole vectors with a resting contact of unit size: finite, and never read back.
+  const int padded = (b.count + HertzMindlinBatch::kLanes - 1) / HertzMindlinBatch::kLanes *
+                     HertzMindlinBatch::kLanes;
+  for (int m = b.count; m < padded; ++m) {
+    b.dx[m] = 1.0, b.dy[m] = b.dz[m] = 0.0, b.distance2[m] = 1.0;
+    b.radius_i[m] = b.radius_j[m] = 0.75;
+    b.inv_mass_i[m] = b.inv_mass_j[m] = 1.0;
+    b.vx[m] = b.vy[m] = b.vz[m] = 0.0;
+    b.wix[m] = b.wiy[m] = b.wiz[m] = b.wjx[m] = b.wjy[m] = b.wjz[m] = 0.0;
+    b.lvx[m] = b.lvy[m] = b.lvz[m] = 0.0;
+    b.lwix[m] = b.lwiy[m] = b.lwiz[m] = b.lwjx[m] = b.lwjy[m] = b.lwjz[m] = 0.0;
+    b.hx[m] = b.hy[m] = b.hz[m] = 0.0;
+    b.fn[m] = 0.0;
+  }
+  const bool cohesion = parameters.cohesion_energy_density > 0.0;
+  const bool rolling = parameters.rolling_model == RollingModel::constant_torque;
+  const int excessive =
+      cohesion ? (rolling ? vector_lanes<true, true>(parameters, b, padded, dt, lead_time, overlap_limit)
+                          : vector_lanes<true, false>(parameters, b, padded, dt, lead_time, overlap_limit))
+               : (rolling ? vector_lanes<false, true>(parameters, b, padded, dt, lead_time, overlap_limit)
+                          : vector_lanes<false, false>(parameters, b, padded, dt, lead_time, overlap_limit));
+  const int count = b.count;
   for (int m = 0; m < count; ++m)
     if (b.scalar_lane[m] != 0.0) finish_by_scalar_law(parameters, b, m, dt, lead_time);
   return excessive != 0;

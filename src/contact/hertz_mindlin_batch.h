@@ -1,7 +1,8 @@
 // The contact law of contact_law.h for many particle pairs at once, in the force loop's common
-// case: one material pair with plain Hertz–Mindlin parameters (is_plain_hertz_mindlin: no
-// rolling resistance, no cohesion, no clipping). Inputs and outputs are arrays (structure of
-// arrays), so the compiler computes 4 (AVX2) or 8 (AVX-512) contacts per instruction.
+// case: the particles share one material whose pair law is Hertz–Mindlin, with or without SJKR
+// cohesion and the constant directional rolling torque (batch_handles: no JKR, no EPSD, no
+// clipping). Inputs and outputs are arrays (structure of arrays), so the compiler computes 4
+// (AVX2) or 8 (AVX-512) contacts per instruction.
 // Same formulas in the same order as evaluate_contact; contact_law_test checks that both give
 // the same forces, torques and history to round-off.
 //
@@ -49,6 +50,14 @@ struct HertzMindlinBatch {
 
   bool full() const { return count == kCapacity; }
 };
+
+// True if evaluate_hertz_mindlin_batch computes evaluate_contact for these parameters.
+inline bool batch_handles(const InteractionParameters& parameters) {
+  return parameters.normal_model == NormalModel::hertz_mindlin &&
+         (parameters.rolling_model == RollingModel::none ||
+          parameters.rolling_model == RollingModel::constant_torque) &&
+         !(parameters.surface_energy > 0.0) && !parameters.clip_attraction;
+}
 
 // Evaluates contacts [0, batch.count): touching pairs, and pairs short of contact whose step
 // window may reach it (contact/dashpot_window.h). Those and the contacts whose window matters

@@ -358,7 +358,8 @@ void pair_forces(World& world, int& excessive) {
   Vec3* const force = p.force.data();
   Vec3* const torque = p.torque.data();
   ForceWorkspace& ws = world.force_workspace;
-  const InteractionParameters& only = world.materials.between(0, 0);
+  // The particles' one pair law (the batched path; otherwise never read).
+  const InteractionParameters& only = kBatched ? *ws.batch_law : world.materials.pairs.front();
   constexpr std::uint32_t kRowLimit = HertzMindlinBatch::kCapacity;
   const auto batched_row = [offsets](std::uint32_t i) {
     return kBatched && offsets[i + 1] - offsets[i] <= kRowLimit;
@@ -842,13 +843,27 @@ void set_velocity_leads(World& world, double h) {
   }
 }
 
+namespace {
+
+// The pair law the batched kernel computes for every particle pair, or null: all particle
+// types share one material (walls may have others: their contacts take the scalar law) whose
+// law the kernel handles. The batched path keeps no rolling history: none if EPSD is absent.
+const InteractionParameters* batch_law(const World& world) {
+  if (world.types.empty() || world.pairs.keep_rolling_history) return nullptr;
+  const std::uint16_t material = world.types.front().material_index;
+  for (const ParticleTypeInfo& type : world.types)
+    if (type.material_index != material) return nullptr;
+  const InteractionParameters& law = world.materials.between(material, material);
+  return batch_handles(law) ? &law : nullptr;
+}
+
+}  // namespace
+
 void compute_contact_forces(World& world) {
   // Leads of zero unless the step set them (a caller outside the time step).
   if (world.force_workspace.velocity_lead.size() != world.particles.size()) set_velocity_leads(world, 0.0);
-  const auto& pairs = world.materials.pairs;
-  // The batched path keeps no rolling history (there is none with plain Hertz–Mindlin).
-  const bool batched =
-      pairs.size() == 1 && is_plain_hertz_mindlin(pairs[0]) && world.pairs.rolling_torque.empty();
+  world.force_workspace.batch_law = batch_law(world);
+  const bool batched = world.force_workspace.batch_law != nullptr;
   const bool periodic = world.pairs.periodic.any();
   if (batched)
     periodic ? contact_forces<true, true>(world) : contact_forces<true, false>(world);

@@ -147,6 +147,8 @@ struct ForceWorkspace {
   std::vector<double> range_share, range_time;
   std::vector<CrossingPair> crossing;      // results, aligned with plan.crossing_pair
   std::vector<HertzMindlinBatch> batches;  // per thread (batched contact kernel)
+  // The pair law of the batched kernel this step (the particles' one material), else null.
+  const InteractionParameters* batch_law = nullptr;
   // Per particle: what the drift velocities lack to be those of the force's time, h F/m and
   // h τ/I of the previous forces (m/s, rad/s; set_velocity_leads). Derived each step from the
   // state, so not checkpointed.

@@ -52,11 +52,14 @@ particle_types:
          rest;
 }
 
-// The spec with glass only: one material pair of plain Hertz–Mindlin, so the pair forces take
-// the batched kernel (sim/forces.cpp); with steel in the table they take the scalar law.
-SimulationSpec glass_only(SimulationSpec spec) {
-  spec.materials.pop_back();
-  spec.interactions.pop_back();
+// The spec with a second particle type of steel (never inserted): the particle types no longer
+// share one material, so the pair forces take the scalar law instead of the batched kernel
+// (sim/forces.cpp, batch_law).
+SimulationSpec scalar_law(SimulationSpec spec) {
+  ParticleTypeSpec steel_bead = spec.particle_types.front();
+  steel_bead.name.value = "steel_bead";
+  steel_bead.material.value = "steel";
+  spec.particle_types.push_back(steel_bead);
   return spec;
 }
 
@@ -66,7 +69,7 @@ World two_sphere_world(bool batched) {
       parse_deck_string(periodic_deck("{min: [0, 0, 0], max: [0.1, 0.1, 0.1], periodic: [x, y]}",
                                       "[0, 0, 0]", "{distribution: fixed, radius: 0.005}", ""),
                         "two_spheres.yaml");
-  return start_world(batched ? glass_only(spec) : spec);
+  return start_world(batched ? spec : scalar_law(spec));
 }
 
 // Adds spheres i and j (in this order: ids 1 and 2) and computes the forces of the configuration.
@@ -87,7 +90,7 @@ void add_pair(World& world, const Vec3& xi, const Vec3& vi, const Vec3& xj, cons
 // history, during which the lists are rebuilt every 3 steps (so the particle that crosses x = 0
 // is wrapped to the other side while the contact lasts): the two worlds must agree to 1e-12 of
 // the peak force at every step (the positions differ by a period, so only their rounding does).
-// Both force paths: the batched kernel (one material pair) and the scalar law.
+// Both force paths: the batched kernel (the particles' one material) and the scalar law.
 TEST(PeriodicBoundaries, PairAcrossTheFaceFeelsTheForceOfThePairInside) {
   for (const bool batched : {true, false}) {
     SCOPED_TRACE(batched ? "batched kernel" : "scalar law");
@@ -103,6 +106,7 @@ TEST(PeriodicBoundaries, PairAcrossTheFaceFeelsTheForceOfThePairInside) {
       const double hertz =
           4.0 / 3.0 * e_star * std::sqrt(0.5 * radius) * std::pow(overlap, 1.5);  // N
       ASSERT_EQ(across.pair_contact_count(), 1u);
+      ASSERT_EQ(across.force_workspace.batch_law != nullptr, batched);  // the path under test
       EXPECT_NEAR(across.particles.force[0].x / hertz, 1.0, 1e-9);  // i is pushed towards +x
       EXPECT_NEAR(across.particles.force[1].x / hertz, -1.0, 1e-9);
       for (int k = 0; k < 2; ++k)
@@ -179,7 +183,7 @@ SimulationSpec gas_spec(bool batched) {
                     "    count: 300\n",
                     0.9, 0.3),
       "gas.yaml");
-  return batched ? glass_only(spec) : spec;
+  return batched ? spec : scalar_law(spec);
 }
 
 void stir(World& world) {
@@ -309,6 +313,7 @@ TEST(PeriodicBoundaries, StateIsBitIdenticalForAnyThreadsAndAcrossACheckpoint) {
       stir(world);
       for (int n = 0; n < 200; ++n) sim::step(world);
       EXPECT_GT(contacts_across_faces(world), 0u);
+      EXPECT_EQ(world.force_workspace.batch_law != nullptr, batched);  // the path under test
       hashes[threads - 1] = sim::state_hash(world);
     }
     for (int t = 1; t < 4; ++t) EXPECT_EQ(hashes[0], hashes[t]) << t + 1 << " threads";
