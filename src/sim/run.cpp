@@ -146,7 +146,7 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
   // output at the end was missing, the table summed 63 s of a 71 s run).
   if (requested > 1 && options.adapt_threads && governor.steps_with_one() > 0)
     log << fmt::format("quarry: {} of the {} steps ran on 1 thread instead of {}, measured faster then "
-                       "(the cores were busy with another process; results are the same)\n",
+                       "(too few particles to share, or the cores busy with another process; results are the same)\n",
                        governor.steps_with_one(), summary.steps, requested);
   if (!options.quiet) {
     log << world.timers.table(summary.wall_seconds);
