@@ -21,13 +21,20 @@ namespace {
 
 constexpr double kDt = 1e-5;  // s, the reference problem's step
 
-InteractionParameters bed_interaction() {
-  const MaterialProperties beads{2500.0, 5.0e6, 0.3};  // kg/m³, Pa, –: the issue-3 problem
+// The issue-3 problem's law; with `cohesive` (a benchmark argument of 1) also the flagship's
+// SJKR cohesion (30 kJ/m³) and constant rolling torque (μr = 0.1), which the batch takes too.
+InteractionParameters bed_interaction(bool cohesive) {
+  const MaterialProperties beads{2500.0, 5.0e6, 0.3};  // kg/m³, Pa, –
   InteractionSpec spec;
   spec.restitution = 0.5;
   spec.static_friction = 0.5;
+  spec.rolling_model = cohesive ? RollingModel::constant_torque : RollingModel::none;
+  spec.rolling_friction = cohesive ? 0.1 : 0.0;
+  spec.cohesion_energy_density = cohesive ? 3.0e4 : 0.0;
   return make_interaction(beads, beads, spec);
 }
+
+const char* law_label(benchmark::State& state) { return state.range(0) ? "SJKR + rolling" : "plain"; }
 
 // Random touching pairs of 1 mm spheres: overlaps 0–2 µm, velocities up to 0.2 mm/s
 // (a settled bed's: its kinetic energy of 2e-13 J per particle is 0.2 mm/s), spins up to
@@ -59,7 +66,8 @@ std::vector<ContactKinematics> random_contacts(int count, std::vector<Vec3>& his
 
 // The vector kernel on one full batch (256 contacts), as the pair loop calls it.
 void hertz_mindlin_batch_kernel(benchmark::State& state) {
-  const InteractionParameters parameters = bed_interaction();
+  const InteractionParameters parameters = bed_interaction(state.range(0) != 0);
+  state.SetLabel(law_label(state));
   std::vector<Vec3> history;
   const std::vector<ContactKinematics> contacts = random_contacts(HertzMindlinBatch::kCapacity, history);
   auto batch = std::make_unique<HertzMindlinBatch>();
@@ -94,11 +102,12 @@ void hertz_mindlin_batch_kernel(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * b.count);
 }
-BENCHMARK(hertz_mindlin_batch_kernel)->Unit(benchmark::kMicrosecond);
+BENCHMARK(hertz_mindlin_batch_kernel)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // The scalar law, one contact at a time (the path of mixed materials and other models).
 void scalar_contact_law(benchmark::State& state) {
-  const InteractionParameters parameters = bed_interaction();
+  const InteractionParameters parameters = bed_interaction(state.range(0) != 0);
+  state.SetLabel(law_label(state));
   std::vector<Vec3> history;
   const std::vector<ContactKinematics> contacts = random_contacts(1024, history);
   for (auto _ : state) {
@@ -109,7 +118,7 @@ void scalar_contact_law(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(contacts.size()));
 }
-BENCHMARK(scalar_contact_law)->Unit(benchmark::kMicrosecond);
+BENCHMARK(scalar_contact_law)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // Spheres of 1 mm radius touching the inside of a drum of 0.1 m radius meshed with
 // state.range(0) segments (0.5 µm overlap with a random facet, at a random point of it), each
