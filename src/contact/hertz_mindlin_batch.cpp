@@ -151,11 +151,13 @@ template <bool kCohesion, bool kRolling>
       // τ = −μr |Fn| R ω̂ on each body, ω at the force's time (its lead added); none at rest.
       const double ax = b.wix[m] + b.lwix[m], ay = b.wiy[m] + b.lwiy[m], az = b.wiz[m] + b.lwiz[m];
       const double bx = b.wjx[m] + b.lwjx[m], by = b.wjy[m] + b.lwjy[m], bz = b.wjz[m] + b.lwjz[m];
-      const double speed_i = std::sqrt(ax * ax + ay * ay + az * az);  // rad/s
-      const double speed_j = std::sqrt(bx * bx + by * by + bz * bz);
-      const double roll_i = -rolling_friction * load * ri / (speed_i > 0.0 ? speed_i : 1.0);
-      const double roll_j = -rolling_friction * load * rj / (speed_j > 0.0 ? speed_j : 1.0);
-      const double scale_i = speed_i > 0.0 ? roll_i : 0.0, scale_j = speed_j > 0.0 ? roll_j : 0.0;
+      // −μr |Fn| R / |ω| (N·m·s), 0 at rest: a select of values, the division on a safe operand.
+      const auto rolling_scale = [&](double speed, double radius) {
+        const double torque_per_speed = -rolling_friction * load * radius / (speed > 0.0 ? speed : 1.0);
+        return speed > 0.0 ? torque_per_speed : 0.0;
+      };
+      const double scale_i = rolling_scale(std::sqrt(ax * ax + ay * ay + az * az), ri);
+      const double scale_j = rolling_scale(std::sqrt(bx * bx + by * by + bz * bz), rj);
       b.tix[m] += ax * scale_i, b.tiy[m] += ay * scale_i, b.tiz[m] += az * scale_i;
       b.tjx[m] += bx * scale_j, b.tjy[m] += by * scale_j, b.tjz[m] += bz * scale_j;
     }
