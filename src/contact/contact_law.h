@@ -311,14 +311,6 @@ inline bool hertz_dashpot_window(const InteractionParameters& parameters) {
   return result;
 }
 
-// True if evaluate_contact reduces to hertz_mindlin_contact for these parameters: Hertz–Mindlin
-// normal and tangential springs, no rolling resistance, no cohesion (SJKR or JKR), no clipping.
-inline bool is_plain_hertz_mindlin(const InteractionParameters& parameters) {
-  return parameters.normal_model == NormalModel::hertz_mindlin &&
-         parameters.rolling_model == RollingModel::none && !(parameters.cohesion_energy_density > 0.0) &&
-         !(parameters.surface_energy > 0.0) && !parameters.clip_attraction;
-}
-
 // The run's overlap guard for a particle pair (simulation.max_overlap_fraction): true if the
 // overlap δ (m) passes limit × the smaller radius (m). Both force paths flag it with this
 // test, in the arithmetic of the report that follows (sim::check_overlaps).
