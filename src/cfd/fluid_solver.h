@@ -181,6 +181,9 @@ class FluidSolver {
   // State (padded).
   std::array<std::vector<double>, 3> velocity_;   // u at faces (m/s)
   std::array<std::vector<double>, 3> predicted_;  // u* at faces
+  // ε^n u^n at faces (m/s), ε^n the mean of the two cells: the advective mass fluxes of the
+  // momentum predictor, each read by twelve faces' fluxes (scratch of predict_momentum).
+  std::array<std::vector<double>, 3> mass_flux_old_;
   std::vector<double> pressure_;                  // p at cells (Pa)
   std::vector<double> correction_;                // φ = p^{n+1} − p^n (Pa)
 

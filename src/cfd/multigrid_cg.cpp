@@ -153,10 +153,32 @@ class MultigridCgSolver final : public PressureSolver {
   void set_system(const StencilSystem& system) override {
     // A fluid step often repeats the previous operator (same dt, ε and β): keep the hierarchy.
     if (!levels_.empty() && fine_is_input_ && same_system(system, levels_[0].system)) return;
-    zeros_.assign(static_cast<std::size_t>(system.size[0]), 0.0);
     // The levels are rebuilt in place: their arrays keep their storage from step to step.
     if (levels_.empty()) levels_.emplace_back();
     levels_[0].system = system;
+    build_hierarchy();
+  }
+
+  void take_system(StencilSystem& system) override {
+    if (!levels_.empty() && fine_is_input_ && same_system(system, levels_[0].system)) return;
+    if (levels_.empty()) levels_.emplace_back();
+    // The coefficients by swapping (the caller gets the previous operator's storage back); the
+    // active flags by copy, as prepare_level may hold more unknowns than the caller gave.
+    StencilSystem& fine = levels_[0].system;
+    fine.size = system.size;
+    fine.periodic = system.periodic;
+    fine.conductance.swap(system.conductance);
+    fine.boundary.swap(system.boundary);
+    fine.mass.swap(system.mass);
+    fine.active = system.active;
+    build_hierarchy();
+  }
+
+ private:
+  // set_system's work once levels_[0].system holds the operator given.
+  void build_hierarchy() {
+    const StencilSystem& system = levels_[0].system;
+    zeros_.assign(static_cast<std::size_t>(system.size[0]), 0.0);
     fine_is_input_ = !prepare_level(levels_[0]);
     singular_ = !has_fixed_part(levels_[0]);
     diagonal_only_ = !singular_ && coupling_fraction(levels_[0]) <= kDiagonalDominance;
@@ -175,6 +197,7 @@ class MultigridCgSolver final : public PressureSolver {
     factor_coarsest(levels_.back());
   }
 
+ public:
   SolveReport solve(std::span<const double> rhs_in, std::span<double> x_out, double tolerance,
                     int max_iterations) override {
     Level& fine = levels_[0];

@@ -28,6 +28,10 @@ class PressureSolver {
   // Takes the operator; call again whenever a coefficient changes. Cost O(unknowns) (the
   // multigrid backend keeps its hierarchy when the operator equals the previous one).
   virtual void set_system(const StencilSystem& system) = 0;
+  // set_system without the copy: the coefficient arrays may be swapped with the solver's own,
+  // so that `system` comes back with the sizes, periodicity and active flags it had and
+  // coefficients of no use (reset it before filling it again).
+  virtual void take_system(StencilSystem& system) { set_system(system); }
   // The team of the following calls (results do not depend on it).
   virtual void set_threading(const Threading& threading) = 0;
   // Solves A x = b to ‖b − A x‖₂ ≤ relative_tolerance ‖b‖₂, starting from x as given. b and x

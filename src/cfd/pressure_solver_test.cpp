@@ -112,6 +112,32 @@ TEST(PressureSolverTest, RecoversKnownSolutionWithBlockedCells) {
   EXPECT_LT(relative_error(x, exact), 1e-9);
 }
 
+// take_system (the fluid solver's call: no copy of the operator) solves as set_system does, to
+// the bit, step after step, and hands back the sizes and active flags it was given.
+TEST(PressureSolverTest, TakingTheSystemSolvesAsSettingItAndKeepsTheActiveFlags) {
+  auto copying = make_multigrid_cg_solver(Threading{});
+  auto taking = make_multigrid_cg_solver(Threading{});
+  for (int step = 0; step < 3; ++step) {
+    StencilSystem s = rough_poisson({20, 16, 12}, {true, false, false}, true, 0.05, 10 + step);
+    std::mt19937 random(20 + step);
+    std::uniform_real_distribution<double> value(-1.0, 1.0);
+    std::vector<double> b(s.count());
+    for (std::size_t p = 0; p < s.count(); ++p) b[p] = s.active[p] ? value(random) : 0.0;
+    const StencilSystem given = s;
+    copying->set_system(s);
+    taking->take_system(s);
+    EXPECT_EQ(s.size, given.size);
+    EXPECT_EQ(s.periodic, given.periodic);
+    EXPECT_EQ(s.active, given.active);
+    std::vector<double> x(s.count(), 0.0), y(s.count(), 0.0);
+    const SolveReport a = copying->solve(b, x, 1e-10, 200);
+    const SolveReport c = taking->solve(b, y, 1e-10, 200);
+    EXPECT_TRUE(a.converged);
+    EXPECT_EQ(a.iterations, c.iterations);
+    EXPECT_EQ(0, std::memcmp(x.data(), y.data(), x.size() * sizeof(double))) << "step " << step;
+  }
+}
+
 TEST(PressureSolverTest, SingularNeumannSystemReturnsZeroMeanSolution) {
   StencilSystem s = rough_poisson({16, 12, 8}, {true, false, true}, false, 0.0, 3);
   std::mt19937 random(4);
