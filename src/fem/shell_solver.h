@@ -193,9 +193,9 @@ class ShellSolver {
   std::vector<std::array<double, 6>> reactions_, previous_reactions_;
   std::vector<std::uint8_t> prescribed_mask_;
   std::vector<std::array<double, 6>> prescribed_velocity_;
-  // Per DOF (x, y, z of a node): the kicks' mass and rotary inertia, and the same with 0 at
-  // prescribed DOFs (the damping acts on free DOFs only).
-  std::vector<Vec3> dof_mass_, dof_inertia_, free_mass_, free_inertia_;
+  // Per DOF (x, y, z of a node): mass and rotary inertia, their inverses (the kicks'), and the
+  // same with 0 at prescribed DOFs (the damping acts on free DOFs only).
+  std::vector<Vec3> dof_mass_, dof_inertia_, dof_inverse_mass_, dof_inverse_inertia_, free_mass_, free_inertia_;
   // The step's node stages run over blocks of kNodeBlock nodes; the nodes with prescribed DOFs
   // in node order, and per block where its entries start.
   static constexpr int kNodeBlock = 256;
