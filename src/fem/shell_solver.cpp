@@ -217,9 +217,8 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
       }
     }
   }
-  // Per DOF: the masses and their inverses (the kicks multiply: a division per DOF and half
-  // kick was a tenth of a 1,296-quad plate's step), and the masses the damping acts on (0 at
-  // prescribed DOFs).
+  // Per DOF: the masses and their inverses (the kicks multiply: their divisions bound them,
+  // docs/performance.md), and the masses the damping acts on (0 at prescribed DOFs).
   dof_mass_.resize(nodes);
   dof_inertia_.resize(nodes);
   dof_inverse_mass_.resize(nodes);
@@ -393,7 +392,8 @@ void half_kick(double* __restrict v, const double* __restrict load,
       v[j] += half_dt * ((load[j] - internal[j]) * inverse_mass[j] - alpha * v[j]);
     return;
   }
-  for (int j = begin; j < end; ++j) v[j] = v[j] + half_dt * ((load[j] - internal[j]) * inverse_mass[j]);
+  for (int j = begin; j < end; ++j)
+    v[j] = v[j] + half_dt * ((load[j] - internal[j]) * inverse_mass[j]);
   const double factor = 1.0 / (1.0 + alpha * half_dt);
   if (factor == 1.0) return;  // undamped: x · 1 is x
   for (int j = begin; j < end; ++j) v[j] *= factor;

@@ -195,7 +195,8 @@ class ShellSolver {
   std::vector<std::array<double, 6>> prescribed_velocity_;
   // Per DOF (x, y, z of a node): mass and rotary inertia, their inverses (the kicks'), and the
   // same with 0 at prescribed DOFs (the damping acts on free DOFs only).
-  std::vector<Vec3> dof_mass_, dof_inertia_, dof_inverse_mass_, dof_inverse_inertia_, free_mass_, free_inertia_;
+  std::vector<Vec3> dof_mass_, dof_inertia_, dof_inverse_mass_, dof_inverse_inertia_;
+  std::vector<Vec3> free_mass_, free_inertia_;
   // The step's node stages run over blocks of kNodeBlock nodes; the nodes with prescribed DOFs
   // in node order, and per block where its entries start.
   static constexpr int kNodeBlock = 256;
