@@ -174,30 +174,6 @@ class MultigridCgSolver final : public PressureSolver {
     build_hierarchy();
   }
 
- private:
-  // set_system's work once levels_[0].system holds the operator given.
-  void build_hierarchy() {
-    const StencilSystem& system = levels_[0].system;
-    zeros_.assign(static_cast<std::size_t>(system.size[0]), 0.0);
-    fine_is_input_ = !prepare_level(levels_[0]);
-    singular_ = !has_fixed_part(levels_[0]);
-    diagonal_only_ = !singular_ && coupling_fraction(levels_[0]) <= kDiagonalDominance;
-    if (diagonal_only_) {
-      levels_.resize(1);
-      return;
-    }
-    std::size_t count = 1;
-    while (levels_[count - 1].system.count() > kCoarsestTarget) {
-      if (levels_.size() == count) levels_.emplace_back();
-      if (!coarsen(levels_[count - 1], levels_[count])) break;
-      (void)prepare_level(levels_[count]);
-      ++count;
-    }
-    levels_.resize(count);
-    factor_coarsest(levels_.back());
-  }
-
- public:
   SolveReport solve(std::span<const double> rhs_in, std::span<double> x_out, double tolerance,
                     int max_iterations) override {
     Level& fine = levels_[0];
@@ -261,6 +237,28 @@ class MultigridCgSolver final : public PressureSolver {
   }
 
  private:
+  // set_system's work once levels_[0].system holds the operator given.
+  void build_hierarchy() {
+    const StencilSystem& system = levels_[0].system;
+    zeros_.assign(static_cast<std::size_t>(system.size[0]), 0.0);
+    fine_is_input_ = !prepare_level(levels_[0]);
+    singular_ = !has_fixed_part(levels_[0]);
+    diagonal_only_ = !singular_ && coupling_fraction(levels_[0]) <= kDiagonalDominance;
+    if (diagonal_only_) {
+      levels_.resize(1);
+      return;
+    }
+    std::size_t count = 1;
+    while (levels_[count - 1].system.count() > kCoarsestTarget) {
+      if (levels_.size() == count) levels_.emplace_back();
+      if (!coarsen(levels_[count - 1], levels_[count])) break;
+      (void)prepare_level(levels_[count]);
+      ++count;
+    }
+    levels_.resize(count);
+    factor_coarsest(levels_.back());
+  }
+
   template <class F>
   void for_each(std::size_t n, F&& f) const {
     const int team = threading_.team(n);

@@ -217,8 +217,8 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
       }
     }
   }
-  // Per DOF: the masses and their inverses (the kicks multiply: their divisions bound them,
-  // docs/performance.md), and the masses the damping acts on (0 at prescribed DOFs).
+  // Per DOF: the masses and their inverses (the kicks multiply: divisions would bound them),
+  // and the masses the damping acts on (0 at prescribed DOFs).
   dof_mass_.resize(nodes);
   dof_inertia_.resize(nodes);
   dof_inverse_mass_.resize(nodes);
@@ -382,8 +382,8 @@ namespace {
 // masses; rotations: moments and inertias): v += h (f_ext − f_int)/m with the damping force
 // −α m v taken at the old velocity in the first half kick and at the new one in the second (so
 // the pair is the central-difference damping update of Belytschko, Liu & Moran eq. 6.2.23).
-// A plain loop over DOFs, which the compiler runs four per instruction, multiplying by the
-// inverse mass (a division per DOF bounded it before).
+// A plain loop over DOFs, which the compiler runs four per instruction; it multiplies by the
+// inverse mass, as divisions would bound it.
 void half_kick(double* __restrict v, const double* __restrict load,
                const double* __restrict internal, const double* __restrict inverse_mass, int begin,
                int end, double half_dt, double alpha, bool first_half) {
@@ -400,8 +400,8 @@ void half_kick(double* __restrict v, const double* __restrict load,
 }
 
 // Stage "drift" on DOFs [begin, end): x(t + dt) = x(t) + dt v, the elements' configuration
-// x(t + dt/2) and the accumulated rotation Σ ω dt. Apart from the step so that the arrays are
-// known not to overlap (the loop then runs four DOFs per instruction: it ran one at a time).
+// x(t + dt/2) and the accumulated rotation Σ ω dt. A function of its own so that the arrays are
+// known not to overlap: the compiler then runs it four DOFs per instruction.
 void drift(double* __restrict x, double* __restrict midpoint, double* __restrict rotation,
            const double* __restrict v, const double* __restrict w, int begin, int end, double dt) {
   for (int j = begin; j < end; ++j) {
