@@ -152,10 +152,12 @@ struct Partner {
 
 struct Timing {
   std::vector<double> get, set;  // s
+  std::vector<double> write;     // s: the partner's forces written into the load view
+  std::vector<double> step;      // s: the in-process step before each exchange of this path
 };
 
-// The exchange's second half, the forces (copied in: the ABI has no writable force view), and
-// the times of both halves (the first from start to got).
+// The exchange's second half, the forces copied in, and the times of both halves (the first
+// from start to got).
 void set_forces(quarry_sim sim, const Partner& partner, std::uint64_t n, Clock::time_point start,
                 Clock::time_point got, Timing& timing) {
   check(sim,
@@ -200,6 +202,42 @@ void exchange_by_views(quarry_sim sim, Partner& partner, std::uint64_t n, Timing
   set_forces(sim, partner, n, start, got, timing);
 }
 
+// Positions and velocities as views, and the forces written in place through the writable view
+// of the next step's loads (ABI 1.2). The ABI's part is the three view calls; the writing is the
+// partner's own work (it computes its forces there instead of into an array of its own), timed
+// apart: here a linear drag from the velocity view. The step that follows
+// adds the loads to the forces first: that share is in the step's time (the "all in" column).
+// On a remote handle (`flush`) the view is the handle's copy, sent to the server before the next
+// call: a call without arrays sends it within the exchange's time.
+void exchange_in_place(quarry_sim sim, std::uint64_t n, bool flush, Timing& timing) {
+  quarry_view position, velocity, loads;
+  const auto start = Clock::now();
+  check(sim, quarry_view_particles(sim, QUARRY_FIELD_POSITION, &position), "quarry_view_particles");
+  check(sim, quarry_view_particles(sim, QUARRY_FIELD_VELOCITY, &velocity), "quarry_view_particles");
+  const auto got = Clock::now();
+  check(sim, quarry_view_next_step_loads(sim, QUARRY_FIELD_FORCE, &loads),
+        "quarry_view_next_step_loads");
+  const auto viewed = Clock::now();
+  if (position.count != n || velocity.count != n || loads.count != n ||
+      loads.stride != 3 * sizeof(double))
+    throw std::runtime_error("a view of the wrong length");
+  // A drag law's worth of work: F = −c v from the velocity view, written in place.
+  const auto* v = static_cast<const double*>(velocity.data);
+  auto* f = static_cast<double*>(loads.data);
+  for (std::uint64_t k = 0; k < 3 * n; ++k) f[k] = -1e-6 * v[k];  // N, c = 1e-6 kg/s
+  timing.write.push_back(since(viewed));
+  if (flush) {
+    const auto written = Clock::now();
+    std::uint64_t epoch = 0;
+    check(sim, quarry_epoch(sim, &epoch), "quarry_epoch");
+    timing.get.push_back(std::chrono::duration<double>(got - start).count());
+    timing.set.push_back(std::chrono::duration<double>(viewed - got).count() + since(written));
+    return;
+  }
+  timing.get.push_back(std::chrono::duration<double>(got - start).count());
+  timing.set.push_back(std::chrono::duration<double>(viewed - got).count());
+}
+
 // One way to do the exchange, and its times.
 struct Path {
   std::string name;
@@ -211,10 +249,17 @@ struct Path {
   // message), which slowed the steps and the ipc exchanges measured after it (by some 30 % and
   // threefold).
   bool apart = false;
+  bool in_place = false;  // the forces written through the load view (in process only)
+  bool none = false;      // no exchange: the steps after it are the baseline (no external loads)
+  bool remote = false;    // a handle of quarry serve
 };
 
 void exchange(Path& path, Partner& partner, std::uint64_t n, Timing& timing) {
-  if (path.views)
+  if (path.none) {
+    timing.get.push_back(0.0), timing.set.push_back(0.0);
+  } else if (path.in_place)
+    exchange_in_place(path.sim, n, path.remote, timing);
+  else if (path.views)
     exchange_by_views(path.sim, partner, n, timing);
   else
     exchange_by_copies(path.sim, partner, n, timing);
@@ -229,8 +274,13 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
   const quarry_sim remote = open(bed, ipc.endpoint().c_str(), options.threads);
   std::vector<Path> paths = {{"in process, views", local, true, {}},
                              {"in process, copies", local, false, {}},
+                             {"in process, views, forces in place", local, true, {}, false, true},
+                             {"in process, no exchange", local, true, {}, false, false, true},
                              {"quarry serve, ipc + shared memory", remote, false, {}},
-                             {"quarry serve, ipc, views", remote, true, {}}};
+                             {"quarry serve, ipc, views", remote, true, {}},
+                             // (name, handle, views, timing, apart, in_place, none, remote)
+                             {"quarry serve, ipc, views, forces in place", remote, true, {}, false,
+                              true, false, true}};
   if (tcp)
     paths.push_back({"quarry serve, tcp 127.0.0.1",
                      open(bed, tcp->endpoint().c_str(), options.threads),
@@ -246,6 +296,7 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
   Timing unused;
   exchange_by_copies(local, partner, n, unused);
   for (std::size_t k = 2; k < paths.size(); ++k) {
+    if (paths[k].sim.id == local.id) continue;
     if (paths[k].views) {  // one particle type: engine order is type order
       quarry_view position;
       check(paths[k].sim, quarry_view_particles(paths[k].sim, QUARRY_FIELD_POSITION, &position),
@@ -265,13 +316,20 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
   // (the server's core for a remote handle), and the client has waited out the server's step.
   // The in-process steps give the step's time. --no-remote-steps: the server never steps (the
   // method of the results before 2026-12-04).
+  // The step's time is kept by the path whose exchange came before it (the forces in place
+  // join the stored forces in the step's first stage).
   Timing step;
+  Path* previous = nullptr;  // the in-process path of the last exchange
   const auto step_then_exchange = [&](Path& path) {
     const auto start = Clock::now();
     const bool in_process = path.sim.id == local.id;
     if (in_process || options.remote_steps)
       check(path.sim, quarry_step(path.sim, 1), "quarry_step");
-    if (in_process) step.get.push_back(since(start));
+    if (in_process) {
+      step.get.push_back(since(start));
+      if (previous) previous->timing.step.push_back(since(start));
+      previous = &path;
+    }
     exchange(path, partner, n, path.timing);
   };
   std::vector<std::function<void()>> measurements;
@@ -307,17 +365,38 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
   std::cout << fmt::format(
       "\n{} particles, {} thread(s): one engine step {:.2f} ms (median of {})\n", n,
       options.threads, 1e3 * step_time, options.repetitions);
-  std::cout << fmt::format("| {:<34} | {:>9} | {:>9} | {:>13} | {:>10} | {:>11} |\n", "path",
-                           "get (ms)", "set (ms)", "exchange (ms)", "% of step", "× copies");
-  std::cout << fmt::format("|{:-<36}|{:->11}|{:->11}|{:->15}|{:->12}|{:->13}|\n", "", ":", ":", ":",
-                           ":", ":");
+  // In process the loads also cost the next step something (adding them to the forces, taking
+  // one-step loads out again; the in-place ones join them first): "all in" is the
+  // exchange plus the next step's time over the baseline's, the step after no exchange.
+  double baseline = 0.0;  // s
+  for (const Path& path : paths)
+    if (path.none) baseline = median(path.timing.step);
+  std::cout << fmt::format(
+      "| {:<41} | {:>9} | {:>9} | {:>13} | {:>10} | {:>11} | {:>15} | {:>12} | {:>10} |\n", "path",
+      "get (ms)", "set (ms)", "exchange (ms)", "% of step", "× copies", "next step (ms)",
+      "all in (ms)", "% of step");
+  std::cout << fmt::format("|{:-<43}|{:->11}|{:->11}|{:->15}|{:->12}|{:->13}|{:->17}|{:->14}|{:->12}|\n",
+                           "", ":", ":", ":", ":", ":", ":", ":", ":");
   for (const Path& path : paths) {
     const double get = median(path.timing.get), set = median(path.timing.set);
+    std::string next, all_in, all_in_share;
+    if (!path.timing.step.empty()) {
+      const double after = median(path.timing.step), total = get + set + after - baseline;
+      next = fmt::format("{:.3f}", 1e3 * after);
+      all_in = fmt::format("{:.3f}", 1e3 * total);
+      all_in_share = fmt::format("{:.2f}", 100.0 * total / baseline);
+    }
     std::cout << fmt::format(
-        "| {:<34} | {:>9.3f} | {:>9.3f} | {:>13.3f} | {:>10.2f} | {:>11.2f} |\n", path.name,
-        1e3 * get, 1e3 * set, 1e3 * (get + set), 100.0 * (get + set) / step_time,
-        (get + set) / copy_time);
+        "| {:<41} | {:>9.3f} | {:>9.3f} | {:>13.3f} | {:>10.2f} | {:>11.2f} | {:>15} | {:>12} | {:>10} |\n",
+        path.name, 1e3 * get, 1e3 * set, 1e3 * (get + set), 100.0 * (get + set) / step_time,
+        (get + set) / copy_time, next, all_in, all_in_share);
   }
+  for (const Path& path : paths)
+    if (path.in_place)
+      std::cout << fmt::format(
+          "{}: the partner's computing its forces into the view (a linear drag from the velocity "
+          "view; not counted above) {:.3f} ms\n",
+          path.name, 1e3 * median(path.timing.write));
   for (std::size_t k = 2; k < paths.size(); ++k)
     if (first_of_its_handle(k))
       std::cout << fmt::format("a call without arrays (quarry_epoch), {}: {:.3f} ms (median of {})\n",

@@ -35,9 +35,10 @@ extern "C" {
  * of any earlier minor's struct is accepted (its later fields take their defaults); a field a
  * minor added is honoured by libraries of that minor or later only, so a caller that needs one
  * checks quarry_abi_version() first.
- * 1.1: quarry_settings.periodic. */
+ * 1.1: quarry_settings.periodic.
+ * 1.2: quarry_view_next_step_loads (the next step's external loads, written in place). */
 #define QUARRY_ABI_MAJOR 1
-#define QUARRY_ABI_MINOR 1
+#define QUARRY_ABI_MINOR 2
 #define QUARRY_ABI_VERSION ((uint32_t)((QUARRY_ABI_MAJOR << 16) | QUARRY_ABI_MINOR))
 
 /* The library's ABI version, (major << 16) | minor. */
@@ -329,6 +330,17 @@ QUARRY_API quarry_status quarry_set_external_loads_by_id(quarry_sim sim, const u
                                                          int32_t mode, int32_t hold);
 /* Every external load (of both holds) back to zero. */
 QUARRY_API quarry_status quarry_clear_external_loads(quarry_sim sim);
+/* ABI 1.2. A writable view of the next step's external loads (hold NEXT_STEP), field
+ * QUARRY_FIELD_FORCE (N) or QUARRY_FIELD_TORQUE (N·m), 3 doubles a particle in ENGINE order (see
+ * quarry_view_particles): the zero-copy way to set them. It holds the loads set so far for the
+ * next step (zeros after a step); what the caller leaves there acts in the next step exactly as
+ * quarry_set_external_loads(…, QUARRY_LOAD_REPLACE, QUARRY_HOLD_NEXT_STEP) with those values
+ * would (after a step, the same bits). The values are not checked: a non-finite one stops the
+ * next step, naming the particle. They show in the particles' force from the next call that
+ * reads or sets forces. In process the view is the engine's own array; on a remote handle it is
+ * a copy held by the handle, sent to the server before the handle's next call other than a view.
+ * Valid as views are; not inside a hook (WRONG_STATE). */
+QUARRY_API quarry_status quarry_view_next_step_loads(quarry_sim sim, int32_t field, quarry_view* view);
 
 /* ---- custom particle properties ----------------------------------------------------------------
  * Per-particle values a partner keeps with the particles: they follow their particle through

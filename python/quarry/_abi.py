@@ -14,7 +14,7 @@ import os
 # The ABI this module was written for (quarry.h's QUARRY_ABI_MAJOR / QUARRY_ABI_MINOR). A library
 # of another major is refused at import; a newer minor only adds calls and trailing fields.
 ABI_MAJOR = 1
-ABI_MINOR = 1
+ABI_MINOR = 2
 ABI_VERSION = (ABI_MAJOR << 16) | ABI_MINOR
 
 
@@ -340,6 +340,7 @@ PROTOTYPES = {
     "quarry_get_particles": (_S, [_sim, _P(quarry_particle_data)]),
     "quarry_particle_index": (_S, [_sim, _u64, c_uint64_p]),
     "quarry_view_particles": (_S, [_sim, _i32, _P(quarry_view)]),
+    "quarry_view_next_step_loads": (_S, [_sim, _i32, _P(quarry_view)]),
     "quarry_add_particles": (_S, [_sim, _P(quarry_new_particles)]),
     "quarry_remove_particles": (_S, [_sim, c_uint64_p, _u64]),
     "quarry_set_external_loads": (_S, [_sim, c_double_p, c_double_p, _u64, _i32, _i32]),

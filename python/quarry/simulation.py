@@ -613,6 +613,25 @@ class Simulation:
 
         return View(self, name, fetch)
 
+    def view_next_step_loads(self, field="force"):
+        """A WRITABLE zero-copy View of the next step's external loads, "force" (N) or "torque"
+        (N·m), (n, 3) in ENGINE order: what is left in its array acts in the next step as
+        set_external_loads(..., mode="replace", hold="next_step") with those values would (the
+        same bits after a step). It holds the loads set so far for the next step (zeros after
+        a step; view.array fetches them again then). Values are not checked: a non-finite one
+        stops the next step. On a remote handle the array is the handle's copy, sent to the
+        server before the next call. Cost: O(1) in process."""
+        key = _enum(Field, field, "view_next_step_loads")
+        if key not in (Field.FORCE, Field.TORQUE):
+            raise ValueError('view_next_step_loads: field must be "force" or "torque", not %r' % (field,))
+
+        def fetch():
+            raw = _abi.quarry_view()
+            self._call("quarry_view_next_step_loads", int(key), ctypes.byref(raw))
+            return raw
+
+        return View(self, "next-step " + key.name.lower(), fetch)
+
     def add_particles(
         self, position, velocity=None, angular_velocity=None, radius=None, particle_type=0
     ):

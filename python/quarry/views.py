@@ -45,8 +45,9 @@ class View:
     """A zero-copy numpy view of one of the engine's per-particle arrays, in ENGINE order.
 
     `view.array` is a numpy array on the engine's own memory: reading it costs nothing and sees
-    the engine's values as they are now. It is read-only except for custom properties, whose
-    writes go straight into the engine (no set_property needed).
+    the engine's values as they are now. It is read-only except for custom properties and the
+    next step's loads (view_next_step_loads), whose writes go straight into the engine (no
+    set_property or set_external_loads needed).
 
     The rule: an array taken from a view is valid until the next call that changes the
     simulation (advance, step, add/remove particles, set loads or properties, restore_state,

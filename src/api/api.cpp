@@ -372,6 +372,13 @@ QUARRY_API quarry_status quarry_view_particles(quarry_sim sim, int32_t field, qu
   });
 }
 
+QUARRY_API quarry_status quarry_view_next_step_loads(quarry_sim sim, int32_t field, quarry_view* view) {
+  return call(sim, __func__, [&](Backend& b) {
+    QUARRY_REQUIRE(view);
+    *view = b.view_next_step_loads(field);
+  });
+}
+
 QUARRY_API quarry_status quarry_add_particles(quarry_sim sim, const quarry_new_particles* particles) {
   return call(sim, __func__, [&](Backend& b) {
     require_struct(particles, "quarry_add_particles", "particles");

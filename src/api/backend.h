@@ -65,6 +65,7 @@ class Backend {
   virtual void get_particles(quarry_particle_data& data) = 0;
   virtual std::uint64_t particle_index(std::uint64_t id) = 0;
   virtual quarry_view view_particles(std::int32_t field) = 0;
+  virtual quarry_view view_next_step_loads(std::int32_t field) = 0;
   virtual void add_particles(const quarry_new_particles& particles) = 0;
   virtual void remove_particles(const std::uint64_t* ids, std::uint64_t count) = 0;
 

@@ -311,12 +311,14 @@ void LocalBackend::step(std::uint64_t steps) {
 void LocalBackend::save_checkpoint(const std::string& path) {
   require_started("quarry_save_checkpoint");
   require_outside_hook("quarry_save_checkpoint");
+  sim::settle_once_loads(world_);
   sim::write_checkpoint(world_, path, world_.output ? world_.output->frame_index() : 0);
 }
 
 std::string LocalBackend::save_state() {
   require_started("quarry_save_state");
   require_outside_hook("quarry_save_state");
+  sim::settle_once_loads(world_);
   return sim::checkpoint_bytes(world_, world_.output ? world_.output->frame_index() : 0);
 }
 
@@ -376,6 +378,7 @@ std::uint64_t LocalBackend::epoch() { return started_ ? world_.particles.layout_
 
 void LocalBackend::get_particles(quarry_particle_data& data) {
   require_started("quarry_get_particles");
+  if (data.force || data.torque) sim::settle_once_loads(world_);
   const ParticleStore& p = world_.particles;
   const std::size_t n = p.size();
   data.count = n;
@@ -434,14 +437,36 @@ quarry_view LocalBackend::view_particles(std::int32_t field) {
     case QUARRY_FIELD_ANGULAR_VELOCITY: vectors(p.angular_velocity); break;
     case QUARRY_FIELD_RADIUS: scalars(p.radius, QUARRY_DTYPE_FLOAT64); break;
     case QUARRY_FIELD_INVERSE_MASS: scalars(p.inv_mass, QUARRY_DTYPE_FLOAT64); break;
-    case QUARRY_FIELD_FORCE: vectors(p.force); break;
-    case QUARRY_FIELD_TORQUE: vectors(p.torque); break;
+    case QUARRY_FIELD_FORCE: sim::settle_once_loads(world_), vectors(p.force); break;
+    case QUARRY_FIELD_TORQUE: sim::settle_once_loads(world_), vectors(p.torque); break;
     case QUARRY_FIELD_TYPE_ORDER:
       sim::update_type_order(world_, order_);
       scalars(order_.order, QUARRY_DTYPE_UINT32);
       break;
     default: fail(QUARRY_ERROR_BAD_VALUE, fmt::format("quarry_view_particles: field {} is not a QUARRY_FIELD_* value", field));
   }
+  return view;
+}
+
+quarry_view LocalBackend::view_next_step_loads(std::int32_t field) {
+  require_started("quarry_view_next_step_loads");
+  require_outside_hook("quarry_view_next_step_loads");
+  if (field != QUARRY_FIELD_FORCE && field != QUARRY_FIELD_TORQUE)
+    fail(QUARRY_ERROR_BAD_VALUE,
+         fmt::format("quarry_view_next_step_loads: field {} is neither QUARRY_FIELD_FORCE ({}) nor "
+                     "QUARRY_FIELD_TORQUE ({})",
+                     field, static_cast<int>(QUARRY_FIELD_FORCE), static_cast<int>(QUARRY_FIELD_TORQUE)));
+  sim::open_once_loads(world_, field == QUARRY_FIELD_FORCE ? ParticleStore::kForceLoads : ParticleStore::kTorqueLoads);
+  ParticleStore& p = world_.particles;
+  std::vector<Vec3>& loads = field == QUARRY_FIELD_FORCE ? p.external_force_once : p.external_torque_once;
+  quarry_view view{};
+  view.data = loads.empty() ? nullptr : loads.data();
+  view.count = p.size();
+  view.dtype = QUARRY_DTYPE_FLOAT64;
+  view.components = 3;
+  view.stride = sizeof(Vec3);
+  view.epoch = p.layout_epoch;
+  view.writable = 1;
   return view;
 }
 

@@ -45,6 +45,7 @@ class LocalBackend final : public Backend {
   void get_particles(quarry_particle_data& data) override;
   std::uint64_t particle_index(std::uint64_t id) override;
   quarry_view view_particles(std::int32_t field) override;
+  quarry_view view_next_step_loads(std::int32_t field) override;
   void add_particles(const quarry_new_particles& particles) override;
   void remove_particles(const std::uint64_t* ids, std::uint64_t count) override;
 

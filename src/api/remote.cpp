@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <functional>
 #include <map>
 #include <optional>
@@ -134,6 +135,7 @@ class RemoteBackend final : public Backend {
     return ask<std::uint64_t>(Op::particle_index, id);
   }
   quarry_view view_particles(std::int32_t field) override;
+  quarry_view view_next_step_loads(std::int32_t field) override;
   void add_particles(const quarry_new_particles& particles) override;
   void remove_particles(const std::uint64_t* ids, std::uint64_t count) override;
 
@@ -196,6 +198,9 @@ class RemoteBackend final : public Backend {
   }
 
   wire::Request request(Op op) {
+    if (loads_viewed_[0] || loads_viewed_[1])
+      if (op != Op::view_next_step_loads && op != Op::view_next_step_loads_shared && op != Op::close)
+        send_next_step_loads();
     if (segment_) segment_->restart();
     return wire::Request(op, segment_.get());
   }
@@ -212,7 +217,8 @@ class RemoteBackend final : public Backend {
     // Through the channel, but for the calls whose reply may outgrow it (a whole state, views
     // taken into the reply) and the close (which ends the session the channel belongs to).
     if (channel_ && op != Op::close && op != Op::save_state && op != Op::view_particles &&
-        op != Op::view_property && message.size() <= Channel::kCapacity)
+        op != Op::view_property && op != Op::view_next_step_loads &&
+        message.size() <= Channel::kCapacity)
       return Reply(connection_.exchange(*channel_, message, wait, call), id,
                    connection_.endpoint(), call, on_error);
     if (channel_) channel_->post_socket_request();
@@ -238,6 +244,14 @@ class RemoteBackend final : public Backend {
   int timeout_ms_;
   std::map<std::int32_t, std::vector<std::byte>> particle_views_;  // field → its copy
   std::map<std::uint32_t, std::vector<std::byte>> property_views_;
+  // The next step's loads as the handle's copies (force, torque), and which of them were viewed
+  // (and so maybe written) since they were last sent: they go to the server before the next
+  // request of any other kind.
+  std::array<std::vector<std::byte>, 2> load_views_;
+  std::array<bool, 2> loads_viewed_{};
+  std::array<bool, 2> loads_shared_{};  // the copy is in the field's shared view segment
+  std::uint64_t load_view_count_ = 0;
+  void send_next_step_loads();
   // Over ipc with shared memory a view is written by the server into a segment of its own (one
   // copy, none through the socket), kept until the next view of the same field or property.
   std::optional<quarry_view> shared_view(Op op, std::uint32_t which);
@@ -395,6 +409,57 @@ quarry_view RemoteBackend::view_particles(std::int32_t field) {
   r.fields().put(field);
   Reply reply = send(r);
   return read_view(reply.in, particle_views_[field]);
+}
+
+quarry_view RemoteBackend::view_next_step_loads(std::int32_t field) {
+  if (!server_knows(Op::view_next_step_loads))
+    throw ApiError(QUARRY_ERROR_UNSUPPORTED,
+                   fmt::format("quarry_view_next_step_loads: the server at {} speaks ABI {}, which "
+                               "has no such view (ABI 1.2); run a quarry serve of this library's "
+                               "version ({}), or set the loads with quarry_set_external_loads",
+                               connection_.endpoint(), wire::version_text(server_abi_version_),
+                               wire::version_text(QUARRY_ABI_VERSION)));
+  const std::size_t which = field == QUARRY_FIELD_TORQUE ? 1 : 0;
+  quarry_view view;
+  if (auto shared = shared_view(Op::view_next_step_loads_shared, static_cast<std::uint32_t>(field))) {
+    view = *shared;
+    loads_shared_[which] = true;
+  } else {
+    wire::Request r = request(Op::view_next_step_loads);
+    r.fields().put(field);
+    Reply reply = send(r);  // the server refuses another field
+    view = read_view(reply.in, load_views_[which]);
+    loads_shared_[which] = false;
+  }
+  loads_viewed_[which] = true;
+  load_view_count_ = view.count;
+  view.writable = 1;
+  return view;
+}
+
+void RemoteBackend::send_next_step_loads() {
+  const std::array<bool, 2> viewed = loads_viewed_;
+  loads_viewed_ = {};
+  const std::uint64_t n = load_view_count_;
+  // Those in shared memory by naming their fields (the server reads the segments), the others
+  // as arrays.
+  std::vector<std::int32_t> shared;
+  for (std::size_t k = 0; k < 2; ++k)
+    if (viewed[k] && loads_shared_[k]) shared.push_back(k == 0 ? QUARRY_FIELD_FORCE : QUARRY_FIELD_TORQUE);
+  if (!shared.empty()) {
+    wire::Request r = request(Op::put_next_step_loads_shared);
+    r.fields().put(n);
+    r.fields().put(static_cast<std::uint32_t>(shared.size()));
+    for (const std::int32_t field : shared) r.fields().put(field);
+    send(r);
+  }
+  const bool force = viewed[0] && !loads_shared_[0], torque = viewed[1] && !loads_shared_[1];
+  if (!force && !torque) return;
+  wire::Request r = request(Op::put_next_step_loads);
+  r.input(force ? reinterpret_cast<const double*>(load_views_[0].data()) : nullptr, force ? 3 * n : 0);
+  r.input(torque ? reinterpret_cast<const double*>(load_views_[1].data()) : nullptr, torque ? 3 * n : 0);
+  r.fields().put(n);
+  send(r);
 }
 
 void RemoteBackend::add_particles(const quarry_new_particles& q) {

@@ -6,7 +6,9 @@
 
 #include <fmt/format.h>
 
+#include <cstring>
 #include <random>
+#include <vector>
 
 #include "api/protocol.h"
 #include "api/transport.h"
@@ -146,8 +148,11 @@ std::string Server::call(const wire::RequestHeader& header, const std::byte* req
                           : wire::error_reply(header.request_id, QUARRY_ERROR_IO, failed);
   }
   try {
-    if (op == wire::Op::view_particles_shared || op == wire::Op::view_property_shared) {
+    if (op == wire::Op::view_particles_shared || op == wire::Op::view_property_shared ||
+        op == wire::Op::view_next_step_loads_shared) {
       shared_view(op, in, out);
+    } else if (op == wire::Op::put_next_step_loads_shared) {
+      put_shared_loads(in);
     } else if (op == wire::Op::attach_channel) {
       const std::string channel = in.text();
       in.expect_end();
@@ -179,9 +184,11 @@ void Server::shared_view(wire::Op op, wire::Reader& in, wire::Writer& out) {
   const auto which = in.get<std::uint32_t>();
   const std::string name = in.text();
   in.expect_end();
-  const quarry_view view = op == wire::Op::view_particles_shared
-                               ? backend().view_particles(static_cast<std::int32_t>(which))
-                               : backend().view_property(which);
+  const quarry_view view =
+      op == wire::Op::view_particles_shared ? backend().view_particles(static_cast<std::int32_t>(which))
+      : op == wire::Op::view_property_shared
+          ? backend().view_property(which)
+          : backend().view_next_step_loads(static_cast<std::int32_t>(which));
   // Attached only once the field or property is known to exist: a session holds at most one
   // segment per view there is.
   std::unique_ptr<SharedSegment>& segment =
@@ -203,6 +210,32 @@ void Server::shared_view(wire::Op op, wire::Reader& in, wire::Writer& out) {
   protocol::fields(out, view);
   out.put(bytes);
   out.put(static_cast<std::uint8_t>(fits));
+}
+
+void Server::put_shared_loads(wire::Reader& in) {
+  const auto count = in.get<std::uint64_t>();
+  const auto fields = in.get<std::uint32_t>();  // how many field numbers follow
+  if (fields > 2) throw wire::WireError(fmt::format("{} fields of loads", fields));
+  std::vector<std::int32_t> which(fields);
+  for (std::int32_t& field : which) field = in.get<std::int32_t>();
+  in.expect_end();
+  for (const std::int32_t field : which) {
+    const quarry_view view = backend().view_next_step_loads(field);  // refuses other fields
+    const auto found = session_->views.find(
+        wire::view_key(wire::Op::view_next_step_loads_shared, static_cast<std::uint32_t>(field)));
+    const std::uint64_t bytes = view_bytes(view);
+    if (view.count != count || found == session_->views.end() || !found->second ||
+        found->second->size() < bytes)
+      throw ApiError(QUARRY_ERROR_WRONG_STATE,
+                     fmt::format("quarry_view_next_step_loads: the loads sent back are of {} "
+                                 "particles in shared memory the server {}; the simulation has {}",
+                                 count,
+                                 found == session_->views.end() || !found->second
+                                     ? "never mapped"
+                                     : "mapped for fewer",
+                                 view.count));
+    if (bytes > 0) std::memcpy(view.data, found->second->at(0), bytes);
+  }
 }
 
 bool Server::serve_channel(std::chrono::microseconds spin, std::chrono::milliseconds budget) {

@@ -84,6 +84,8 @@ class Server {
   // take, u8 1 if they were written at the segment's start (0: it is too small; the client makes
   // a larger one and asks again).
   void shared_view(wire::Op op, wire::Reader& in, wire::Writer& out);
+  // The client's values of the next step's loads, from the segments of its shared views of them.
+  void put_shared_loads(wire::Reader& in);
   void end_session(const std::string& reason);
   Backend& backend();
   void log(const std::string& line) const;

@@ -158,6 +158,35 @@ void view_particles(Backend& b, Reader& in, Writer& out) {
   write_view(out, b.view_particles(field));
 }
 
+void view_next_step_loads(Backend& b, Reader& in, Writer& out) {
+  std::int32_t field = 0;
+  read_all(in, field);
+  write_view(out, b.view_next_step_loads(field));
+}
+
+// The client's copy of the next step's loads (engine order, 3 × count doubles each, either may
+// be absent) written into the engine's (as the caller's writes through an in-process view).
+void put_next_step_loads(Backend& b, Reader& in, Writer&) {
+  std::uint64_t n_force = 0, n_torque = 0, count = 0;
+  const double* force = in.input<double>(n_force);
+  const double* torque = in.input<double>(n_torque);
+  read_all(in, count);
+  check_length(force, n_force, times(count, 3, "count"), "force");
+  check_length(torque, n_torque, times(count, 3, "count"), "torque");
+  const auto put = [&](std::int32_t field, const double* values) {
+    if (!values) return;
+    const quarry_view view = b.view_next_step_loads(field);
+    if (view.count != count)
+      throw ApiError(QUARRY_ERROR_WRONG_STATE,
+                     fmt::format("quarry_view_next_step_loads: the view sent back holds {} particles, "
+                                 "the simulation has {}",
+                                 count, view.count));
+    if (count > 0) std::memcpy(view.data, values, 3 * count * sizeof(double));
+  };
+  put(QUARRY_FIELD_FORCE, force);
+  put(QUARRY_FIELD_TORQUE, torque);
+}
+
 void add_particles(Backend& b, Reader& in, Writer&) {
   quarry_new_particles q{};
   q.struct_size = sizeof q;
@@ -432,8 +461,14 @@ CallHandler call_handler(wire::Op op) {
       return get_surface_nodes;
     case Op::get_surface_loads:
       return get_surface_loads;
+    case Op::view_next_step_loads:
+      return view_next_step_loads;
+    case Op::put_next_step_loads:
+      return put_next_step_loads;
     case Op::view_particles_shared:
     case Op::view_property_shared:
+    case Op::view_next_step_loads_shared:
+    case Op::put_next_step_loads_shared:
     case Op::attach_channel:
       return nullptr;  // the session's own (Server: the client's segments for them)
   }

@@ -58,6 +58,10 @@ constexpr std::array<const char*, kLastOp + 1> kOpNames = {
     "quarry_view_particles",
     "quarry_view_property",
     "quarry_open",  // the request channel, attached right after the open
+    "quarry_view_next_step_loads",
+    "quarry_view_next_step_loads",  // its values sent back before the next call
+    "quarry_view_next_step_loads",  // in shared memory
+    "quarry_view_next_step_loads",  // sent back from shared memory
 };
 
 template <class T>

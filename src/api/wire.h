@@ -89,6 +89,15 @@ enum class Op : std::uint32_t {
   // The client's request channel (api/channel.h) for the session's further requests (ipc with
   // shared memory only; without it, the socket carries them).
   attach_channel,
+  // ABI 1.2: the next step's external loads as a view (a copy on the client, written there) and
+  // that copy sent back before the client's next call that is not a view.
+  view_next_step_loads,
+  put_next_step_loads,
+  // The same through a shared-memory segment of the client's own for each field (ipc with shared
+  // memory only): the server writes the loads there, the client writes its values over them,
+  // and the server takes them back from there.
+  view_next_step_loads_shared,
+  put_next_step_loads_shared,
 };
 // The key of a shared view's segment in a session, on both sides: the operation (particles or
 // property) and which field or property.
@@ -96,7 +105,7 @@ inline constexpr std::uint64_t view_key(Op op, std::uint32_t which) {
   return (static_cast<std::uint64_t>(op) << 32) | which;
 }
 inline constexpr std::uint32_t kFirstOp = static_cast<std::uint32_t>(Op::open);
-inline constexpr std::uint32_t kLastOp = static_cast<std::uint32_t>(Op::attach_channel);
+inline constexpr std::uint32_t kLastOp = static_cast<std::uint32_t>(Op::put_next_step_loads_shared);
 
 // The C function an operation stands for ("quarry_get_particles"), or nullptr if unknown.
 const char* op_name(std::uint32_t op);

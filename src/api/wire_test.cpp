@@ -382,7 +382,7 @@ TEST(Wire, EveryOperationHasItsCallsName) {
   EXPECT_EQ(op_name(kLastOp + 1), nullptr);
   EXPECT_STREQ(op_name(static_cast<std::uint32_t>(Op::get_particles)), "quarry_get_particles");
   EXPECT_EQ(version_text(1u << 16), "1.0");
-  EXPECT_EQ(version_text(QUARRY_ABI_VERSION), "1.1");
+  EXPECT_EQ(version_text(QUARRY_ABI_VERSION), "1.2");
 }
 
 }  // namespace

@@ -118,6 +118,8 @@ void ParticleStore::enable_external_loads() {
 
 void ParticleStore::clear() {
   for_each_array(*this, [&](auto& array, std::size_t) { array.clear(); });
+  held_loads = once_loads = 0;
+  once_pending = false;
   layout_epoch += 1;
 }
 

@@ -36,6 +36,15 @@ struct ParticleStore {
   std::vector<Vec3> external_torque;
   std::vector<Vec3> external_force_once;
   std::vector<Vec3> external_torque_once;
+  // Which of these arrays may hold non-zero values (kForceLoads | kTorqueLoads, held and one-step
+  // apart): the stages that add loads to the forces, or take one-step loads out again, skip the
+  // others (a partner that sets forces only never has torques read). The end of a step zeroes the
+  // one-step loads. once_pending: one-step loads written in place through the C ABI's view and
+  // not yet part of force/torque (set_external_loads puts its values there at once);
+  // sim::settle_once_loads adds them (the step's first stage), so that force/torque are whole.
+  static constexpr std::uint8_t kForceLoads = 1, kTorqueLoads = 2;
+  std::uint8_t held_loads = 0, once_loads = 0;
+  bool once_pending = false;
   // Custom per-particle properties (coupling or user data), stored in particle order,
   // `components` values per particle; they follow their particle through removal and re-sorts.
   struct CustomProperty {

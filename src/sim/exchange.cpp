@@ -92,6 +92,7 @@ void remove_particles(World& world, std::span<const ParticleId> ids) {
 
 void set_external_loads(World& world, std::span<const std::uint32_t> indices, std::span<const double> forces,
                         std::span<const double> torques, LoadMode mode, LoadHold hold) {
+  settle_once_loads(world);  // the held values must be those inside the forces
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   const std::size_t entries = indices.empty() ? n : indices.size();
@@ -144,6 +145,40 @@ void set_external_loads(World& world, std::span<const std::uint32_t> indices, st
     if (!forces.empty()) apply(load[i], p.force[i], &forces[3 * k]);
     if (!torques.empty()) apply(load_torque[i], p.torque[i], &torques[3 * k]);
   }
+  const std::uint8_t given = (forces.empty() ? 0 : ParticleStore::kForceLoads) | (torques.empty() ? 0 : ParticleStore::kTorqueLoads);
+  (hold == LoadHold::next_step ? p.once_loads : p.held_loads) |= given;
+}
+
+namespace {
+
+// force/torque ± the one-step loads of the fields in p.once_loads (sign +1 or −1), on the world's
+// threads.
+void shift_by_once_loads(World& world, double sign) {
+  ParticleStore& p = world.particles;
+  const bool force = p.once_loads & ParticleStore::kForceLoads, torque = p.once_loads & ParticleStore::kTorqueLoads;
+  const std::size_t n = p.size();
+#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
+  for (std::size_t i = 0; i < n; ++i) {
+    if (force) p.force[i] += sign * p.external_force_once[i];
+    if (torque) p.torque[i] += sign * p.external_torque_once[i];
+  }
+}
+
+}  // namespace
+
+void open_once_loads(World& world, std::uint8_t field) {
+  ParticleStore& p = world.particles;
+  p.enable_external_loads();
+  if (!p.once_pending && p.once_loads != 0) shift_by_once_loads(world, -1.0);
+  p.once_pending = true;
+  p.once_loads |= field;
+}
+
+void settle_once_loads(World& world) {
+  ParticleStore& p = world.particles;
+  if (!p.once_pending) return;
+  shift_by_once_loads(world, 1.0);
+  p.once_pending = false;
 }
 
 void update_type_order(const World& world, TypeOrder& order) {

@@ -50,6 +50,21 @@ enum class LoadHold : std::uint8_t { next_step, until_changed };
 void set_external_loads(World& world, std::span<const std::uint32_t> indices, std::span<const double> forces,
                         std::span<const double> torques, LoadMode mode, LoadHold hold);
 
+// The next step's one-step loads as arrays a partner writes in place (the C ABI's writable view,
+// zero copies): particles.external_force_once and external_torque_once, by engine index, as they
+// stand (zeros after a step; what set_external_loads put there before). From here on they are
+// not part of force/torque (ParticleStore::once_pending) until settle_once_loads adds them (the
+// step's first stage, or the ABI before anything reads the forces): after a step (no one-step
+// loads set yet) the step is the one set_external_loads(replace, next_step) with the written
+// values would have made, bit for bit.
+// Cost: nothing after a step; one pass over the particles when set_external_loads had put
+// one-step loads into the forces (they are taken out again).
+// `field`: ParticleStore::kForceLoads or kTorqueLoads, the array the caller will write.
+void open_once_loads(World& world, std::uint8_t field);
+// Adds pending one-step loads to force/torque (one pass), so that what reads the forces between
+// steps (copies, views, checkpoints, set_external_loads) sees them; nothing when none are pending.
+void settle_once_loads(World& world);
+
 // The particles in type order (seed 004: all of type 0, then type 1, …; within a type by engine
 // index): order[k] is the engine index of the k-th particle; type_start[t] the first position of
 // type t (types + 1 entries). Remade only when the layout epoch changed. Cost: O(n) then.

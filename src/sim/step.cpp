@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "integrate/integrator.h"
+#include "sim/exchange.h"
 #include "sim/output.h"
 
 namespace quarry::sim {
@@ -120,6 +121,13 @@ void step(World& world) {
   const bool verlet = velocity_verlet(world);
   const int team = world.threading.team(world.particles.size());
   DriftScan scan;  // what the drift saw: NaNs, particles outside the domain, displacements
+  if (world.particles.once_pending) {
+    // One-step loads a partner wrote in place (the C ABI's view) join the forces of the
+    // configuration, which the opening kick uses. (A pass of its own: folded into the kick's
+    // pass it slowed that pass by more than it saved.)
+    ScopedStage timer(world.timers, world.timers.stage("loads"));
+    settle_once_loads(world);
+  }
   {
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
     scan = kick_drift_scan(world, verlet ? 0.5 * dt : dt, dt);
@@ -185,18 +193,29 @@ void set_body_forces(World& world) {
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
-  const bool loads = p.has_external_loads();
+  // Only the load arrays that may hold something are read (ParticleStore::held_loads, once_loads).
+  const auto has = [&p](std::uint8_t loads, std::uint8_t field) { return p.has_external_loads() && (loads & field); };
+  const bool held_force = has(p.held_loads, ParticleStore::kForceLoads);
+  const bool once_force = has(p.once_loads, ParticleStore::kForceLoads);
+  const bool held_torque = has(p.held_loads, ParticleStore::kTorqueLoads);
+  const bool once_torque = has(p.once_loads, ParticleStore::kTorqueLoads);
   const std::span<const std::uint32_t> ranges = particle_ranges(world);
 #pragma omp parallel num_threads(world.threading.team(n))
   {
     const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
     for (std::size_t i = first; i < end; ++i) {
       // A fixed particle (inv_mass 0) has no weight to carry: m g would be inf (and 0/0 = NaN).
-      const Vec3 weight = p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{};  // N
-      p.force[i] = loads ? weight + p.external_force[i] + p.external_force_once[i] : weight;
-      p.torque[i] = loads ? p.external_torque[i] + p.external_torque_once[i] : Vec3{};
+      Vec3 force = p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{};  // N, the weight
+      Vec3 torque;                                                            // N·m
+      if (held_force) force += p.external_force[i];
+      if (once_force) force += p.external_force_once[i];
+      if (held_torque) torque += p.external_torque[i];
+      if (once_torque) torque += p.external_torque_once[i];
+      p.force[i] = force;
+      p.torque[i] = torque;
     }
   }
+  p.once_pending = false;  // any one-step loads written in place are in the forces now
 }
 
 void end_of_step_loads(World& world) {
@@ -205,16 +224,22 @@ void end_of_step_loads(World& world) {
     if (s.coupling_window.sized()) s.coupling_window.accumulate(s.mesh, world.dt);
   }
   ParticleStore& p = world.particles;
-  if (!p.has_external_loads()) return;
+  if (!p.has_external_loads() || p.once_loads == 0) return;
   // One-step loads acted in both half kicks of this step; the next step's opening kick must
   // not see them.
+  const bool force = p.once_loads & ParticleStore::kForceLoads, torque = p.once_loads & ParticleStore::kTorqueLoads;
+  p.once_loads = 0;
   const std::size_t n = p.size();
 #pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
   for (std::size_t i = 0; i < n; ++i) {
-    if (p.external_force_once[i] == Vec3{} && p.external_torque_once[i] == Vec3{}) continue;
-    p.force[i] -= p.external_force_once[i];
-    p.torque[i] -= p.external_torque_once[i];
-    p.external_force_once[i] = p.external_torque_once[i] = Vec3{};
+    if (force && p.external_force_once[i] != Vec3{}) {
+      p.force[i] -= p.external_force_once[i];
+      p.external_force_once[i] = Vec3{};
+    }
+    if (torque && p.external_torque_once[i] != Vec3{}) {
+      p.torque[i] -= p.external_torque_once[i];
+      p.external_torque_once[i] = Vec3{};
+    }
   }
 }
 

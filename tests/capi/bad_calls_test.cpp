@@ -91,6 +91,9 @@ std::vector<Call> every_call() {
          return quarry_set_external_loads_by_id(s, b.ids, 0, b.doubles, nullptr, QUARRY_LOAD_ADD, QUARRY_HOLD_NEXT_STEP);
        }},
       {"quarry_clear_external_loads", [](quarry_sim s, Buffers&) { return quarry_clear_external_loads(s); }},
+      {"quarry_view_next_step_loads", [](quarry_sim s, Buffers& b) {
+         return quarry_view_next_step_loads(s, QUARRY_FIELD_FORCE, &b.view);
+       }},
       {"quarry_register_property", [](quarry_sim s, Buffers& b) {
          return quarry_register_property(s, "p", 1, "", 0.0, b.types);
        }},
@@ -238,6 +241,12 @@ TEST(BadCalls, WrongArgumentsAndStatesAreRefusedAndChangeNothing) {
          return quarry_add_particles(sim, &add);
        }},
       {"quarry_view_particles", QUARRY_ERROR_BAD_VALUE, [&] { return quarry_view_particles(sim, 77, &b.view); }},
+      {"quarry_view_next_step_loads", QUARRY_ERROR_BAD_VALUE, [&] {
+         return quarry_view_next_step_loads(sim, QUARRY_FIELD_POSITION, &b.view);
+       }},
+      {"quarry_view_next_step_loads", QUARRY_ERROR_NULL_POINTER, [&] {
+         return quarry_view_next_step_loads(sim, QUARRY_FIELD_FORCE, nullptr);
+       }},
       {"quarry_get_property", QUARRY_ERROR_NOT_FOUND, [&] { return quarry_get_property(sim, 5, b.doubles, 2); }},
       {"quarry_register_property", QUARRY_ERROR_BAD_VALUE, [&] { return quarry_register_property(sim, "radius", 1, "m", 0.0, nullptr); }},
       {"quarry_register_property", QUARRY_ERROR_BAD_VALUE, [&] { return quarry_register_property(sim, "zero", 0, "", 0.0, nullptr); }},

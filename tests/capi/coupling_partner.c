@@ -2,7 +2,10 @@
  * builds a simulation through the ABI, drives it with a drag force it computes itself every
  * step, and checks the engine against closed forms. Run in this process by default, or against
  * a `quarry serve` with --endpoint ENDPOINT (then the same checks, and the same final state hash
- * must come out: tests/capi/CMakeLists.txt compares them).
+ * must come out: tests/capi/CMakeLists.txt compares them). With --load-view the drag goes in
+ * through the writable view of the next step's loads (ABI 1.2, engine order, placed through the
+ * type-order map), but on every seventh step through quarry_set_external_loads: the same bits
+ * must come out as with the copies alone.
  *
  * Checks:
  *  1. Linear drag F = −c v set each step (replace, next step only): v(t) = v_t (1 − e^{−t/τ}),
@@ -108,9 +111,11 @@ static uint64_t fnv(uint64_t h, const void* data, size_t n) {
 int main(int argc, char** argv) {
   const char* endpoint = NULL;
   const char* checkpoint = "coupling_partner.qck";
-  for (int a = 1; a + 1 < argc; a += 2) {
-    if (strcmp(argv[a], "--endpoint") == 0) endpoint = argv[a + 1];
-    if (strcmp(argv[a], "--checkpoint") == 0) checkpoint = argv[a + 1];
+  int load_view = 0;
+  for (int a = 1; a < argc; ++a) {
+    if (strcmp(argv[a], "--load-view") == 0) load_view = 1;
+    if (a + 1 < argc && strcmp(argv[a], "--endpoint") == 0) endpoint = argv[a + 1];
+    if (a + 1 < argc && strcmp(argv[a], "--checkpoint") == 0) checkpoint = argv[a + 1];
   }
   CHECK((quarry_abi_version() >> 16) == QUARRY_ABI_MAJOR, "ABI major %u", (unsigned)(quarry_abi_version() >> 16));
   quarry_sim sim = build(endpoint);
@@ -177,7 +182,23 @@ int main(int argc, char** argv) {
       impulse[2] -= (long double)mass[k] * kGravity * kDt;
       if (s == 0) momentum_bound += kSteps * DBL_EPSILON * mass[k] * vt;
     }
-    MUST(sim, quarry_set_external_loads(sim, drag, NULL, data.count, QUARRY_LOAD_REPLACE, QUARRY_HOLD_NEXT_STEP));
+    if (load_view && s % 7 != 3) {
+      quarry_view order, loads;
+      MUST(sim, quarry_view_particles(sim, QUARRY_FIELD_TYPE_ORDER, &order));
+      MUST(sim, quarry_view_next_step_loads(sim, QUARRY_FIELD_FORCE, &loads));
+      CHECK(loads.writable == 1 && loads.count == data.count && loads.components == 3 && loads.epoch == data.epoch,
+            "the load view: writable %u, %llu particles, %u components, epoch %llu (particles: %llu, epoch %llu)",
+            (unsigned)loads.writable, (unsigned long long)loads.count, (unsigned)loads.components,
+            (unsigned long long)loads.epoch, (unsigned long long)data.count, (unsigned long long)data.epoch);
+      const uint32_t* engine = (const uint32_t*)order.data;
+      for (uint64_t k = 0; k < data.count; ++k) {
+        double* at = (double*)((char*)loads.data + (int64_t)engine[k] * loads.stride);
+        CHECK(at[0] == 0.0 && at[1] == 0.0 && at[2] == 0.0, "step %d: the next step's loads are not zero", s);
+        for (int d = 0; d < 3; ++d) at[d] = drag[3 * k + d];
+      }
+    } else {
+      MUST(sim, quarry_set_external_loads(sim, drag, NULL, data.count, QUARRY_LOAD_REPLACE, QUARRY_HOLD_NEXT_STEP));
+    }
     MUST(sim, quarry_step(sim, 1));
   }
   printf("drag: worst |v - discrete| / v_t = %.3g; worst |v - continuous| / bound = %.4f\n", worst_discrete,

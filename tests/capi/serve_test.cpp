@@ -665,6 +665,59 @@ TEST(Serve, ViewsOverIpcAreWrittenIntoSharedMemoryAndMatchTheCopies) {
   EXPECT_EQ(shared_mappings(prefix), 0);  // every segment unmapped with the handle
 }
 
+// The next step's loads written in place on a remote handle: the view's values come from the
+// server (more than the request channel holds: through the socket) and go back before the next
+// call; 15,000 particles move to the same bits as in process.
+TEST(Serve, NextStepLoadsWrittenInPlaceReachTheServerAsInProcess) {
+  Server server;
+  quarry_sim remote, local;
+  ASSERT_EQ(open(server.endpoint(), remote, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  quarry_open_info info = QUARRY_OPEN_INFO_INIT;
+  ASSERT_EQ(quarry_open(&info, &local), QUARRY_OK);
+  constexpr std::uint64_t added = 14999, n = added + 1;  // 360 kB of loads a field
+  std::vector<double> position(3 * added);
+  for (std::uint64_t k = 0; k < added; ++k) {
+    position[3 * k] = 3e-3 * static_cast<double>(k % 100 + 1);  // m: spheres of 1 mm, apart
+    position[3 * k + 1] = 3e-3 * static_cast<double>(k / 100);
+  }
+  for (quarry_sim sim : {remote, local}) {
+    build_one_particle(sim);
+    quarry_new_particles add = {sizeof add, added,   nullptr, 0,      position.data(),
+                                nullptr,    nullptr, nullptr, nullptr};
+    ASSERT_EQ(quarry_add_particles(sim, &add), QUARRY_OK) << last_error(sim);
+  }
+  for (int round = 0; round < 3; ++round) {
+    for (quarry_sim sim : {remote, local}) {
+      for (int field : {QUARRY_FIELD_FORCE, QUARRY_FIELD_TORQUE}) {
+        quarry_view view;
+        ASSERT_EQ(quarry_view_next_step_loads(sim, field, &view), QUARRY_OK) << last_error(sim);
+        ASSERT_EQ(view.count, n);
+        ASSERT_EQ(view.writable, 1u);
+        auto* loads = static_cast<double*>(view.data);
+        for (std::uint64_t k = 0; k < 3 * n; ++k) {
+          ASSERT_EQ(loads[k], 0.0) << "round " << round << ": the loads after a step";
+          loads[k] = (field == QUARRY_FIELD_FORCE ? 1e-6 : 1e-12) * static_cast<double>(k % 5 + round);
+        }
+      }
+      ASSERT_EQ(quarry_step(sim, 1), QUARRY_OK) << last_error(sim);
+    }
+  }
+  std::vector<double> x[2], v[2], w[2];
+  for (int s = 0; s < 2; ++s) {
+    x[s].resize(3 * n), v[s].resize(3 * n), w[s].resize(3 * n);
+    quarry_particle_data data = {sizeof data, n,       nullptr, nullptr, x[s].data(),
+                                 v[s].data(), w[s].data(), nullptr, nullptr, nullptr,
+                                 nullptr,     nullptr, 0,       0};
+    ASSERT_EQ(quarry_get_particles(s == 0 ? remote : local, &data), QUARRY_OK);
+  }
+  EXPECT_EQ(x[0], x[1]);
+  EXPECT_EQ(v[0], v[1]);
+  EXPECT_EQ(w[0], w[1]);
+  EXPECT_GT(v[0][3 * 7], 0.0) << "the loads moved the particles";
+  EXPECT_EQ(quarry_close(remote), QUARRY_OK);
+  EXPECT_EQ(quarry_close(local), QUARRY_OK);
+}
+
 // The open reply names the last operation the server knows. A server from before the shared
 // views (and the request channel) names none, or one that knows them not: the client asks neither
 // of it (such a server would answer UNSUPPORTED) and takes each view from the reply.

@@ -133,6 +133,32 @@ class Views(unittest.TestCase):
                 np.asarray(view)[:, 2], -support.GRAVITY * 100 * support.TIME_STEP, rtol=1e-12
             )
 
+    def test_loads_written_through_the_next_step_view_act_as_set_ones(self):
+        # A linear drag F = -c v (c = m / tau) through set_external_loads (type order) in one
+        # simulation and written in place through view_next_step_loads (engine order, placed
+        # through type_order) in the other: the same bits after every step (both add the same
+        # values to the same stored forces before the opening half kick), also across re-sorts.
+        copied, ids = support.drag_simulation(threads=1, sort_interval=7)
+        written, _ = support.drag_simulation(threads=1, sort_interval=7)
+        with copied, written:
+            loads = written.view_next_step_loads("force")
+            self.assertTrue(loads.writable)
+            for step in range(60):
+                state = copied.particles(["id", "velocity", "mass"])
+                drag = -(state.mass / support.relaxation_time(state.id))[:, None] * state.velocity
+                copied.set_external_loads(force=drag, mode="replace", hold="next_step")
+                loads.refresh()  # a re-sort moves the epoch: the new order is accepted here
+                self.assertFalse(np.any(loads.array), "the next step's loads start at zero")
+                loads.array[written.view("type_order").array] = drag
+                copied.step(1)
+                written.step(1)
+                for field in ("position", "velocity"):
+                    np.testing.assert_array_equal(
+                        getattr(written.particles(field), field), getattr(copied.particles(field), field)
+                    )
+            with self.assertRaises(ValueError):
+                written.view_next_step_loads("position")
+
     def test_views_of_a_closed_simulation_are_refused(self):
         view = self.sim.view("radius")
         self.sim.close()
