@@ -793,6 +793,54 @@ TEST(Serve, AServerWithoutSharedViewsSendsThemInTheReply) {
   views_from_an_older_server(wire::Op::get_surface_loads);       // one before the shared views
 }
 
+// A server of ABI 1.1 (its open reply names attach_channel as its last operation) has no view of
+// the next step's loads: the client refuses the call itself, UNSUPPORTED with both versions and
+// the way out, and asks the server nothing.
+TEST(Serve, AnAbi11ServerHasNoNextStepLoadsView) {
+  const std::string endpoint = ipc_endpoint();
+  void* context = zmq_ctx_new();
+  void* rep = zmq_socket(context, ZMQ_REP);
+  ASSERT_EQ(zmq_bind(rep, endpoint.c_str()), 0);
+  std::vector<std::uint32_t> asked;
+  std::thread fake([rep, &asked] {
+    const int wait_ms = 5000;
+    zmq_setsockopt(rep, ZMQ_RCVTIMEO, &wait_ms, sizeof wait_ms);
+    std::vector<char> buffer(1 << 16);
+    for (int k = 0; k < 2; ++k) {  // open, close
+      const int size = zmq_recv(rep, buffer.data(), buffer.size(), 0);
+      if (size < 0) return;
+      const wire::RequestHeader request = wire::read_request_header(buffer.data(), size);
+      asked.push_back(request.op);
+      wire::Writer out;
+      out.bytes().assign(wire::kReplyHeaderBytes, '\0');
+      if (static_cast<wire::Op>(request.op) == wire::Op::open) {
+        protocol::write_values(out, protocol::OpenReply{7, 0, "0.1.0"});
+        out.put(static_cast<std::uint32_t>(wire::Op::attach_channel));
+      }
+      wire::ReplyHeader header;
+      header.request_id = request.request_id;
+      header.abi_version = (1u << 16) | 1u;
+      wire::write_reply_header(out.bytes(), header);
+      zmq_send(rep, out.bytes().data(), out.bytes().size(), 0);
+    }
+  });
+  quarry_sim sim;
+  ASSERT_EQ(open(endpoint, sim, 5000), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  quarry_view view;
+  EXPECT_EQ(quarry_view_next_step_loads(sim, QUARRY_FIELD_FORCE, &view), QUARRY_ERROR_UNSUPPORTED);
+  const std::string text = last_error(sim);
+  EXPECT_NE(text.find("ABI 1.1"), std::string::npos) << text;
+  EXPECT_NE(text.find("ABI 1.2"), std::string::npos) << text;
+  EXPECT_NE(text.find("quarry_set_external_loads"), std::string::npos) << text;
+  EXPECT_EQ(quarry_close(sim), QUARRY_OK) << last_error(QUARRY_NO_SIM);
+  fake.join();
+  EXPECT_EQ(asked, (std::vector<std::uint32_t>{static_cast<std::uint32_t>(wire::Op::open),
+                                               static_cast<std::uint32_t>(wire::Op::close)}));
+  zmq_close(rep);
+  zmq_ctx_term(context);
+  fs::remove(endpoint.substr(6));
+}
+
 // Periodic axes (ABI 1.1) set through a remote handle reach the server's simulation: a sphere
 // leaving through the x face re-enters at the other; the server's checks come back as texts.
 TEST(Serve, PeriodicSettingsReachTheServersSimulation) {
