@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include <cstring>
 #include <random>
 #include <vector>
 
@@ -220,21 +219,17 @@ void Server::put_shared_loads(wire::Reader& in) {
   for (std::int32_t& field : which) field = in.get<std::int32_t>();
   in.expect_end();
   for (const std::int32_t field : which) {
-    const quarry_view view = backend().view_next_step_loads(field);  // refuses other fields
     const auto found = session_->views.find(
         wire::view_key(wire::Op::view_next_step_loads_shared, static_cast<std::uint32_t>(field)));
-    const std::uint64_t bytes = view_bytes(view);
-    if (view.count != count || found == session_->views.end() || !found->second ||
-        found->second->size() < bytes)
+    const bool mapped = found != session_->views.end() && found->second;
+    if (!mapped || found->second->size() / (3 * sizeof(double)) < count) {
+      backend().view_next_step_loads(field);  // an unknown field: BAD_VALUE, not a mapping missing
       throw ApiError(QUARRY_ERROR_WRONG_STATE,
                      fmt::format("quarry_view_next_step_loads: the loads sent back are of {} "
-                                 "particles in shared memory the server {}; the simulation has {}",
-                                 count,
-                                 found == session_->views.end() || !found->second
-                                     ? "never mapped"
-                                     : "mapped for fewer",
-                                 view.count));
-    if (bytes > 0) std::memcpy(view.data, found->second->at(0), bytes);
+                                 "particles in shared memory the server {}",
+                                 count, mapped ? "mapped for fewer" : "never mapped"));
+    }
+    write_next_step_loads(backend(), field, found->second->at(0), count);
   }
 }
 

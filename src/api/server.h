@@ -114,5 +114,9 @@ CallHandler call_handler(wire::Op op);
 // A view's values packed (count × components, no stride) into `to`, which holds view_bytes.
 std::uint64_t view_bytes(const quarry_view& view);
 void copy_view(const quarry_view& view, std::byte* to);
+// A client's copy of the next step's loads of `field` (count particles, 3 doubles each, packed)
+// written into the engine's, as an in-process caller writes through the view; WRONG_STATE if
+// count is not the simulation's particle count.
+void write_next_step_loads(Backend& backend, std::int32_t field, const void* values, std::uint64_t count);
 
 }  // namespace quarry::api

@@ -173,18 +173,8 @@ void put_next_step_loads(Backend& b, Reader& in, Writer&) {
   read_all(in, count);
   check_length(force, n_force, times(count, 3, "count"), "force");
   check_length(torque, n_torque, times(count, 3, "count"), "torque");
-  const auto put = [&](std::int32_t field, const double* values) {
-    if (!values) return;
-    const quarry_view view = b.view_next_step_loads(field);
-    if (view.count != count)
-      throw ApiError(QUARRY_ERROR_WRONG_STATE,
-                     fmt::format("quarry_view_next_step_loads: the view sent back holds {} particles, "
-                                 "the simulation has {}",
-                                 count, view.count));
-    if (count > 0) std::memcpy(view.data, values, 3 * count * sizeof(double));
-  };
-  put(QUARRY_FIELD_FORCE, force);
-  put(QUARRY_FIELD_TORQUE, torque);
+  if (force) write_next_step_loads(b, QUARRY_FIELD_FORCE, force, count);
+  if (torque) write_next_step_loads(b, QUARRY_FIELD_TORQUE, torque, count);
 }
 
 void add_particles(Backend& b, Reader& in, Writer&) {
@@ -375,6 +365,16 @@ void copy_view(const quarry_view& view, std::byte* to) {
   }
   for (std::uint64_t k = 0; k < view.count; ++k)
     std::memcpy(to + k * row, from + k * view.stride, row);
+}
+
+void write_next_step_loads(Backend& backend, std::int32_t field, const void* values, std::uint64_t count) {
+  const quarry_view view = backend.view_next_step_loads(field);  // refuses other fields
+  if (view.count != count)
+    throw ApiError(QUARRY_ERROR_WRONG_STATE,
+                   fmt::format("quarry_view_next_step_loads: the loads sent back are of {} particles, "
+                               "the simulation has {}",
+                               count, view.count));
+  if (count > 0) std::memcpy(view.data, values, view_bytes(view));
 }
 
 CallHandler call_handler(wire::Op op) {
