@@ -205,8 +205,8 @@ void exchange_by_views(quarry_sim sim, Partner& partner, std::uint64_t n, Timing
 // Positions and velocities as views, and the forces written in place through the writable view
 // of the next step's loads (ABI 1.2). The ABI's part is the three view calls; the writing is the
 // partner's own work (it computes its forces there instead of into an array of its own), timed
-// apart: here a linear drag from the velocity view. The step that follows
-// adds the loads to the forces first: that share is in the step's time (the "all in" column).
+// apart: here a linear drag from the velocity view. The step that follows adds the loads in its
+// kicks and zeroes them: that share is in the step's time (the "all in" column).
 // On a remote handle (`flush`) the view is the handle's copy, sent to the server before the next
 // call: a call without arrays sends it within the exchange's time.
 void exchange_in_place(quarry_sim sim, std::uint64_t n, bool flush, Timing& timing) {
@@ -316,21 +316,22 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
   // (the server's core for a remote handle), and the client has waited out the server's step.
   // The in-process steps give the step's time. --no-remote-steps: the server never steps (the
   // method of the results before 2026-12-04).
-  // The step's time is kept by the path whose exchange came before it (the forces in place
-  // join the stored forces in the step's first stage).
+  // An in-process exchange is followed by a second step, timed for that path (what the loads it
+  // set add to the step: the "next step" column), before any other path runs: the steps of the
+  // server's handles in between (and what their process does after them) slowed the next local
+  // step by up to 10 % in some runs, which must not fall on one path's steps only.
   Timing step;
-  Path* previous = nullptr;  // the in-process path of the last exchange
-  const auto step_then_exchange = [&](Path& path) {
+  const auto timed_step = [&](quarry_sim sim, std::vector<double>& into) {
     const auto start = Clock::now();
+    check(sim, quarry_step(sim, 1), "quarry_step");
+    into.push_back(since(start));
+  };
+  const auto step_then_exchange = [&](Path& path) {
     const bool in_process = path.sim.id == local.id;
-    if (in_process || options.remote_steps)
-      check(path.sim, quarry_step(path.sim, 1), "quarry_step");
-    if (in_process) {
-      step.get.push_back(since(start));
-      if (previous) previous->timing.step.push_back(since(start));
-      previous = &path;
-    }
+    std::vector<double> unused_times;
+    if (in_process || options.remote_steps) timed_step(path.sim, in_process ? step.get : unused_times);
     exchange(path, partner, n, path.timing);
+    if (in_process) timed_step(path.sim, path.timing.step);
   };
   std::vector<std::function<void()>> measurements;
   for (Path& path : paths)
@@ -365,12 +366,14 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
   std::cout << fmt::format(
       "\n{} particles, {} thread(s): one engine step {:.2f} ms (median of {})\n", n,
       options.threads, 1e3 * step_time, options.repetitions);
-  // In process the loads also cost the next step something (adding them to the forces, taking
-  // one-step loads out again; the in-place ones join them first): "all in" is the
-  // exchange plus the next step's time over the baseline's, the step after no exchange.
-  double baseline = 0.0;  // s
+  // In process the loads also cost the next step something (both kicks read them, the end of
+  // the step zeroes them): "all in" is the exchange plus the median, over the repetitions, of
+  // the next step's time less the baseline's (the step after no exchange) in the same
+  // repetition. Paired so: the host's speed drifts by more than 1 % within a run.
+  const std::vector<double>* baseline_steps = nullptr;
   for (const Path& path : paths)
-    if (path.none) baseline = median(path.timing.step);
+    if (path.none) baseline_steps = &path.timing.step;
+  const double baseline = median(*baseline_steps);  // s
   std::cout << fmt::format(
       "| {:<41} | {:>9} | {:>9} | {:>13} | {:>10} | {:>11} | {:>15} | {:>12} | {:>10} |\n", "path",
       "get (ms)", "set (ms)", "exchange (ms)", "% of step", "× copies", "next step (ms)",
@@ -381,7 +384,10 @@ void run_size(long wanted, const Options& options, const fs::path& directory,
     const double get = median(path.timing.get), set = median(path.timing.set);
     std::string next, all_in, all_in_share;
     if (!path.timing.step.empty()) {
-      const double after = median(path.timing.step), total = get + set + after - baseline;
+      std::vector<double> extra;  // s, per repetition
+      for (std::size_t r = 0; r < path.timing.step.size(); ++r)
+        extra.push_back(path.timing.step[r] - (*baseline_steps)[r]);
+      const double after = median(path.timing.step), total = get + set + median(extra);
       next = fmt::format("{:.3f}", 1e3 * after);
       all_in = fmt::format("{:.3f}", 1e3 * total);
       all_in_share = fmt::format("{:.2f}", 100.0 * total / baseline);

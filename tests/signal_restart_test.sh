@@ -5,6 +5,7 @@
 set -euo pipefail
 quarry=$1 deck=$2 out=$3
 rm -rf "$out"
+mkdir -p "$(dirname "$out")"  # its log sits beside it, whichever test runs first
 "$quarry" run "$deck" --end-time 100 --output-dir "$out" --quiet > "$out.log" 2>&1 &
 pid=$!
 for _ in $(seq 1 100); do  # wait until the run has written its first frame

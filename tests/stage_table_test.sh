@@ -5,7 +5,7 @@
 # absolute timing is asserted.
 set -euo pipefail
 quarry=$1 deck=$2 out=$3
-rm -rf "$out"
+rm -rf "$out" && mkdir -p "$(dirname "$out")"  # its log sits beside it
 "$quarry" run "$deck" --end-time 0.1 --output-dir "$out" --threads 1 > "$out.log" 2>&1
 cat "$out.log"
 wall=$(sed -n 's/^quarry: [0-9]* steps* in \([0-9.]*\) s .*/\1/p' "$out.log")

@@ -336,8 +336,8 @@ QUARRY_API quarry_status quarry_clear_external_loads(quarry_sim sim);
  * next step (zeros after a step); what the caller leaves there acts in the next step exactly as
  * quarry_set_external_loads(…, QUARRY_LOAD_REPLACE, QUARRY_HOLD_NEXT_STEP) with those values
  * would (after a step, the same bits). The values are not checked: a non-finite one stops the
- * next step, naming the particle. They show in the particles' force from the next call that
- * reads or sets forces. In process the view is the engine's own array; on a remote handle it is
+ * next step, naming the particle. They show in the particles' force wherever it is read (copies,
+ * views); the step adds them in its kicks. In process the view is the engine's own array; on a remote handle it is
  * a copy held by the handle, sent to the server before the handle's next call other than a view.
  * Valid as views are; not inside a hook (WRONG_STATE). */
 QUARRY_API quarry_status quarry_view_next_step_loads(quarry_sim sim, int32_t field, quarry_view* view);

@@ -119,7 +119,7 @@ void ParticleStore::enable_external_loads() {
 void ParticleStore::clear() {
   for_each_array(*this, [&](auto& array, std::size_t) { array.clear(); });
   held_loads = once_loads = 0;
-  once_pending = false;
+  once_in_forces = false;
   layout_epoch += 1;
 }
 

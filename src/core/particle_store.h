@@ -29,22 +29,25 @@ struct ParticleStore {
   std::vector<std::uint16_t> type;     // index into the particle-type table
   std::vector<double> creation_time;   // s
   // External loads set by a coupling partner (N, N·m): `held` act until changed, `once` for
-  // the next step only. They are part of `force`/`torque` (the body-force stage adds them).
-  // Empty until enable_external_loads(): most runs have none, and 96 bytes per particle of
-  // zeros would be read every step.
+  // the next step only. Held loads are part of `force`/`torque` (the body-force stage adds
+  // them); one-step loads are kept apart and added by the kicks as they use the forces (see
+  // once_in_forces). Empty until enable_external_loads(): most runs have none, and 96 bytes per
+  // particle of zeros would be read every step.
   std::vector<Vec3> external_force;
   std::vector<Vec3> external_torque;
   std::vector<Vec3> external_force_once;
   std::vector<Vec3> external_torque_once;
   // Which of these arrays may hold non-zero values (kForceLoads | kTorqueLoads, held and one-step
-  // apart): the stages that add loads to the forces, or take one-step loads out again, skip the
-  // others (a partner that sets forces only never has torques read). The end of a step zeroes the
-  // one-step loads. once_pending: one-step loads written in place through the C ABI's view and
-  // not yet part of force/torque (set_external_loads puts its values there at once);
-  // sim::settle_once_loads adds them (the step's first stage), so that force/torque are whole.
+  // apart): the stages that read loads skip the others (a partner that sets forces only never
+  // has torques read). The end of a step zeroes the one-step loads.
+  // once_in_forces: the one-step loads are inside force/torque, because something outside the
+  // step read or saved the forces (sim::settle_once_loads: what reads the forces sees the whole
+  // of them). Else they stay apart and each kick adds them to the forces it uses (apart_once_loads):
+  // a partner that writes them and steps costs the step two reads of them, not a pass that adds
+  // them to the forces and one that takes them out again.
   static constexpr std::uint8_t kForceLoads = 1, kTorqueLoads = 2;
   std::uint8_t held_loads = 0, once_loads = 0;
-  bool once_pending = false;
+  bool once_in_forces = false;
   // Custom per-particle properties (coupling or user data), stored in particle order,
   // `components` values per particle; they follow their particle through removal and re-sorts.
   struct CustomProperty {
@@ -79,6 +82,18 @@ struct ParticleStore {
   // Sizes the external-load arrays to the particles (zeros); no-op if already done.
   void enable_external_loads();
   bool has_external_loads() const { return external_loads_enabled; }
+  // The one-step loads a kick adds to the forces it reads (null where there are none, or where
+  // they are inside force/torque already).
+  struct ApartLoads {
+    const Vec3* force = nullptr;   // N
+    const Vec3* torque = nullptr;  // N·m
+    bool any() const { return force != nullptr || torque != nullptr; }
+  };
+  ApartLoads apart_once_loads() const {
+    if (!external_loads_enabled || once_in_forces) return {};
+    return {(once_loads & kForceLoads) ? external_force_once.data() : nullptr,
+            (once_loads & kTorqueLoads) ? external_torque_once.data() : nullptr};
+  }
   bool external_loads_enabled = false;
   void clear();
 

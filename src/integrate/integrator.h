@@ -15,34 +15,45 @@
 
 namespace quarry::integrate {
 
-// Particle i kicked by h (s): v += h F/m, ω += h τ/I (h = dt/2 for a half kick).
-inline void kick_particle(ParticleStore& p, std::size_t i, double h) {
-  p.velocity[i] += p.force[i] * (h * p.inv_mass[i]);
-  p.angular_velocity[i] += p.torque[i] * (h * p.inv_inertia(i));
+// Particle i kicked by h (s): v += h F/m, ω += h τ/I (h = dt/2 for a half kick). F and τ are
+// the stored force and torque plus the one-step loads kept apart from them (`apart`, null where
+// none): the sum is the one sim::settle_once_loads would store, so the bits are the same whether
+// the loads were put into the forces before or are added here.
+inline void kick_particle(ParticleStore& p, std::size_t i, double h, const ParticleStore::ApartLoads& apart = {}) {
+  const Vec3 force = apart.force ? p.force[i] + apart.force[i] : p.force[i];        // N
+  const Vec3 torque = apart.torque ? p.torque[i] + apart.torque[i] : p.torque[i];   // N·m
+  p.velocity[i] += force * (h * p.inv_mass[i]);
+  p.angular_velocity[i] += torque * (h * p.inv_inertia(i));
 }
 
 // Every particle kicked by h (s), on `team` threads, thread t taking range t of `ranges`
 // (thread_block; equal blocks if they do not fit).
 inline void kick(ParticleStore& p, double h, int team = 1, std::span<const std::uint32_t> ranges = {}) {
   const std::size_t n = p.size();
+  const ParticleStore::ApartLoads apart = p.apart_once_loads();
 #pragma omp parallel num_threads(team)
   {
     const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
-    for (std::size_t i = first; i < end; ++i) kick_particle(p, i, h);
+    if (apart.any())
+      for (std::size_t i = first; i < end; ++i) kick_particle(p, i, h, apart);
+    else
+      for (std::size_t i = first; i < end; ++i) kick_particle(p, i, h);
   }
 }
 
 // Particle i: kick by h then drift by dt (s).
-inline void kick_drift_particle(ParticleStore& p, std::size_t i, double h, double dt) {
-  kick_particle(p, i, h);
+inline void kick_drift_particle(ParticleStore& p, std::size_t i, double h, double dt,
+                                const ParticleStore::ApartLoads& apart = {}) {
+  kick_particle(p, i, h, apart);
   p.position[i] += p.velocity[i] * dt;
 }
 
 // Kick by h then drift by dt in one pass over memory (the first half of a step).
 inline void kick_drift(ParticleStore& p, double h, double dt, int team = 1) {
   const std::size_t n = p.size();
+  const ParticleStore::ApartLoads apart = p.apart_once_loads();
 #pragma omp parallel for schedule(static) num_threads(team)
-  for (std::size_t i = 0; i < n; ++i) kick_drift_particle(p, i, h, dt);
+  for (std::size_t i = 0; i < n; ++i) kick_drift_particle(p, i, h, dt, apart);
 }
 
 }  // namespace quarry::integrate

@@ -145,11 +145,11 @@ void transfer_state(auto& io, World& world, std::uint64_t& frame_index) {
   io.vector(p.type);
   io.vector(p.creation_time);
   for (auto* v : {&p.external_force, &p.external_torque, &p.external_force_once, &p.external_torque_once}) io.vector(*v);
-  // Saved forces hold the one-step loads (checkpoint_bytes refuses pending ones); zeros or not,
+  // Saved forces hold the one-step loads (checkpoint_bytes refuses them apart); zeros or not,
   // the end of the next step takes them out again.
   if constexpr (loading) {
     p.held_loads = p.once_loads = p.has_external_loads() ? ParticleStore::kForceLoads | ParticleStore::kTorqueLoads : 0;
-    p.once_pending = false;
+    p.once_in_forces = true;
   }
   std::uint64_t customs = p.custom.size();
   io.value(customs);
@@ -505,8 +505,8 @@ RestoredWorld restore(std::istream& in, std::uint64_t size, const std::string& n
 std::string checkpoint_bytes(const World& const_world, std::uint64_t frame_index) {
   if (!const_world.initialized)
     throw std::logic_error("checkpoint: the world is not initialized (sim::initialize first)");
-  if (const_world.particles.once_pending)
-    throw std::logic_error("checkpoint: one-step loads written in place are pending (sim::settle_once_loads first)");
+  if (const_world.particles.apart_once_loads().any())
+    throw std::logic_error("checkpoint: one-step loads are apart from the forces (sim::settle_once_loads first)");
   World& world = const_cast<World&>(const_world);  // the visit takes non-const fields
   BinaryWriter w;
   std::error_code ignored;

@@ -92,7 +92,6 @@ void remove_particles(World& world, std::span<const ParticleId> ids) {
 
 void set_external_loads(World& world, std::span<const std::uint32_t> indices, std::span<const double> forces,
                         std::span<const double> torques, LoadMode mode, LoadHold hold) {
-  settle_once_loads(world);  // the held values must be those inside the forces
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   const std::size_t entries = indices.empty() ? n : indices.size();
@@ -131,12 +130,14 @@ void set_external_loads(World& world, std::span<const std::uint32_t> indices, st
   Vec3* const load = (hold == LoadHold::until_changed ? p.external_force : p.external_force_once).data();
   Vec3* const load_torque = (hold == LoadHold::until_changed ? p.external_torque : p.external_torque_once).data();
   const bool add = mode == LoadMode::add;
-  // The stored force of the step's configuration changes with the load (F + new − old), so that
-  // the next opening kick already sees it.
-  const auto apply = [add](Vec3& held, Vec3& total, const double* value) {
+  // Loads inside the stored forces (held ones, and one-step ones once something read the forces)
+  // change them with the load (F + new − old), so that the next opening kick sees it at once;
+  // one-step loads kept apart are added by the kicks themselves.
+  const bool inside = hold == LoadHold::until_changed || p.once_in_forces;
+  const auto apply = [add, inside](Vec3& held, Vec3& total, const double* value) {
     const Vec3 given{value[0], value[1], value[2]};
     const Vec3 next = add ? held + given : given;
-    total += next - held;
+    if (inside) total += next - held;
     held = next;
   };
 #pragma omp parallel for schedule(static) num_threads(team)
@@ -169,16 +170,16 @@ void shift_by_once_loads(World& world, double sign) {
 void open_once_loads(World& world, std::uint8_t field) {
   ParticleStore& p = world.particles;
   p.enable_external_loads();
-  if (!p.once_pending && p.once_loads != 0) shift_by_once_loads(world, -1.0);
-  p.once_pending = true;
+  if (p.once_in_forces) shift_by_once_loads(world, -1.0);
+  p.once_in_forces = false;
   p.once_loads |= field;
 }
 
 void settle_once_loads(World& world) {
   ParticleStore& p = world.particles;
-  if (!p.once_pending) return;
+  if (!p.has_external_loads() || p.once_in_forces || p.once_loads == 0) return;
   shift_by_once_loads(world, 1.0);
-  p.once_pending = false;
+  p.once_in_forces = true;
 }
 
 void update_type_order(const World& world, TypeOrder& order) {

@@ -43,7 +43,9 @@ enum class LoadHold : std::uint8_t { next_step, until_changed };
 // `forces` and `torques` hold 3 doubles per entry (x, y, z), or are empty (left as they are).
 // With `replace` the value replaces the particle's held (or one-step) load, with `add` it is added
 // to it. Held loads act until changed; one-step loads act in the next step only.
-// particles.force and torque are updated at once, so the next opening kick uses them. Throws
+// Held loads are part of particles.force and torque at once (the next opening kick uses them);
+// one-step loads stay apart from them (the step's kicks add them, ParticleStore::once_in_forces)
+// unless something has settled them into the forces (settle_once_loads). Throws
 // std::invalid_argument on a size mismatch, an index out of range or given twice, or a
 // non-finite value (nothing changed then). Cost: one pass over the entries to check them and one
 // over the particles' loads and forces, on the world's threads.
@@ -52,17 +54,16 @@ void set_external_loads(World& world, std::span<const std::uint32_t> indices, st
 
 // The next step's one-step loads as arrays a partner writes in place (the C ABI's writable view,
 // zero copies): particles.external_force_once and external_torque_once, by engine index, as they
-// stand (zeros after a step; what set_external_loads put there before). From here on they are
-// not part of force/torque (ParticleStore::once_pending) until settle_once_loads adds them (the
-// step's first stage, or the ABI before anything reads the forces): after a step (no one-step
-// loads set yet) the step is the one set_external_loads(replace, next_step) with the written
-// values would have made, bit for bit.
-// Cost: nothing after a step; one pass over the particles when set_external_loads had put
-// one-step loads into the forces (they are taken out again).
+// stand (zeros after a step; what set_external_loads put there before). They are kept apart from
+// force/torque (taken out if settle_once_loads had put them there); the step's kicks add them,
+// formed as set_external_loads(replace, next_step) with the written values would have them, bit
+// for bit.
+// Cost: nothing after a step; one pass over the particles when the loads were inside the forces.
 // `field`: ParticleStore::kForceLoads or kTorqueLoads, the array the caller will write.
 void open_once_loads(World& world, std::uint8_t field);
-// Adds pending one-step loads to force/torque (one pass), so that what reads the forces between
-// steps (copies, views, checkpoints, set_external_loads) sees them; nothing when none are pending.
+// Adds the one-step loads kept apart to force/torque (one pass), so that what reads the forces
+// outside the kicks (the C ABI's copies and views, checkpoints) sees the whole of them; nothing
+// when there are none, or when they are inside already. The kicks then use the forces alone.
 void settle_once_loads(World& world);
 
 // The particles in type order (seed 004: all of type 0, then type 1, …; within a type by engine

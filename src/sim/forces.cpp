@@ -833,13 +833,23 @@ void set_velocity_leads(World& world, double h) {
   Vec3* const spin_lead = ws.angular_velocity_lead.data();
   ws.lead_time = h;
   const std::span<const std::uint32_t> ranges = particle_ranges(world);
+  // The forces of the opening kick: with the one-step loads kept apart from them, if any.
+  const ParticleStore::ApartLoads apart = p.apart_once_loads();
+  const auto leads = [&](std::size_t first, std::size_t end, const ParticleStore::ApartLoads& loads) {
+    for (std::size_t i = first; i < end; ++i) {
+      const Vec3 force = loads.force ? p.force[i] + loads.force[i] : p.force[i];       // N
+      const Vec3 torque = loads.torque ? p.torque[i] + loads.torque[i] : p.torque[i];  // N·m
+      lead[i] = force * (h * p.inv_mass[i]);
+      spin_lead[i] = torque * (h * p.inv_inertia(i));
+    }
+  };
 #pragma omp parallel num_threads(world.threading.team(n))
   {
     const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
-    for (std::size_t i = first; i < end; ++i) {
-      lead[i] = p.force[i] * (h * p.inv_mass[i]);
-      spin_lead[i] = p.torque[i] * (h * p.inv_inertia(i));
-    }
+    if (apart.any())
+      leads(first, end, apart);
+    else
+      leads(first, end, {});  // the loop without loads
   }
 }
 

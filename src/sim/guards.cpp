@@ -95,6 +95,44 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
               "with simulation.impact_speed so that the time step is chosen for them",
               world.dt)};
 }
+
+// Particle i's force as the kicks use it (N): the stored one and the one-step loads kept apart.
+Vec3 total_force(const ParticleStore& p, std::size_t i) {
+  const ParticleStore::ApartLoads apart = p.apart_once_loads();
+  return apart.force ? p.force[i] + apart.force[i] : p.force[i];
+}
+
+// The opening pass over particles [first, end) of one thread: kick, drift, and the scan of what
+// the drift did (into `tally`). kApart: the kick adds the one-step loads kept apart from the
+// forces (a separate instantiation, so that a step without them runs the loop it always ran).
+template <bool kApart>
+void open_range(ParticleStore& p, std::size_t first, std::size_t end, double h, double dt,
+                const ParticleStore::ApartLoads& apart, const Aabb* domain, const Vec3* reference,
+                const ParticleId* id_at_build, OpeningTally& tally) {
+  for (std::size_t i = first; i < end; ++i) {
+    if constexpr (kApart)
+      integrate::kick_drift_particle(p, i, h, dt, apart);
+    else
+      integrate::kick_drift_particle(p, i, h, dt);
+    const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
+    // Branch-free: x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum tells whether
+    // all nine components are finite (the first offender is searched only if one is not).
+    const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
+                        (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
+    tally.non_finite |= !(zero == 0.0);
+    if (domain) tally.any_outside |= !domain->contains(x);
+    // Moved more than half its radius (|v| dt > R/2): check_tunnelling looks closer.
+    tally.fast |= (v.x * v.x + v.y * v.y + v.z * v.z) * (dt * dt) > 0.25 * p.radius[i] * p.radius[i];
+    if (reference) {
+      // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
+      const double d2 = norm2(x - reference[i]);  // m²
+      tally.largest_displacement_squared =
+          d2 > tally.largest_displacement_squared ? d2 : tally.largest_displacement_squared;
+      tally.ids_changed |= p.id[i] != id_at_build[i];
+    }
+  }
+}
+
 }  // namespace
 
 // Per-thread tallies of the parallel opening pass, merged (exact: flags and a maximum, so any
@@ -116,29 +154,14 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
   const ParticleId* const id_at_build = compare ? list.ids_at_build.data() : nullptr;
   OpeningTally tally;
   const std::span<const std::uint32_t> ranges = particle_ranges(world);
+  const ParticleStore::ApartLoads apart = p.apart_once_loads();  // a partner's one-step loads
 #pragma omp parallel num_threads(world.threading.team(n)) reduction(merge : tally)
   {
     const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
-    for (std::size_t i = first; i < end; ++i) {
-      integrate::kick_drift_particle(p, i, h, dt);
-      const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
-      // Branch-free: x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum tells whether
-      // all nine components are finite (the first offender is searched only if one is not).
-      const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
-                          (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
-      tally.non_finite |= !(zero == 0.0);
-      if (domain) tally.any_outside |= !domain->contains(x);
-      // Moved more than half its radius (|v| dt > R/2): check_tunnelling looks closer.
-      tally.fast |=
-          (v.x * v.x + v.y * v.y + v.z * v.z) * (dt * dt) > 0.25 * p.radius[i] * p.radius[i];
-      if (reference) {
-        // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
-        const double d2 = norm2(x - reference[i]);  // m²
-        tally.largest_displacement_squared =
-            d2 > tally.largest_displacement_squared ? d2 : tally.largest_displacement_squared;
-        tally.ids_changed |= p.id[i] != id_at_build[i];
-      }
-    }
+    if (apart.any())
+      open_range<true>(p, first, end, h, dt, apart, domain, reference, id_at_build, tally);
+    else
+      open_range<false>(p, first, end, h, dt, apart, domain, reference, id_at_build, tally);
   }
   std::size_t first_bad = n;
   if (tally.non_finite)
@@ -178,7 +201,7 @@ void check_finite(const World& world, const DriftScan& scan) {
         "  hint: the run went unstable; reduce simulation.time_step (now {:.4g} s) or check the "
         "material stiffness, restitution and external forces",
         world.step_count, world.time, p.id[i], show(p.position[i]), show(p.velocity[i]),
-        show(p.angular_velocity[i]), show(p.force[i]), world.dt));
+        show(p.angular_velocity[i]), show(total_force(p, i)), world.dt));
   }
 }
 

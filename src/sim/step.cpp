@@ -7,6 +7,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "integrate/integrator.h"
@@ -121,14 +122,8 @@ void step(World& world) {
   const bool verlet = velocity_verlet(world);
   const int team = world.threading.team(world.particles.size());
   DriftScan scan;  // what the drift saw: NaNs, particles outside the domain, displacements
-  if (world.particles.once_pending) {
-    // One-step loads a partner wrote in place (the C ABI's view) join the forces of the
-    // configuration, which the opening kick uses. (A pass of its own: folded into the kick's
-    // pass it slowed that pass by more than it saved.)
-    ScopedStage timer(world.timers, world.timers.stage("loads"));
-    settle_once_loads(world);
-  }
   {
+    // The kicks add the one-step loads a partner set (ParticleStore::apart_once_loads).
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
     scan = kick_drift_scan(world, verlet ? 0.5 * dt : dt, dt);
   }
@@ -193,12 +188,11 @@ void set_body_forces(World& world) {
   ParticleStore& p = world.particles;
   const std::size_t n = p.size();
   const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
-  // Only the load arrays that may hold something are read (ParticleStore::held_loads, once_loads).
-  const auto has = [&p](std::uint8_t loads, std::uint8_t field) { return p.has_external_loads() && (loads & field); };
-  const bool held_force = has(p.held_loads, ParticleStore::kForceLoads);
-  const bool once_force = has(p.once_loads, ParticleStore::kForceLoads);
-  const bool held_torque = has(p.held_loads, ParticleStore::kTorqueLoads);
-  const bool once_torque = has(p.once_loads, ParticleStore::kTorqueLoads);
+  // Only the load arrays that may hold something are read (ParticleStore::held_loads). One-step
+  // loads stay apart: the closing kick adds them.
+  const auto has = [&p](std::uint8_t field) { return p.has_external_loads() && (p.held_loads & field); };
+  const bool held_force = has(ParticleStore::kForceLoads);
+  const bool held_torque = has(ParticleStore::kTorqueLoads);
   const std::span<const std::uint32_t> ranges = particle_ranges(world);
 #pragma omp parallel num_threads(world.threading.team(n))
   {
@@ -208,14 +202,12 @@ void set_body_forces(World& world) {
       Vec3 force = p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{};  // N, the weight
       Vec3 torque;                                                            // N·m
       if (held_force) force += p.external_force[i];
-      if (once_force) force += p.external_force_once[i];
       if (held_torque) torque += p.external_torque[i];
-      if (once_torque) torque += p.external_torque_once[i];
       p.force[i] = force;
       p.torque[i] = torque;
     }
   }
-  p.once_pending = false;  // any one-step loads written in place are in the forces now
+  p.once_in_forces = false;  // the forces of a new configuration
 }
 
 void end_of_step_loads(World& world) {
@@ -225,21 +217,24 @@ void end_of_step_loads(World& world) {
   }
   ParticleStore& p = world.particles;
   if (!p.has_external_loads() || p.once_loads == 0) return;
-  // One-step loads acted in both half kicks of this step; the next step's opening kick must
-  // not see them.
+  // One-step loads acted in both kicks of this step: zeroed for the next one, and taken out of
+  // the forces if something had put them there (settle_once_loads, inside a hook).
   const bool force = p.once_loads & ParticleStore::kForceLoads, torque = p.once_loads & ParticleStore::kTorqueLoads;
+  const bool inside = p.once_in_forces;
   p.once_loads = 0;
+  p.once_in_forces = false;
   const std::size_t n = p.size();
-#pragma omp parallel for schedule(static) num_threads(world.threading.team(n))
-  for (std::size_t i = 0; i < n; ++i) {
-    if (force && p.external_force_once[i] != Vec3{}) {
-      p.force[i] -= p.external_force_once[i];
-      p.external_force_once[i] = Vec3{};
-    }
-    if (torque && p.external_torque_once[i] != Vec3{}) {
-      p.torque[i] -= p.external_torque_once[i];
-      p.external_torque_once[i] = Vec3{};
-    }
+  const std::span<const std::uint32_t> ranges = particle_ranges(world);
+#pragma omp parallel num_threads(world.threading.team(n))
+  {
+    const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
+    const auto clear = [&](std::vector<Vec3>& load, std::vector<Vec3>& total) {
+      if (inside)
+        for (std::size_t i = first; i < end; ++i) total[i] -= load[i];
+      std::fill(load.begin() + first, load.begin() + end, Vec3{});
+    };
+    if (force) clear(p.external_force_once, p.force);
+    if (torque) clear(p.external_torque_once, p.torque);
   }
 }
 

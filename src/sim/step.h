@@ -51,10 +51,11 @@ void drive_surfaces(World& world, double time);
 void insert_and_remove(World& world,
                        const DriftScan& scan);  // factories; particles leaving the domain
 void update_neighbors(World& world, const DriftScan& scan);  // Verlet/candidate lists when needed
-// particles.force = m g + external force (held and one-step), torque = external torque: the
-// sums the contact stage adds onto.
+// particles.force = m g + held external force, torque = held external torque: the sums the
+// contact stage adds onto. (One-step loads stay apart: the kicks add them.)
 void set_body_forces(World& world);
-// The per-particle leads h F/m and h τ/I (m/s, rad/s) from the forces of the step before, which
+// The per-particle leads h F/m and h τ/I (m/s, rad/s) from the forces of the step before (with
+// the one-step loads kept apart, as the opening kick used them), which
 // carry the drift velocities to the force's time for the contact dashpots (ContactKinematics):
 // h = dt/2 in velocity Verlet, 0 where the velocities are already those of the force's time.
 // Call before set_body_forces overwrites the forces.
@@ -65,7 +66,7 @@ void compute_contact_forces(World& world);
 void run_hooks(World& world, HookStage stage);  // post_force, end_of_step, end_of_run
 void check_overlaps(const World& world);        // overlap guard (after the forces)
 // The loads of the step added to every sized load window; the one-step external loads expire
-// (taken out of the forces, which hold them until here).
+// (zeroed, and taken out of the forces if settle_once_loads had put them there).
 void end_of_step_loads(World& world);
 
 // The same stages when no scan is at hand (after changes from outside): a pass of their own.

@@ -1,9 +1,11 @@
 // The writable view of the next step's external loads (quarry_view_next_step_loads, ABI 1.2):
 // what a partner writes there in place must act exactly as the same loads copied in with
-// quarry_set_external_loads(replace, next step) — the same bits after a step, since both add the
-// same values to the same stored forces before the opening half kick (velocity Verlet, Swope et
-// al. 1982) — and everything that reads forces between steps (copies, views, saved states) must
-// see them. Through quarry.h and libquarry.so only.
+// quarry_set_external_loads(replace, next step) — the same bits after a step, since both keep the
+// loads apart from the stored forces and both half kicks (velocity Verlet, Swope et al. 1982)
+// add the same values to the same forces — and everything that reads forces between steps
+// (copies, views, saved states) must see them, without changing the step: the force and load
+// summed before the kick (F + L, once, in double) are the same bits as summed inside it.
+// Through quarry.h and libquarry.so only.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -57,6 +59,15 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
+// Two states the same to the bit, field by field.
+void expect_same_bits(const State& a, const State& b) {
+  EXPECT_TRUE(same_bits(a.position, b.position));
+  EXPECT_TRUE(same_bits(a.velocity, b.velocity));
+  EXPECT_TRUE(same_bits(a.spin, b.spin));
+  EXPECT_TRUE(same_bits(a.force, b.force));
+  EXPECT_TRUE(same_bits(a.torque, b.torque));
+}
+
 // The loads a partner would compute from the state: a linear drag on velocity and spin (N, N·m)
 // plus a constant push along x, so that every component is non-zero.
 void loads_of(const State& s, std::vector<double>& force, std::vector<double>& torque) {
@@ -105,11 +116,7 @@ TEST(NextStepLoads, WrittenInPlaceTheyActAsCopiedOnesBitForBit) {
     ASSERT_EQ(quarry_step(copied, 1), QUARRY_OK) << error_of(copied);
     ASSERT_EQ(quarry_step(written, 1), QUARRY_OK) << error_of(written);
   }
-  const State a = state_of(copied), b = state_of(written);
-  EXPECT_TRUE(same_bits(a.position, b.position));
-  EXPECT_TRUE(same_bits(a.velocity, b.velocity));
-  EXPECT_TRUE(same_bits(a.spin, b.spin));
-  EXPECT_TRUE(same_bits(a.force, b.force));
+  expect_same_bits(state_of(copied), state_of(written));
   // After a step the next step's loads are zeros again.
   quarry_view view{};
   ASSERT_EQ(quarry_view_next_step_loads(written, QUARRY_FIELD_FORCE, &view), QUARRY_OK);
@@ -118,34 +125,64 @@ TEST(NextStepLoads, WrittenInPlaceTheyActAsCopiedOnesBitForBit) {
   quarry_close(written);
 }
 
-// Loads copied in first show in the view; overwritten there, the copied ones leave the forces
-// again (to round-off: (F + L1) − L1 is F only to within an ulp of F + L1).
-TEST(NextStepLoads, TheViewHoldsLoadsCopiedInBeforeAndReplacesThem) {
-  quarry_sim direct = cluster(), replaced = cluster();
-  const State start = state_of(direct);
-  std::vector<double> first(3 * kParticles, 5e-5), second, torque;
-  loads_of(start, second, torque);
-  ASSERT_EQ(quarry_set_external_loads(replaced, first.data(), nullptr, kParticles, QUARRY_LOAD_REPLACE,
-                                      QUARRY_HOLD_NEXT_STEP),
-            QUARRY_OK);
-  quarry_view view{};
-  ASSERT_EQ(quarry_view_next_step_loads(replaced, QUARRY_FIELD_FORCE, &view), QUARRY_OK);
-  for (int k = 0; k < 3 * kParticles; ++k) EXPECT_EQ(static_cast<const double*>(view.data)[k], 5e-5);
-  std::memcpy(view.data, second.data(), second.size() * sizeof(double));
-  ASSERT_EQ(quarry_set_external_loads(direct, second.data(), nullptr, kParticles, QUARRY_LOAD_REPLACE,
-                                      QUARRY_HOLD_NEXT_STEP),
-            QUARRY_OK);
-  ASSERT_EQ(quarry_step(direct, 1), QUARRY_OK);
-  ASSERT_EQ(quarry_step(replaced, 1), QUARRY_OK);
-  const State a = state_of(direct), b = state_of(replaced);
-  // Velocity change per step: dt F / m with m = 2500 · 4/3 π (1 mm)³ ≈ 1.05e-5 kg; the force
-  // differs by at most an ulp of |F + L1| ≲ 1e-3 N: 1e-5 s · 2.2e-19 N / 1e-5 kg ≈ 2e-19 m/s.
-  for (int k = 0; k < 3 * kParticles; ++k) EXPECT_NEAR(a.velocity[k], b.velocity[k], 1e-17) << k;
-  quarry_close(direct);
-  quarry_close(replaced);
+// Reading the forces between the loads and the step puts the loads into the stored forces (so
+// that they show); the step that follows is the same to the bit as one where nothing looked.
+TEST(NextStepLoads, ReadingTheForcesBeforeTheStepChangesNothing) {
+  quarry_sim looked = cluster(), unread = cluster();
+  std::vector<double> force, torque;
+  for (int step = 0; step < 300; ++step) {
+    const State before = state_of(unread);  // no loads set yet: nothing to put in the forces
+    loads_of(before, force, torque);
+    write_through_views(looked, force, torque);
+    write_through_views(unread, force, torque);
+    const State shown = state_of(looked);  // forces and torques with the loads in them
+    if (step % 50 == 0) {
+      ASSERT_FALSE(same_bits(before.force, shown.force)) << "the loads are not in the forces read";
+    }
+    ASSERT_EQ(quarry_step(looked, 1), QUARRY_OK) << error_of(looked);
+    ASSERT_EQ(quarry_step(unread, 1), QUARRY_OK) << error_of(unread);
+  }
+  expect_same_bits(state_of(looked), state_of(unread));
+  quarry_close(looked);
+  quarry_close(unread);
 }
 
-// A saved state holds loads written in place (the save adds them to the forces first): the
+// Loads copied in first show in the view; overwritten there, the copied ones leave the forces
+// again: to the bit when nothing had read the forces (the loads were kept apart from them), and
+// to round-off when something had ((F + L1) − L1 is F only to within an ulp of F + L1).
+TEST(NextStepLoads, TheViewHoldsLoadsCopiedInBeforeAndReplacesThem) {
+  for (const bool read_between : {false, true}) {
+    quarry_sim direct = cluster(), replaced = cluster();
+    const State start = state_of(direct);
+    std::vector<double> first(3 * kParticles, 5e-5), second, torque;
+    loads_of(start, second, torque);
+    ASSERT_EQ(quarry_set_external_loads(replaced, first.data(), nullptr, kParticles, QUARRY_LOAD_REPLACE,
+                                        QUARRY_HOLD_NEXT_STEP),
+              QUARRY_OK);
+    if (read_between) state_of(replaced);  // the first loads go into the forces
+    quarry_view view{};
+    ASSERT_EQ(quarry_view_next_step_loads(replaced, QUARRY_FIELD_FORCE, &view), QUARRY_OK);
+    for (int k = 0; k < 3 * kParticles; ++k) EXPECT_EQ(static_cast<const double*>(view.data)[k], 5e-5);
+    std::memcpy(view.data, second.data(), second.size() * sizeof(double));
+    ASSERT_EQ(quarry_set_external_loads(direct, second.data(), nullptr, kParticles, QUARRY_LOAD_REPLACE,
+                                        QUARRY_HOLD_NEXT_STEP),
+              QUARRY_OK);
+    ASSERT_EQ(quarry_step(direct, 1), QUARRY_OK);
+    ASSERT_EQ(quarry_step(replaced, 1), QUARRY_OK);
+    const State a = state_of(direct), b = state_of(replaced);
+    if (!read_between) {
+      EXPECT_TRUE(same_bits(a.velocity, b.velocity));
+    } else {
+      // Velocity change per step: dt F / m with m = 2500 · 4/3 π (1 mm)³ ≈ 1.05e-5 kg; the force
+      // differs by at most an ulp of |F + L1| ≲ 1e-3 N: 1e-5 s · 2.2e-19 N / 1e-5 kg ≈ 2e-19 m/s.
+      for (int k = 0; k < 3 * kParticles; ++k) EXPECT_NEAR(a.velocity[k], b.velocity[k], 1e-17) << k;
+    }
+    quarry_close(direct);
+    quarry_close(replaced);
+  }
+}
+
+// A saved state holds loads written in place (the save puts them into the forces first): the
 // state restored elsewhere steps to the same bits as the original.
 TEST(NextStepLoads, ASavedStateHoldsThemAndRestoresBitForBit) {
   quarry_sim original = cluster(), other = cluster();
@@ -161,10 +198,7 @@ TEST(NextStepLoads, ASavedStateHoldsThemAndRestoresBitForBit) {
     ASSERT_EQ(quarry_step(original, 1), QUARRY_OK);
     ASSERT_EQ(quarry_step(other, 1), QUARRY_OK);
   }
-  const State a = state_of(original), b = state_of(other);
-  EXPECT_TRUE(same_bits(a.position, b.position));
-  EXPECT_TRUE(same_bits(a.velocity, b.velocity));
-  EXPECT_TRUE(same_bits(a.spin, b.spin));
+  expect_same_bits(state_of(original), state_of(other));
   quarry_close(original);
   quarry_close(other);
 }
