@@ -147,6 +147,41 @@ TEST(NextStepLoads, ReadingTheForcesBeforeTheStepChangesNothing) {
   quarry_close(unread);
 }
 
+// A POST_FORCE hook that reads the forces sees the next-step loads in them, as every read does
+// (they are put into the stored forces then). The step's motion keeps its bits (the closing
+// kick's F + L is the one stored), and the forces left after it differ from a step where nothing
+// looked only by the round-off of taking the loads out again ((F + L) − L).
+int read_forces_in_hook(quarry_sim sim, int32_t, void* user_data) {
+  *static_cast<State*>(user_data) = state_of(sim);
+  return 0;
+}
+
+TEST(NextStepLoads, AHookReadingTheForcesSeesThemAndTheMotionKeepsItsBits) {
+  quarry_sim looked = cluster(), unread = cluster();
+  State seen;
+  ASSERT_EQ(quarry_set_hook(looked, QUARRY_HOOK_POST_FORCE, read_forces_in_hook, &seen), QUARRY_OK);
+  std::vector<double> force, torque;
+  loads_of(state_of(unread), force, torque);
+  write_through_views(looked, force, torque);
+  write_through_views(unread, force, torque);
+  ASSERT_EQ(quarry_step(looked, 1), QUARRY_OK) << error_of(looked);
+  ASSERT_EQ(quarry_step(unread, 1), QUARRY_OK) << error_of(unread);
+  const State a = state_of(looked), b = state_of(unread);
+  EXPECT_TRUE(same_bits(a.position, b.position));
+  EXPECT_TRUE(same_bits(a.velocity, b.velocity));
+  EXPECT_TRUE(same_bits(a.spin, b.spin));
+  for (int k = 0; k < 3 * kParticles; ++k) {
+    // In the hook: the new configuration's force (b's, which never held a load) plus the load,
+    // summed once in double as the kick would.
+    EXPECT_EQ(seen.force[k], b.force[k] + force[k]) << k;
+    EXPECT_EQ(seen.torque[k], b.torque[k] + torque[k]) << k;
+    // After it: within an ulp of |F + L| ≲ 1e-3 N (2.2e-19 N) of the unread step's force.
+    EXPECT_NEAR(a.force[k], b.force[k], 1e-18) << k;
+  }
+  quarry_close(looked);
+  quarry_close(unread);
+}
+
 // Loads copied in first show in the view; overwritten there, the copied ones leave the forces
 // again: to the bit when nothing had read the forces (the loads were kept apart from them), and
 // to round-off when something had ((F + L1) − L1 is F only to within an ulp of F + L1).
