@@ -15,15 +15,22 @@
 
 namespace quarry::integrate {
 
-// Particle i kicked by h (s): v += h F/m, ω += h τ/I (h = dt/2 for a half kick). F and τ are
-// the stored force and torque plus the one-step loads kept apart from them (`apart`, null where
-// none): the sum is the one sim::settle_once_loads would store, so the bits are the same whether
-// the loads were put into the forces before or are added here.
+// Particle i's force (N) and torque (N·m) as a kick uses them: the stored ones plus the one-step
+// loads kept apart from them (`apart`, null where none). The sum is the one
+// sim::settle_once_loads would store, so the bits are the same whether the loads were put into
+// the forces before or are added here.
+inline Vec3 kick_force(const ParticleStore& p, std::size_t i, const ParticleStore::ApartLoads& apart) {
+  return apart.force ? p.force[i] + apart.force[i] : p.force[i];
+}
+inline Vec3 kick_torque(const ParticleStore& p, std::size_t i, const ParticleStore::ApartLoads& apart) {
+  return apart.torque ? p.torque[i] + apart.torque[i] : p.torque[i];
+}
+
+// Particle i kicked by h (s): v += h F/m, ω += h τ/I (h = dt/2 for a half kick), F and τ those
+// of kick_force and kick_torque.
 inline void kick_particle(ParticleStore& p, std::size_t i, double h, const ParticleStore::ApartLoads& apart = {}) {
-  const Vec3 force = apart.force ? p.force[i] + apart.force[i] : p.force[i];        // N
-  const Vec3 torque = apart.torque ? p.torque[i] + apart.torque[i] : p.torque[i];   // N·m
-  p.velocity[i] += force * (h * p.inv_mass[i]);
-  p.angular_velocity[i] += torque * (h * p.inv_inertia(i));
+  p.velocity[i] += kick_force(p, i, apart) * (h * p.inv_mass[i]);
+  p.angular_velocity[i] += kick_torque(p, i, apart) * (h * p.inv_inertia(i));
 }
 
 // Every particle kicked by h (s), on `team` threads, thread t taking range t of `ranges`

@@ -170,8 +170,7 @@ void shift_by_once_loads(World& world, double sign) {
 void open_once_loads(World& world, std::uint8_t field) {
   ParticleStore& p = world.particles;
   p.enable_external_loads();
-  if (p.once_in_forces) shift_by_once_loads(world, -1.0);
-  p.once_in_forces = false;
+  unsettle_once_loads(world);
   p.once_loads |= field;
 }
 
@@ -180,6 +179,13 @@ void settle_once_loads(World& world) {
   if (!p.has_external_loads() || p.once_in_forces || p.once_loads == 0) return;
   shift_by_once_loads(world, 1.0);
   p.once_in_forces = true;
+}
+
+void unsettle_once_loads(World& world) {
+  ParticleStore& p = world.particles;
+  if (!p.once_in_forces) return;
+  shift_by_once_loads(world, -1.0);
+  p.once_in_forces = false;
 }
 
 void update_type_order(const World& world, TypeOrder& order) {

@@ -65,6 +65,10 @@ void open_once_loads(World& world, std::uint8_t field);
 // outside the kicks (the C ABI's copies and views, checkpoints) sees the whole of them; nothing
 // when there are none, or when they are inside already. The kicks then use the forces alone.
 void settle_once_loads(World& world);
+// The inverse: takes the one-step loads out of force/torque where settle_once_loads had put them
+// (one pass), so that they are apart again; nothing otherwise. (F + L) − L is F only to within an
+// ulp of F + L.
+void unsettle_once_loads(World& world);
 
 // The particles in type order (seed 004: all of type 0, then type 1, …; within a type by engine
 // index): order[k] is the engine index of the k-th particle; type_start[t] the first position of

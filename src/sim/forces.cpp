@@ -39,6 +39,7 @@
 #include <utility>
 
 #include "contact/hertz_mindlin_batch.h"
+#include "integrate/integrator.h"
 #include "sim/step.h"
 
 namespace quarry::sim {
@@ -837,10 +838,8 @@ void set_velocity_leads(World& world, double h) {
   const ParticleStore::ApartLoads apart = p.apart_once_loads();
   const auto leads = [&](std::size_t first, std::size_t end, const ParticleStore::ApartLoads& loads) {
     for (std::size_t i = first; i < end; ++i) {
-      const Vec3 force = loads.force ? p.force[i] + loads.force[i] : p.force[i];       // N
-      const Vec3 torque = loads.torque ? p.torque[i] + loads.torque[i] : p.torque[i];  // N·m
-      lead[i] = force * (h * p.inv_mass[i]);
-      spin_lead[i] = torque * (h * p.inv_inertia(i));
+      lead[i] = integrate::kick_force(p, i, loads) * (h * p.inv_mass[i]);
+      spin_lead[i] = integrate::kick_torque(p, i, loads) * (h * p.inv_inertia(i));
     }
   };
 #pragma omp parallel num_threads(world.threading.team(n))

@@ -96,12 +96,6 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
               world.dt)};
 }
 
-// Particle i's force as the kicks use it (N): the stored one and the one-step loads kept apart.
-Vec3 total_force(const ParticleStore& p, std::size_t i) {
-  const ParticleStore::ApartLoads apart = p.apart_once_loads();
-  return apart.force ? p.force[i] + apart.force[i] : p.force[i];
-}
-
 // The opening pass over particles [first, end) of one thread: kick, drift, and the scan of what
 // the drift did (into `tally`). kApart: the kick adds the one-step loads kept apart from the
 // forces (a separate instantiation, so that a step without them runs the loop it always ran).
@@ -201,7 +195,7 @@ void check_finite(const World& world, const DriftScan& scan) {
         "  hint: the run went unstable; reduce simulation.time_step (now {:.4g} s) or check the "
         "material stiffness, restitution and external forces",
         world.step_count, world.time, p.id[i], show(p.position[i]), show(p.velocity[i]),
-        show(p.angular_velocity[i]), show(total_force(p, i)), world.dt));
+        show(p.angular_velocity[i]), show(integrate::kick_force(p, i, p.apart_once_loads())), world.dt));
   }
 }
 

@@ -217,24 +217,18 @@ void end_of_step_loads(World& world) {
   }
   ParticleStore& p = world.particles;
   if (!p.has_external_loads() || p.once_loads == 0) return;
-  // One-step loads acted in both kicks of this step: zeroed for the next one, and taken out of
-  // the forces if something had put them there (settle_once_loads, inside a hook).
+  // One-step loads acted in both kicks of this step: out of the forces if something had put
+  // them there (a read inside a hook), and zeroed for the next one.
+  unsettle_once_loads(world);
   const bool force = p.once_loads & ParticleStore::kForceLoads, torque = p.once_loads & ParticleStore::kTorqueLoads;
-  const bool inside = p.once_in_forces;
   p.once_loads = 0;
-  p.once_in_forces = false;
   const std::size_t n = p.size();
   const std::span<const std::uint32_t> ranges = particle_ranges(world);
 #pragma omp parallel num_threads(world.threading.team(n))
   {
     const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
-    const auto clear = [&](std::vector<Vec3>& load, std::vector<Vec3>& total) {
-      if (inside)
-        for (std::size_t i = first; i < end; ++i) total[i] -= load[i];
-      std::fill(load.begin() + first, load.begin() + end, Vec3{});
-    };
-    if (force) clear(p.external_force_once, p.force);
-    if (torque) clear(p.external_torque_once, p.torque);
+    if (force) std::fill(p.external_force_once.begin() + first, p.external_force_once.begin() + end, Vec3{});
+    if (torque) std::fill(p.external_torque_once.begin() + first, p.external_torque_once.begin() + end, Vec3{});
   }
 }
 

@@ -66,7 +66,7 @@ void compute_contact_forces(World& world);
 void run_hooks(World& world, HookStage stage);  // post_force, end_of_step, end_of_run
 void check_overlaps(const World& world);        // overlap guard (after the forces)
 // The loads of the step added to every sized load window; the one-step external loads expire
-// (zeroed, and taken out of the forces if settle_once_loads had put them there).
+// (taken out of the forces if settle_once_loads had put them there, and zeroed).
 void end_of_step_loads(World& world);
 
 // The same stages when no scan is at hand (after changes from outside): a pass of their own.
