@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "geometry/surface_contact.h"
 #include "integrate/integrator.h"
 #include "integrate/timestep.h"
+#include "sim/opening_lanes.h"
 #include "sim/step.h"
 #include "sim/time_step_choice.h"
 
@@ -97,27 +99,38 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
 }
 
 // The opening pass over particles [first, end) of one thread: kick, drift, and the scan of what
-// the drift did (into `tally`). kApart: the kick adds the one-step loads kept apart from the
-// forces (a separate instantiation, so that a step without them runs the loop it always ran).
-template <bool kApart>
+// the drift did (into `tally`), four particles at a time (sim/opening_lanes.h), the rest one by
+// one; the same values either way. kApart: the kick adds the one-step loads kept apart from the
+// forces; kCompare: the list was built for these particles (`reference`, `id_at_build`). Each
+// combination is an instance of its own, so a plain step reads nothing it does not need.
+// `domain`: null when the deck has none.
+template <bool kApart, bool kCompare>
 void open_range(ParticleStore& p, std::size_t first, std::size_t end, double h, double dt,
                 const ParticleStore::ApartLoads& apart, const Aabb* domain, const Vec3* reference,
                 const ParticleId* id_at_build, OpeningTally& tally) {
-  for (std::size_t i = first; i < end; ++i) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const Aabb box = domain ? *domain : Aabb{{-inf, -inf, -inf}, {inf, inf, inf}};
+  const Packed lo = packed_corner(box.lo), hi = packed_corner(box.hi);
+  LaneTally lanes;
+  std::size_t i = first;
+  for (; i + 4 <= end; i += 4)
+    open_four<kApart, kCompare>(p, i, h, dt, apart, lo, hi, reference, id_at_build, lanes);
+  lanes.add_to(tally, domain != nullptr);
+  for (; i < end; ++i) {
     if constexpr (kApart)
       integrate::kick_drift_particle(p, i, h, dt, apart);
     else
       integrate::kick_drift_particle(p, i, h, dt);
     const Vec3 x = p.position[i], v = p.velocity[i], w = p.angular_velocity[i];
-    // Branch-free: x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum tells whether
-    // all nine components are finite (the first offender is searched only if one is not).
+    // x·0 is 0 for a finite x and NaN for ±inf or NaN, so one sum tells whether all nine
+    // components are finite (the first offender is searched only if one is not).
     const double zero = (x.x * 0.0 + x.y * 0.0 + x.z * 0.0) + (v.x * 0.0 + v.y * 0.0 + v.z * 0.0) +
                         (w.x * 0.0 + w.y * 0.0 + w.z * 0.0);
     tally.non_finite |= !(zero == 0.0);
     if (domain) tally.any_outside |= !domain->contains(x);
     // Moved more than half its radius (|v| dt > R/2): check_tunnelling looks closer.
     tally.fast |= (v.x * v.x + v.y * v.y + v.z * v.z) * (dt * dt) > 0.25 * p.radius[i] * p.radius[i];
-    if (reference) {
+    if constexpr (kCompare) {
       // NaN compares false: a non-finite particle is reported through `non_finite`, not here.
       const double d2 = norm2(x - reference[i]);  // m²
       tally.largest_displacement_squared =
@@ -152,10 +165,13 @@ DriftScan kick_drift_scan(World& world, double h, double dt) {
 #pragma omp parallel num_threads(world.threading.team(n)) reduction(merge : tally)
   {
     const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
+    const auto open = [&]<bool kApart, bool kCompare>() {
+      open_range<kApart, kCompare>(p, first, end, h, dt, apart, domain, reference, id_at_build, tally);
+    };
     if (apart.any())
-      open_range<true>(p, first, end, h, dt, apart, domain, reference, id_at_build, tally);
+      compare ? open.template operator()<true, true>() : open.template operator()<true, false>();
     else
-      open_range<false>(p, first, end, h, dt, apart, domain, reference, id_at_build, tally);
+      compare ? open.template operator()<false, true>() : open.template operator()<false, false>();
   }
   std::size_t first_bad = n;
   if (tally.non_finite)

@@ -5,9 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <limits>
+#include <random>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "geometry/stl_reader.h"
 #include "integrate/integrator.h"
@@ -422,6 +428,130 @@ TEST(Verification, DriftScanAgreesWithTheSeparatePasses) {
     EXPECT_EQ(scan.first_non_finite, n - 2);
     EXPECT_TRUE(scan.any_outside);
     EXPECT_THROW(sim::check_finite(w, scan), PhysicsError);
+  }
+}
+
+// The opening pass takes four particles at a time (sim/opening_lanes.h) and the rest one by one.
+// Both must give the scalar pass's values to the bit: the kick v += F h/m, ω += τ h/I
+// (I = 2/5 m R², a solid sphere) and the drift x += v dt, the largest |x − x_build|², and every
+// flag, whatever lane of a block of four (or the tail) a particle falls in, on one thread or two
+// (other splits into blocks), with and without the one-step loads a partner keeps apart.
+TEST(Verification, TheOpeningPassInBlocksOfFourIsTheScalarPass) {
+  SimulationSpec spec = parse_deck(deck_path("tests/verification/01-settled-bed/deck.yaml"));
+  World base = start_world(spec);
+  for (int s = 0; s < 20; ++s) sim::step(base);
+  base.threading.threshold = 0;  // two threads even for this small bed
+  const std::size_t n = base.particles.size();
+  ASSERT_GT(n, 100u);
+  // Every particle different from its neighbours in every lane: random kinematics and loads,
+  // the velocities and spins of the order of one kick's change (so that a last bit of the
+  // change shows in the sum), every seventh at rest (the sum is the change itself).
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const auto vec = [&](double scale) { return Vec3{unit(random), unit(random), unit(random)} * scale; };
+  for (std::size_t i = 0; i < n; ++i) {
+    ParticleStore& p = base.particles;
+    p.force[i] = vec(1e-3);   // N
+    p.torque[i] = vec(1e-7);  // N·m
+    const double h = 0.5 * base.dt;  // s
+    const bool rest = i % 7 == 0;
+    p.velocity[i] = rest ? Vec3{} : vec(h * p.inv_mass[i] * 1e-3);                // m/s
+    p.angular_velocity[i] = rest ? Vec3{} : vec(h * p.inv_inertia(i) * 1e-7);      // rad/s
+  }
+  const double h = 0.5 * base.dt, dt = base.dt;  // s
+  const Aabb domain = base.spec.simulation.domain.value;
+  // The scalar pass, particle by particle.
+  const auto scalar = [&](World w) {
+    const ParticleStore::ApartLoads apart = w.particles.apart_once_loads();
+    sim::DriftScan expected;
+    expected.first_non_finite = 0;  // one more than the first found, while looking
+    for (std::size_t i = 0; i < n; ++i) {
+      integrate::kick_drift_particle(w.particles, i, h, dt, apart);
+      const Vec3 x = w.particles.position[i], v = w.particles.velocity[i], o = w.particles.angular_velocity[i];
+      const bool finite = std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z) &&
+                          std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) &&
+                          std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z);
+      if (!finite && expected.first_non_finite == 0) expected.first_non_finite = i + 1;
+      expected.any_outside |= !domain.contains(x);
+      const double r = w.particles.radius[i];  // m
+      expected.fast |= norm2(v) * (dt * dt) > 0.25 * r * r;
+      const double d2 = norm2(x - w.pairs.reference_positions[i]);  // m²
+      if (d2 > expected.largest_displacement_squared) expected.largest_displacement_squared = d2;
+      expected.ids_changed |= w.particles.id[i] != w.pairs.ids_at_build[i];
+    }
+    expected.first_non_finite = expected.first_non_finite == 0 ? n : expected.first_non_finite - 1;
+    return std::pair{w, expected};
+  };
+  const auto same_bits = [](const Vec3& a, const Vec3& b) {
+    return std::memcmp(&a, &b, sizeof(Vec3)) == 0;
+  };
+  const auto check = [&](const World& start, const std::string& what) {
+    const auto [reference, expected] = scalar(start);
+    for (const int threads : {1, 2}) {
+      SCOPED_TRACE(what + ", " + std::to_string(threads) + " thread(s)");
+      World w = start;
+      w.threading.threads = threads;
+      const ThreadScope scope(w.threading);
+      const sim::DriftScan scan = sim::kick_drift_scan(w, h, dt);
+      for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_TRUE(same_bits(w.particles.position[i], reference.particles.position[i])) << i;
+        ASSERT_TRUE(same_bits(w.particles.velocity[i], reference.particles.velocity[i])) << i;
+        ASSERT_TRUE(same_bits(w.particles.angular_velocity[i], reference.particles.angular_velocity[i])) << i;
+      }
+      EXPECT_EQ(scan.first_non_finite, expected.first_non_finite);
+      EXPECT_EQ(scan.any_outside, expected.any_outside);
+      EXPECT_EQ(scan.fast, expected.fast);
+      EXPECT_EQ(scan.ids_changed, expected.ids_changed);
+      EXPECT_EQ(scan.largest_displacement_squared, expected.largest_displacement_squared);
+      EXPECT_TRUE(scan.list_compared);
+    }
+  };
+  check(base, "random state");
+  {
+    World loaded = base;  // one-step loads kept apart from the forces
+    loaded.particles.enable_external_loads();
+    for (std::size_t i = 0; i < n; ++i) {
+      loaded.particles.external_force_once[i] = vec(1e-3);
+      loaded.particles.external_torque_once[i] = vec(1e-7);
+    }
+    loaded.particles.once_loads = ParticleStore::kForceLoads | ParticleStore::kTorqueLoads;
+    ASSERT_TRUE(loaded.particles.apart_once_loads().any());
+    check(loaded, "one-step loads");
+    loaded.particles.once_loads = ParticleStore::kTorqueLoads;  // torques only
+    check(loaded, "one-step torques");
+  }
+  // One particle at a time in each lane of the first block, of a block in the middle, and at
+  // the end (a block's or the tail's): each finding is made whichever lane holds it.
+  std::vector<std::size_t> where;
+  for (std::size_t l = 0; l < 4; ++l) where.insert(where.end(), {l, n / 2 + l, n - 1 - l});
+  for (const std::size_t i : where) {
+    const std::string at = " at particle " + std::to_string(i);
+    {
+      World w = base;  // leaves the domain
+      w.particles.position[i] = domain.hi + Vec3{0.0, 0.0, 1.0};
+      check(w, "outside" + at);
+    }
+    {
+      World w = base;  // moves more than half its radius in one drift
+      w.particles.velocity[i] = {0.0, 0.6 * w.particles.radius[i] / dt, 0.0};
+      check(w, "fast" + at);
+    }
+    {
+      World w = base;  // the largest displacement since the list's build
+      w.particles.position[i] += Vec3{0.0, 0.0, 0.4 * w.skin};
+      check(w, "displaced" + at);
+    }
+    {
+      World w = base;  // another particle where the list had this one
+      w.particles.id[i] += 1000000;
+      check(w, "id" + at);
+    }
+    for (int c = 0; c < 3; ++c) {
+      World w = base;  // one non-finite component: spin, velocity or position
+      Vec3* const what[] = {&w.particles.angular_velocity[i], &w.particles.velocity[i], &w.particles.position[i]};
+      (*what[c])[c] = c == 1 ? std::numeric_limits<double>::infinity() : std::nan("");
+      check(w, "non-finite" + at);
+    }
   }
 }
 
