@@ -824,34 +824,6 @@ void contact_forces(World& world) {
 
 }  // namespace
 
-void set_velocity_leads(World& world, double h) {
-  const ParticleStore& p = world.particles;
-  ForceWorkspace& ws = world.force_workspace;
-  const std::size_t n = p.size();
-  ws.velocity_lead.resize(n);
-  ws.angular_velocity_lead.resize(n);
-  Vec3* const lead = ws.velocity_lead.data();
-  Vec3* const spin_lead = ws.angular_velocity_lead.data();
-  ws.lead_time = h;
-  const std::span<const std::uint32_t> ranges = particle_ranges(world);
-  // The forces of the opening kick: with the one-step loads kept apart from them, if any.
-  const ParticleStore::ApartLoads apart = p.apart_once_loads();
-  const auto leads = [&](std::size_t first, std::size_t end, const ParticleStore::ApartLoads& loads) {
-    for (std::size_t i = first; i < end; ++i) {
-      lead[i] = integrate::kick_force(p, i, loads) * (h * p.inv_mass[i]);
-      spin_lead[i] = integrate::kick_torque(p, i, loads) * (h * p.inv_inertia(i));
-    }
-  };
-#pragma omp parallel num_threads(world.threading.team(n))
-  {
-    const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
-    if (apart.any())
-      leads(first, end, apart);
-    else
-      leads(first, end, {});  // the loop without loads
-  }
-}
-
 namespace {
 
 // The pair law the batched kernel computes for every particle pair, or null: all particle

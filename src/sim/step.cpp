@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <memory>
 
-#include "integrate/integrator.h"
 #include "sim/exchange.h"
 #include "sim/output.h"
 
@@ -120,7 +119,6 @@ void step(World& world) {
   const ThreadScope threads(world.threading);
   const double dt = world.dt;  // s
   const bool verlet = velocity_verlet(world);
-  const int team = world.threading.team(world.particles.size());
   DriftScan scan;  // what the drift saw: NaNs, particles outside the domain, displacements
   {
     // The kicks add the one-step loads a partner set (ParticleStore::apart_once_loads).
@@ -154,7 +152,7 @@ void step(World& world) {
   compute_forces(world, verlet ? 0.5 * dt : 0.0);
   if (verlet) {
     ScopedStage timer(world.timers, world.timers.stage("integrate"));
-    integrate::kick(world.particles, 0.5 * dt, team, particle_ranges(world));
+    closing_kick(world, 0.5 * dt);
   }
   {
     ScopedStage timer(world.timers, world.timers.stage("guards"));
@@ -182,32 +180,6 @@ void run_hooks(World& world, HookStage stage) {
     ScopedStage timer(world.timers, world.timers.stage("hook " + hook.name));
     hook.run(world);
   }
-}
-
-void set_body_forces(World& world) {
-  ParticleStore& p = world.particles;
-  const std::size_t n = p.size();
-  const Vec3 gravity = world.spec.simulation.gravity.value;  // m/s²
-  // Only the load arrays that may hold something are read (ParticleStore::held_loads). One-step
-  // loads stay apart: the closing kick adds them.
-  const auto has = [&p](std::uint8_t field) { return p.has_external_loads() && (p.held_loads & field); };
-  const bool held_force = has(ParticleStore::kForceLoads);
-  const bool held_torque = has(ParticleStore::kTorqueLoads);
-  const std::span<const std::uint32_t> ranges = particle_ranges(world);
-#pragma omp parallel num_threads(world.threading.team(n))
-  {
-    const auto [first, end] = thread_block(n, omp_get_thread_num(), omp_get_num_threads(), ranges);
-    for (std::size_t i = first; i < end; ++i) {
-      // A fixed particle (inv_mass 0) has no weight to carry: m g would be inf (and 0/0 = NaN).
-      Vec3 force = p.inv_mass[i] > 0.0 ? gravity / p.inv_mass[i] : Vec3{};  // N, the weight
-      Vec3 torque;                                                            // N·m
-      if (held_force) force += p.external_force[i];
-      if (held_torque) torque += p.external_torque[i];
-      p.force[i] = force;
-      p.torque[i] = torque;
-    }
-  }
-  p.once_in_forces = false;  // the forces of a new configuration
 }
 
 void end_of_step_loads(World& world) {

@@ -60,6 +60,9 @@ void set_body_forces(World& world);
 // h = dt/2 in velocity Verlet, 0 where the velocities are already those of the force's time.
 // Call before set_body_forces overwrites the forces.
 void set_velocity_leads(World& world, double h);
+// Velocity Verlet's closing half kick by h (s): v += h F/m, ω += h τ/I with the step's forces
+// (and the one-step loads kept apart), as integrate::kick_particle on each particle.
+void closing_kick(World& world, double h);
 // Particle–particle and particle–surface contacts added onto the body forces; the surfaces'
 // per-step loads (per triangle and vertex) filled.
 void compute_contact_forces(World& world);
