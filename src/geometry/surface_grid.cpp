@@ -47,6 +47,7 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
   if (!(cell_size > 0.0))
     throw std::invalid_argument("SurfaceGrid::build: cell_size must be positive");
   cell_keys_.clear();
+  cell_first_.clear();
   cell_offsets_.assign(1, 0);
   cell_triangles_.clear();
   occupied_bits_.clear();
@@ -126,6 +127,14 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
                      static_cast<std::uint64_t>(dims_[2]);
   occupied_bits_.assign((cells + 63) / 64, 0);
   for (const std::uint64_t k : cell_keys_) occupied_bits_[k / 64] |= std::uint64_t{1} << (k % 64);
+  if (cells <= kDenseCells && !cell_keys_.empty()) {
+    cell_first_.resize(cells + 1);
+    std::size_t q = 0;  // the first occupied cell at or after c
+    for (std::uint64_t c = 0; c <= cells; ++c) {
+      while (q < cell_keys_.size() && cell_keys_[q] < c) ++q;
+      cell_first_[c] = cell_offsets_[q];
+    }
+  }
 }
 
 void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_out) const {
@@ -139,10 +148,22 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
   const std::int64_t i0 = cell_coordinate(box.lo.x, 0), i1 = cell_coordinate(box.hi.x, 0);
   const std::int64_t j0 = cell_coordinate(box.lo.y, 1), j1 = cell_coordinate(box.hi.y, 1);
   const std::int64_t k0 = cell_coordinate(box.lo.z, 2), k1 = cell_coordinate(box.hi.z, 2);
+  // Triangle t of the grid's lists, if its box overlaps the query's.
+  const auto take = [&](std::uint32_t t) {
+    const Aabb& tb = triangle_boxes_[t];
+    if (tb.lo.x <= box.hi.x && tb.hi.x >= box.lo.x && tb.lo.y <= box.hi.y && tb.hi.y >= box.lo.y &&
+        tb.lo.z <= box.hi.z && tb.hi.z >= box.lo.z)
+      triangles_out.push_back(t);
+  };
   for (std::int64_t k = k0; k <= k1; ++k)
     for (std::int64_t j = j0; j <= j1; ++j) {
-      // Cells of one row are consecutive keys: one binary search per row.
+      // Cells of one row are consecutive keys.
       const std::uint64_t row_first = key(i0, j, k), row_last = key(i1, j, k);
+      if (!cell_first_.empty()) {  // the row's entries are one range
+        for (std::uint32_t e = cell_first_[row_first]; e < cell_first_[row_last + 1]; ++e) take(cell_triangles_[e]);
+        continue;
+      }
+      // Sparse: one binary search per row that has an occupied cell.
       bool any = false;
       for (std::uint64_t c = row_first; c <= row_last && !any; ++c)
         any = (occupied_bits_[c / 64] >> (c % 64)) & 1u;
@@ -150,13 +171,7 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
       auto it = std::lower_bound(cell_keys_.begin(), cell_keys_.end(), row_first);
       for (; it != cell_keys_.end() && *it <= row_last; ++it) {
         const std::size_t cell = static_cast<std::size_t>(it - cell_keys_.begin());
-        for (std::uint32_t e = cell_offsets_[cell]; e < cell_offsets_[cell + 1]; ++e) {
-          const std::uint32_t t = cell_triangles_[e];
-          const Aabb& tb = triangle_boxes_[t];
-          if (tb.lo.x <= box.hi.x && tb.hi.x >= box.lo.x && tb.lo.y <= box.hi.y &&
-              tb.hi.y >= box.lo.y && tb.lo.z <= box.hi.z && tb.hi.z >= box.lo.z)
-            triangles_out.push_back(t);
-        }
+        for (std::uint32_t e = cell_offsets_[cell]; e < cell_offsets_[cell + 1]; ++e) take(cell_triangles_[e]);
       }
     }
   std::sort(triangles_out.begin(), triangles_out.end());

@@ -30,6 +30,8 @@ class SurfaceGrid {
 
   double cell_size() const { return cell_size_; }  // m, as used (≥ the requested size)
   std::size_t occupied_cell_count() const { return cell_keys_.size(); }
+  // Whether queries read rows through the per-cell table (kDenseCells) or search the sparse keys.
+  bool dense() const { return !cell_first_.empty(); }
 
   static constexpr std::uint64_t max_cells = std::uint64_t{1} << 24;
 
@@ -51,6 +53,14 @@ class SurfaceGrid {
   // One bit per cell of the grid (at most max_cells: 2 MiB), set where a cell is occupied: a
   // query skips the binary search of a row with none (most particles are far from a surface).
   std::vector<std::uint64_t> occupied_bits_;
+  // A grid of at most kDenseCells cells also keeps, for every cell, its first entry in
+  // cell_triangles_ (cells + 1 values, a prefix count): a query then reads a row's triangles as
+  // one range, without the binary search (the hopper's candidate search, 36.8 million queries
+  // of one surface in 20,000 steps, spent about 120 ns each in the sparse path). Empty above
+  // it, where the table would cost more memory, and filling it each rebuild of a moving
+  // surface more time, than the search it saves.
+  static constexpr std::uint64_t kDenseCells = std::uint64_t{1} << 20;  // 4 MiB of offsets
+  std::vector<std::uint32_t> cell_first_;
 };
 
 }  // namespace quarry
