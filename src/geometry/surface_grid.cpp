@@ -35,14 +35,6 @@ void sort_by_cell(std::vector<Entry>& entries, std::vector<Entry>& scratch) {
 
 }  // namespace
 
-std::int64_t SurfaceGrid::cell_coordinate(double value, int axis) const {
-  // Clamped in floating point first: a far-away (or NaN) value must not overflow the cast.
-  const double scaled = std::floor((value - origin_[axis]) / cell_size_);
-  if (!(scaled > 0.0)) return 0;
-  if (scaled >= static_cast<double>(dims_[axis] - 1)) return dims_[axis] - 1;
-  return static_cast<std::int64_t>(scaled);
-}
-
 void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& clip) {
   if (!(cell_size > 0.0))
     throw std::invalid_argument("SurfaceGrid::build: cell_size must be positive");
@@ -174,6 +166,7 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
         for (std::uint32_t e = cell_offsets_[cell]; e < cell_offsets_[cell + 1]; ++e) take(cell_triangles_[e]);
       }
     }
+  if (triangles_out.size() < 2) return;  // most queries: nothing, or one triangle
   std::sort(triangles_out.begin(), triangles_out.end());
   triangles_out.erase(std::unique(triangles_out.begin(), triangles_out.end()), triangles_out.end());
 }

@@ -3,6 +3,7 @@
 // neighbour lists, and whenever the surface has moved more than the skin).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -41,7 +42,14 @@ class SurfaceGrid {
                static_cast<std::uint64_t>(dims_[0]) +
            static_cast<std::uint64_t>(i);
   }
-  std::int64_t cell_coordinate(double value, int axis) const;
+  // The cell along `axis` that holds `value` (m), clamped to the grid (inline: six per query).
+  std::int64_t cell_coordinate(double value, int axis) const {
+    // Clamped in floating point first: a far-away (or NaN) value must not overflow the cast.
+    const double scaled = std::floor((value - origin_[axis]) / cell_size_);
+    if (!(scaled > 0.0)) return 0;
+    if (scaled >= static_cast<double>(dims_[axis] - 1)) return dims_[axis] - 1;
+    return static_cast<std::int64_t>(scaled);
+  }
 
   Vec3 origin_;                        // m, low corner of cell (0, 0, 0)
   double cell_size_ = 0.0;             // m
