@@ -63,10 +63,9 @@ class SurfaceGrid {
   std::vector<std::uint64_t> occupied_bits_;
   // A grid of at most kDenseCells cells also keeps, for every cell, its first entry in
   // cell_triangles_ (cells + 1 values, a prefix count): a query then reads a row's triangles as
-  // one range, without the binary search (the hopper's candidate search, 36.8 million queries
-  // of one surface in 20,000 steps, spent about 120 ns each in the sparse path). Empty above
-  // it, where the table would cost more memory, and filling it each rebuild of a moving
-  // surface more time, than the search it saves.
+  // one range, without the binary search of the keys (docs/performance.md, "The surface query
+  // by rows"). Empty above it, where the table would cost more memory, and filling it at each
+  // rebuild of a moving surface more time, than the search it saves.
   static constexpr std::uint64_t kDenseCells = std::uint64_t{1} << 20;  // 4 MiB of offsets
   std::vector<std::uint32_t> cell_first_;
 };
