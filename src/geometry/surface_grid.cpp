@@ -152,7 +152,8 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
       // Cells of one row are consecutive keys.
       const std::uint64_t row_first = key(i0, j, k), row_last = key(i1, j, k);
       if (!cell_first_.empty()) {  // the row's entries are one range
-        for (std::uint32_t e = cell_first_[row_first]; e < cell_first_[row_last + 1]; ++e) take(cell_triangles_[e]);
+        for (std::uint32_t e = cell_first_[row_first]; e < cell_first_[row_last + 1]; ++e)
+          take(cell_triangles_[e]);
         continue;
       }
       // Sparse: one binary search per row that has an occupied cell.
@@ -163,7 +164,8 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
       auto it = std::lower_bound(cell_keys_.begin(), cell_keys_.end(), row_first);
       for (; it != cell_keys_.end() && *it <= row_last; ++it) {
         const std::size_t cell = static_cast<std::size_t>(it - cell_keys_.begin());
-        for (std::uint32_t e = cell_offsets_[cell]; e < cell_offsets_[cell + 1]; ++e) take(cell_triangles_[e]);
+        for (std::uint32_t e = cell_offsets_[cell]; e < cell_offsets_[cell + 1]; ++e)
+          take(cell_triangles_[e]);
       }
     }
   if (triangles_out.size() < 2) return;  // most queries: nothing, or one triangle

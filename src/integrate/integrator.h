@@ -26,11 +26,21 @@ inline Vec3 kick_torque(const ParticleStore& p, std::size_t i, const ParticleSto
   return apart.torque ? p.torque[i] + apart.torque[i] : p.torque[i];
 }
 
-// Particle i kicked by h (s): v += h F/m, ω += h τ/I (h = dt/2 for a half kick), F and τ those
-// of kick_force and kick_torque.
+// What a kick by h (s) adds to particle i's velocity, h F/m (m/s), and spin, h τ/I (rad/s),
+// F and τ those of kick_force and kick_torque.
+inline Vec3 kick_velocity_change(const ParticleStore& p, std::size_t i, double h,
+                                 const ParticleStore::ApartLoads& apart) {
+  return kick_force(p, i, apart) * (h * p.inv_mass[i]);
+}
+inline Vec3 kick_spin_change(const ParticleStore& p, std::size_t i, double h,
+                             const ParticleStore::ApartLoads& apart) {
+  return kick_torque(p, i, apart) * (h * p.inv_inertia(i));
+}
+
+// Particle i kicked by h (s): v += h F/m, ω += h τ/I (h = dt/2 for a half kick).
 inline void kick_particle(ParticleStore& p, std::size_t i, double h, const ParticleStore::ApartLoads& apart = {}) {
-  p.velocity[i] += kick_force(p, i, apart) * (h * p.inv_mass[i]);
-  p.angular_velocity[i] += kick_torque(p, i, apart) * (h * p.inv_inertia(i));
+  p.velocity[i] += kick_velocity_change(p, i, h, apart);
+  p.angular_velocity[i] += kick_spin_change(p, i, h, apart);
 }
 
 // Every particle kicked by h (s), on `team` threads, thread t taking range t of `ranges`

@@ -38,11 +38,9 @@ template <bool kApart, bool kCompare>
                                              const Packed& lo, const Packed& hi,
                                              const Vec3* reference, const ParticleId* id_at_build,
                                              LaneTally& lanes) {
-  const KickFactors k = kick_factors(p, i, h);
-  const Packed force = kick_load4<kApart>(p.force.data(), apart.force, i);     // N
-  const Packed torque = kick_load4<kApart>(p.torque.data(), apart.torque, i);  // N·m
-  const Packed v = load4(p.velocity.data() + i) + force * spread(k.linear);          // m/s
-  const Packed w = load4(p.angular_velocity.data() + i) + torque * spread(k.angular);  // rad/s
+  const KickChange kick = kick_change4<kApart>(p, i, h, apart);
+  const Packed v = load4(p.velocity.data() + i) + kick.velocity;      // m/s
+  const Packed w = load4(p.angular_velocity.data() + i) + kick.spin;  // rad/s
   const Packed x = load4(p.position.data() + i) + v * dt;                        // m
   store4(p.velocity.data() + i, v);
   store4(p.angular_velocity.data() + i, w);

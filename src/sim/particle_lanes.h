@@ -2,8 +2,8 @@
 // stores and shuffles they share (sim/opening_lanes.h, sim/particle_passes.cpp). Each array of
 // Vec3 is read as it lies in memory, four particles in three vectors (x y z x | y z x y |
 // z x y z), with GCC's vector extension: AVX2 in the release build, SSE2 pairs in a baseline
-// one. The scalar passes cost about 100 instructions per particle and are bound by them, not
-// by memory (the same ns per particle at 1,000 particles as at 120,000; docs/performance.md).
+// one. The scalar opening pass was bound by its instructions, not by memory
+// (docs/performance.md, "Four particles at a time").
 //
 // A pass built from these gives the scalar pass's values to the bit: the same operations in
 // the same order lane by lane, so the results do not depend on which particles fall into
@@ -85,16 +85,6 @@ typedef std::int64_t UnalignedMask __attribute__((vector_size(32), aligned(8), m
   return x + y + z;
 }
 
-// h·(1/m) and h·(1/I) of particles [i, i + 4) (h in s): the factors of a kick, with
-// 1/I = 2.5 (1/m) / R² as ParticleStore::inv_inertia computes it.
-struct KickFactors {
-  Lanes linear, angular;  // s/kg, s/(kg·m²)
-};
-[[gnu::always_inline]] inline KickFactors kick_factors(const ParticleStore& p, std::size_t i, double h) {
-  const Lanes inv_mass = load_lanes(p.inv_mass.data() + i), radius = load_lanes(p.radius.data() + i);
-  return {h * inv_mass, h * (2.5 * inv_mass / (radius * radius))};
-}
-
 // The force (N) or torque (N·m) a kick uses for particles [i, i + 4): the stored one plus the
 // one-step load kept apart, null where none (integrate::kick_force, kick_torque).
 template <bool kApart>
@@ -102,6 +92,21 @@ template <bool kApart>
   const Packed load = load4(stored + i);
   if constexpr (kApart) if (apart) return load + load4(apart + i);
   return load;
+}
+
+// What a kick by h (s) adds to the velocities and spins of particles [i, i + 4): h F/m (m/s)
+// and h τ/I (rad/s), 1/I = 2.5 (1/m) / R² as ParticleStore::inv_inertia computes it
+// (integrate::kick_velocity_change, kick_spin_change, lane by lane).
+struct KickChange {
+  Packed velocity, spin;  // m/s, rad/s
+};
+template <bool kApart>
+[[gnu::always_inline]] inline KickChange kick_change4(const ParticleStore& p, std::size_t i, double h,
+                                                      const ParticleStore::ApartLoads& apart) {
+  const Lanes inv_mass = load_lanes(p.inv_mass.data() + i), radius = load_lanes(p.radius.data() + i);
+  const Lanes linear = h * inv_mass, angular = h * (2.5 * inv_mass / (radius * radius));
+  return {kick_load4<kApart>(p.force.data(), apart.force, i) * spread(linear),
+          kick_load4<kApart>(p.torque.data(), apart.torque, i) * spread(angular)};
 }
 
 // A box's corner as Packed, for the component-wise comparison of four positions.

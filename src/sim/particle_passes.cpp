@@ -1,8 +1,8 @@
 // The step's plain per-particle passes besides the opening one (guards.cpp): the body forces,
 // the velocity leads and the closing kick. Each takes four particles at a time
 // (sim/particle_lanes.h) and the rest of its range one by one, with the same operations in the
-// same order lane by lane, so the bits do not depend on the thread split. Scalar, the three
-// cost about 11 % of a 30k pour on one thread (docs/performance.md, "Four particles at a time").
+// same order lane by lane, so the bits do not depend on the thread split (docs/performance.md,
+// "The other per-particle passes too").
 #include <omp.h>
 
 #include "integrate/integrator.h"
@@ -60,14 +60,14 @@ void leads_range(const ParticleStore& p, std::size_t first, std::size_t end, dou
                  const ParticleStore::ApartLoads& apart, Vec3* lead, Vec3* spin_lead) {
   std::size_t i = first;
   for (; i + 4 <= end; i += 4) {
-    const KickFactors k = kick_factors(p, i, h);
-    store4(lead + i, kick_load4<kApart>(p.force.data(), apart.force, i) * spread(k.linear));
-    store4(spin_lead + i, kick_load4<kApart>(p.torque.data(), apart.torque, i) * spread(k.angular));
+    const KickChange kick = kick_change4<kApart>(p, i, h, apart);
+    store4(lead + i, kick.velocity);
+    store4(spin_lead + i, kick.spin);
   }
   const ParticleStore::ApartLoads loads = kApart ? apart : ParticleStore::ApartLoads{};
   for (; i < end; ++i) {
-    lead[i] = integrate::kick_force(p, i, loads) * (h * p.inv_mass[i]);
-    spin_lead[i] = integrate::kick_torque(p, i, loads) * (h * p.inv_inertia(i));
+    lead[i] = integrate::kick_velocity_change(p, i, h, loads);
+    spin_lead[i] = integrate::kick_spin_change(p, i, h, loads);
   }
 }
 
@@ -77,11 +77,9 @@ void kick_range(ParticleStore& p, std::size_t first, std::size_t end, double h,
                 const ParticleStore::ApartLoads& apart) {
   std::size_t i = first;
   for (; i + 4 <= end; i += 4) {
-    const KickFactors k = kick_factors(p, i, h);
-    const Packed force = kick_load4<kApart>(p.force.data(), apart.force, i);     // N
-    const Packed torque = kick_load4<kApart>(p.torque.data(), apart.torque, i);  // N·m
-    store4(p.velocity.data() + i, load4(p.velocity.data() + i) + force * spread(k.linear));
-    store4(p.angular_velocity.data() + i, load4(p.angular_velocity.data() + i) + torque * spread(k.angular));
+    const KickChange kick = kick_change4<kApart>(p, i, h, apart);
+    store4(p.velocity.data() + i, load4(p.velocity.data() + i) + kick.velocity);
+    store4(p.angular_velocity.data() + i, load4(p.angular_velocity.data() + i) + kick.spin);
   }
   const ParticleStore::ApartLoads loads = kApart ? apart : ParticleStore::ApartLoads{};
   for (; i < end; ++i) integrate::kick_particle(p, i, h, loads);
