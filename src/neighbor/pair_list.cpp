@@ -103,15 +103,73 @@ bool map_to_previous_indices(std::span<const ParticleId> ids, std::span<const Pa
   return true;
 }
 
+// Four candidates at a time (GCC's vector extension: AVX2 in the release build, SSE2 pairs in
+// a baseline one). The vector types only cross inlined functions of this file.
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef double Lanes __attribute__((vector_size(32)));
+typedef std::int64_t LaneMask __attribute__((vector_size(32)));
+typedef std::uint32_t Indices __attribute__((vector_size(16)));
+typedef double UnalignedLanes __attribute__((vector_size(32), aligned(8), may_alias));
+typedef std::uint32_t UnalignedIndices __attribute__((vector_size(16), aligned(4), may_alias));
+constexpr std::size_t kLanes = 4;
+
+// The particles in the grid's cell order: positions (m), radii (m) and indices as arrays of
+// their own, so that a cell row's candidates are consecutive lanes instead of a gather by
+// index; kLanes entries of padding (index 0, never a partner) let a block read past a row's
+// end. Transient: made for one build's distance pass (36 B a particle).
+struct BinnedParticles {
+  ScratchArray<double> x, y, z, radius;
+  ScratchArray<std::uint32_t> index;
+};
+
+void bin_particles(const CellGrid& grid, const Vec3* position, const double* radius,
+                   BinnedParticles& b) {
+  const std::size_t n = grid.sorted_particles.size();
+  for (auto* a : {&b.x, &b.y, &b.z, &b.radius}) a->size_for_overwrite(n + kLanes);
+  b.index.size_for_overwrite(n + kLanes);
+  const std::uint32_t* const sorted = grid.sorted_particles.data();
+#pragma omp parallel for schedule(static) if (n > kParallelMinParticles)
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t p = sorted[k];
+    b.x[k] = position[p].x, b.y[k] = position[p].y, b.z[k] = position[p].z;
+    b.radius[k] = radius[p];
+    b.index[k] = p;
+  }
+  for (std::size_t k = n; k < n + kLanes; ++k)
+    b.x[k] = b.y[k] = b.z[k] = b.radius[k] = 0.0, b.index[k] = 0;
+}
+
+// The lanes of `keep` (each all ones or all zeros) as bits: bit m is lane m.
+[[gnu::always_inline]] inline unsigned lane_bits(LaneMask keep) {
+#ifdef __AVX__
+  return static_cast<unsigned>(__builtin_ia32_movmskpd256(reinterpret_cast<Lanes>(keep)));
+#else
+  return static_cast<unsigned>((keep[0] & 1) | (keep[1] & 2) | (keep[2] & 4) | (keep[3] & 8));
+#endif
+}
+
+// For each set of kept lanes (bit m: lane m), the lanes in order, then any lane (unused).
+constexpr Indices kCompaction[16] = {
+    {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0},
+    {1, 2, 0, 0}, {0, 1, 2, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0},
+    {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
+
+[[gnu::always_inline]] inline Lanes lanes_at(const ScratchArray<double>& a, std::uint32_t k) {
+  return *reinterpret_cast<const UnalignedLanes*>(a.data() + k);
+}
+
 // Appends to out[used...] every particle j > i with |xj − xi|² < ((Ri + Rj) + skin)², scanning
-// the 3×3×3 cells around i's cell (the cells cx−1..cx+1 of one row are one contiguous range);
-// grows `out` as needed. Branch-free: every candidate is written and `used` advances if it is a
-// partner. Whether j > i is a coin toss for the branch predictor (the cells hold particles in
-// spatial, not index, order), so a branch on it missed half the time (issue 21: the list
-// build is most of a flowing run's neighbour stage).
+// the 3×3×3 cells around i's cell (the cells cx−1..cx+1 of one row are one contiguous range),
+// four candidates at a time; grows `out` as needed. Each lane evaluates the expression above
+// with the same operations in the same order as the scalar search (and the brute-force check
+// of the tests), so the list is the same to the last pair. Branch-free: a block's partners are
+// moved to its front and all four lanes written, `used` advancing by the partners' count.
+// Whether j > i is a coin toss for the branch predictor (the cells hold particles in spatial,
+// not index, order), so a branch on it missed half the time (issue 21: the list build is most
+// of a flowing run's neighbour stage).
 inline void append_partners(std::uint32_t i, const Vec3* position, const double* radius, double skin,
-                            const CellGrid& grid, std::vector<std::uint32_t>& out, std::size_t& used) {
-  const std::uint32_t* const particle_of = grid.sorted_particles.data();
+                            const CellGrid& grid, const BinnedParticles& binned,
+                            std::vector<std::uint32_t>& out, std::size_t& used) {
   const std::uint32_t* const cell_start = grid.cell_start.data();
   const std::uint32_t nx = grid.cells_per_axis[0], ny = grid.cells_per_axis[1];
   const std::uint32_t nz = grid.cells_per_axis[2];
@@ -121,21 +179,33 @@ inline void append_partners(std::uint32_t i, const Vec3* position, const double*
   const std::uint32_t z_first = cz > 0 ? cz - 1 : 0, z_last = cz + 1 < nz ? cz + 1 : nz - 1;
   const Vec3 xi = position[i];
   const double ri = radius[i];
-  for (std::uint32_t z = z_first; z <= z_last; ++z)
-    for (std::uint32_t y = y_first; y <= y_last; ++y) {
-      const std::uint32_t row = nx * (y + ny * z);
+  const Lanes x = Lanes{} + xi.x, y = Lanes{} + xi.y, z = Lanes{} + xi.z;
+  const Lanes r = Lanes{} + ri, s = Lanes{} + skin;
+  const LaneMask self = LaneMask{} + static_cast<std::int64_t>(i);
+  const LaneMask lane = {0, 1, 2, 3};
+  for (std::uint32_t row_z = z_first; row_z <= z_last; ++row_z)
+    for (std::uint32_t row_y = y_first; row_y <= y_last; ++row_y) {
+      const std::uint32_t row = nx * (row_y + ny * row_z);
       const std::uint32_t begin = cell_start[row + x_first], stop = cell_start[row + x_last + 1];
-      const std::size_t room = used + (stop - begin);  // enough if every candidate is a partner
+      // Enough if every candidate is a partner, and for the writes of a last block's lanes
+      // beyond the row.
+      const std::size_t room = used + (stop - begin) + kLanes;
       if (room > out.size()) out.resize(std::max(2 * out.size(), room));
       std::uint32_t* const destination = out.data();
-      for (std::uint32_t k = begin; k < stop; ++k) {
-        const std::uint32_t j = particle_of[k];
-        const double dx = position[j].x - xi.x;
-        const double dy = position[j].y - xi.y;
-        const double dz = position[j].z - xi.z;
-        const double reach = (ri + radius[j]) + skin;  // m
-        destination[used] = j;
-        used += static_cast<std::size_t>((j > i) & (dx * dx + dy * dy + dz * dz < reach * reach));
+      for (std::uint32_t k = begin; k < stop; k += kLanes) {
+        const Lanes dx = lanes_at(binned.x, k) - x;
+        const Lanes dy = lanes_at(binned.y, k) - y;
+        const Lanes dz = lanes_at(binned.z, k) - z;
+        const Lanes reach = (r + lanes_at(binned.radius, k)) + s;  // m
+        const Indices j = *reinterpret_cast<const UnalignedIndices*>(binned.index.data() + k);
+        const LaneMask keep = ((dx * dx + dy * dy) + dz * dz < reach * reach) &
+                              (__builtin_convertvector(j, LaneMask) > self) &
+                              (lane < static_cast<std::int64_t>(stop - k));
+        // The kept lanes' indices moved to the front and written as one block.
+        const unsigned bits = lane_bits(keep);
+        *reinterpret_cast<UnalignedIndices*>(destination + used) =
+            __builtin_shuffle(j, kCompaction[bits]);
+        used += static_cast<unsigned>(__builtin_popcount(bits));
       }
     }
 }
@@ -210,17 +280,28 @@ inline bool at_periodic_face(const CellGrid& grid, std::uint32_t cell) {
 // Copies of the list being replaced the pairs that carry history (the contacts) into
 // workspace.previous_*: about two thirds of the pairs in a settled bed. The list's own arrays
 // are then refilled with the new list (resize_for_refill), so the build holds one list and
-// the contacts, never two lists.
+// the contacts, never two lists. Branch-free (whether a listed pair touches is a coin toss
+// for the predictor): every pair is copied, to its place if it carries history, else to its
+// thread's spare slot past the kept ones.
 void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   PairListWorkspace& w = list.workspace;
   const bool rolling = !list.rolling_torque.empty();
   const bool jkr = !list.jkr_attached.empty();
-  const auto has_history = [&](std::uint32_t k) {
-    return list.tangential_displacement[k] != Vec3{} || list.normal_force[k] != 0.0 ||
-           (rolling && list.rolling_torque[k] != Vec3{}) || (jkr && list.jkr_attached[k] != 0);
+  const Vec3* const tangential = list.tangential_displacement.data();
+  const double* const normal_force = list.normal_force.data();
+  const auto has_history = [&](std::uint32_t k) -> std::uint32_t {
+    const Vec3& t = tangential[k];
+    std::uint32_t any = (t.x != 0.0) | (t.y != 0.0) | (t.z != 0.0) | (normal_force[k] != 0.0);
+    if (rolling) {
+      const Vec3& r = list.rolling_torque[k];
+      any |= (r.x != 0.0) | (r.y != 0.0) | (r.z != 0.0);
+    }
+    if (jkr) any |= list.jkr_attached[k] != 0;
+    return any;
   };
   w.previous_offsets.assign(previous_count + 1, 0);
-#pragma omp parallel for schedule(static) if (previous_count > kParallelMinParticles)
+  const bool parallel = previous_count > kParallelMinParticles;
+#pragma omp parallel for schedule(static) if (parallel)
   for (std::size_t i = 0; i < previous_count; ++i) {
     std::uint32_t kept = 0;
     for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) kept += has_history(k);
@@ -228,22 +309,28 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   }
   for (std::size_t i = 0; i < previous_count; ++i) w.previous_offsets[i + 1] += w.previous_offsets[i];
   const std::size_t kept = w.previous_offsets[previous_count];
-  w.previous_partner.size_for_overwrite(kept);
-  w.previous_tangential_displacement.size_for_overwrite(kept);
-  w.previous_normal_force.size_for_overwrite(kept);
-  w.previous_rolling_torque.size_for_overwrite(rolling ? kept : 0);
-  w.previous_jkr_attached.size_for_overwrite(jkr ? kept : 0);
-#pragma omp parallel for schedule(static) if (previous_count > kParallelMinParticles)
-  for (std::size_t i = 0; i < previous_count; ++i) {
-    std::uint32_t out = w.previous_offsets[i];
-    for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
-      if (!has_history(k)) continue;
-      w.previous_partner[out] = list.partner[k];
-      w.previous_tangential_displacement[out] = list.tangential_displacement[k];
-      w.previous_normal_force[out] = list.normal_force[k];
-      if (rolling) w.previous_rolling_torque[out] = list.rolling_torque[k];
-      if (jkr) w.previous_jkr_attached[out] = list.jkr_attached[k];
-      ++out;
+  const std::size_t spares = parallel ? static_cast<std::size_t>(omp_get_max_threads()) : 1;
+  w.previous_partner.size_for_overwrite(kept + spares);
+  w.previous_tangential_displacement.size_for_overwrite(kept + spares);
+  w.previous_normal_force.size_for_overwrite(kept + spares);
+  w.previous_rolling_torque.size_for_overwrite(rolling ? kept + spares : 0);
+  w.previous_jkr_attached.size_for_overwrite(jkr ? kept + spares : 0);
+#pragma omp parallel if (parallel)
+  {
+    const std::size_t spare = kept + static_cast<std::size_t>(parallel ? omp_get_thread_num() : 0);
+#pragma omp for schedule(static)
+    for (std::size_t i = 0; i < previous_count; ++i) {
+      std::size_t out = w.previous_offsets[i];
+      for (std::uint32_t k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
+        const std::uint32_t keep = has_history(k);
+        const std::size_t to = keep ? out : spare;
+        w.previous_partner[to] = list.partner[k];
+        w.previous_tangential_displacement[to] = tangential[k];
+        w.previous_normal_force[to] = normal_force[k];
+        if (rolling) w.previous_rolling_torque[to] = list.rolling_torque[k];
+        if (jkr) w.previous_jkr_attached[to] = list.jkr_attached[k];
+        out += keep;
+      }
     }
   }
 }
@@ -312,6 +399,8 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
                   periodic ? &list.periodic : nullptr);
   const CellGrid& grid = workspace.grid;
   const Vec3* const position = search_positions.data();
+  BinnedParticles binned;
+  bin_particles(grid, position, radius, binned);
   // Refilled at the end; not needed meanwhile (a lower peak while the contacts are kept).
   release(list.reference_positions);
 
@@ -350,11 +439,14 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
         for_each_periodic_partner(static_cast<std::uint32_t>(i), position, radius, skin, grid,
                                   list.periodic, listed);
       else
-        append_partners(static_cast<std::uint32_t>(i), position, radius, skin, grid, mine, used);
+        append_partners(static_cast<std::uint32_t>(i), position, radius, skin, grid, binned, mine,
+                        used);
       offsets[i + 1] = static_cast<std::uint32_t>(used - before);
     }
     mine.resize(used);
   }
+  for (auto* a : {&binned.x, &binned.y, &binned.z, &binned.radius}) release(*a);
+  release(binned.index);
   for (std::size_t i = 0; i < n; ++i) {
     assert(std::size_t{offsets[i]} + offsets[i + 1] < kNoIndex);
     offsets[i + 1] += offsets[i];

@@ -130,6 +130,63 @@ TEST(PairList, SamePairsAsBruteForceWithAFarAwayParticleAndOnLatticeBed) {
   EXPECT_LT(list.size(), 3 * bed.size());
 }
 
+// Pairs at the edge of reach to the last bit: the search takes candidates four at a time
+// (pair_list.cpp), with lanes past a cell row's end and lanes of lower index masked out; each
+// lane must decide |xj − xi|² < ((Ri + Rj) + skin)² exactly as the scalar expression does.
+// Clusters of 1–12 particles around a centre, each at the reach (as computed in doubles) or one
+// ulp either side of it, along random directions, indices shuffled; clusters far apart.
+TEST(PairList, SamePairsAsBruteForceAtTheEdgeOfReachToTheLastBit) {
+  std::mt19937_64 random(31);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), radius_of(0.5e-3, 1.5e-3);
+  std::uniform_int_distribution<int> members(1, 12), side(-1, 1);
+  const double skin = 0.2e-3;  // m
+  struct Placed {
+    Vec3 x;
+    double radius;
+    int centre;  // index in `placed` of its cluster's centre, before the shuffle (-1: a centre)
+    int self;    // its index before the shuffle
+  };
+  std::vector<Placed> placed;
+  for (int cluster = 0; cluster < 400; ++cluster) {
+    const Vec3 centre{0.02 * (cluster % 20), 0.02 * (cluster / 20), 0.0};
+    const double rc = radius_of(random);
+    const int centre_index = static_cast<int>(placed.size());
+    placed.push_back({centre, rc, -1, centre_index});
+    for (int m = members(random); m > 0; --m) {
+      Vec3 direction{unit(random), unit(random), unit(random)};
+      direction = direction / std::sqrt(norm2(direction));
+      const double r = radius_of(random);
+      double distance = (rc + r) + skin;  // m: the reach, then an ulp either side
+      const int s = side(random);
+      if (s != 0) distance = std::nextafter(distance, s > 0 ? 1.0 : 0.0);
+      placed.push_back({centre + distance * direction, r, centre_index,
+                        static_cast<int>(placed.size())});
+    }
+  }
+  std::shuffle(placed.begin(), placed.end(), random);
+  ParticleStore particles;
+  for (std::size_t k = 0; k < placed.size(); ++k)
+    particles.add(k + 1, 0, 0, placed[k].x, {}, placed[k].radius, test_scenes::kDensity, 0.0);
+  PairList list;
+  build_pair_list(particles, skin, list);
+  expect_csr_invariants(list, particles.size());
+  const auto expected = brute_force_pairs(particles, skin);
+  EXPECT_EQ(listed_pairs(list), expected);
+  // Not vacuous: of the members, some are partners of their centre and some are not (the
+  // brute force decides which; rounding of the direction moves a member by an ulp or two).
+  std::vector<std::uint32_t> now(placed.size());
+  for (std::uint32_t k = 0; k < placed.size(); ++k) now[placed[k].self] = k;
+  std::size_t members_listed = 0, member_count = 0;
+  for (const Placed& q : placed) {
+    if (q.centre < 0) continue;
+    const std::uint32_t a = now[q.centre], b = now[q.self];
+    ++member_count;
+    members_listed += expected.count({std::min(a, b), std::max(a, b)});
+  }
+  EXPECT_GT(members_listed, member_count / 5);
+  EXPECT_LT(members_listed, member_count * 4 / 5);
+}
+
 // The same definition across periodic faces: |d|² < ((Ri + Rj) + skin)² with d the minimum
 // image of xj − xi (Allen & Tildesley 2017, §1.6.3).
 std::set<IndexPair> brute_force_periodic_pairs(const ParticleStore& particles, double skin,
