@@ -281,8 +281,8 @@ inline bool at_periodic_face(const CellGrid& grid, std::uint32_t cell) {
 // workspace.previous_*: about two thirds of the pairs in a settled bed. The list's own arrays
 // are then refilled with the new list (resize_for_refill), so the build holds one list and
 // the contacts, never two lists. Branch-free (whether a listed pair touches is a coin toss
-// for the predictor): every pair is copied, to its place if it carries history, else to its
-// thread's spare slot past the kept ones.
+// for the predictor): every pair is copied, to its place if it carries history, else to a
+// spare slot of its thread past the kept ones.
 void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   PairListWorkspace& w = list.workspace;
   const bool rolling = !list.rolling_torque.empty();
@@ -309,7 +309,11 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   }
   for (std::size_t i = 0; i < previous_count; ++i) w.previous_offsets[i + 1] += w.previous_offsets[i];
   const std::size_t kept = w.previous_offsets[previous_count];
-  const std::size_t spares = parallel ? static_cast<std::size_t>(omp_get_max_threads()) : 1;
+  // Each thread's spare slot a cache line of every array from the kept slots and the others'
+  // (written at every pair without history: shared lines would bounce between the cores).
+  constexpr std::size_t kSpacing = 64;  // slots (64 B of the narrowest array)
+  const std::size_t spares =
+      kSpacing * (1 + (parallel ? static_cast<std::size_t>(omp_get_max_threads()) : 1));
   w.previous_partner.size_for_overwrite(kept + spares);
   w.previous_tangential_displacement.size_for_overwrite(kept + spares);
   w.previous_normal_force.size_for_overwrite(kept + spares);
@@ -317,7 +321,8 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   w.previous_jkr_attached.size_for_overwrite(jkr ? kept + spares : 0);
 #pragma omp parallel if (parallel)
   {
-    const std::size_t spare = kept + static_cast<std::size_t>(parallel ? omp_get_thread_num() : 0);
+    const std::size_t spare =
+        kept + kSpacing * (1 + static_cast<std::size_t>(parallel ? omp_get_thread_num() : 0));
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < previous_count; ++i) {
       std::size_t out = w.previous_offsets[i];
