@@ -14,6 +14,8 @@
 
 #include <omp.h>
 
+#include "core/lanes.h"
+
 namespace quarry {
 
 namespace {
@@ -103,13 +105,8 @@ bool map_to_previous_indices(std::span<const ParticleId> ids, std::span<const Pa
   return true;
 }
 
-// Four candidates at a time (GCC's vector extension: AVX2 in the release build, SSE2 pairs in
-// a baseline one). The vector types only cross inlined functions of this file.
-#pragma GCC diagnostic ignored "-Wpsabi"
-typedef double Lanes __attribute__((vector_size(32)));
-typedef std::int64_t LaneMask __attribute__((vector_size(32)));
+// Four candidates at a time (core/lanes.h); their indices as four 32-bit lanes.
 typedef std::uint32_t Indices __attribute__((vector_size(16)));
-typedef double UnalignedLanes __attribute__((vector_size(32), aligned(8), may_alias));
 typedef std::uint32_t UnalignedIndices __attribute__((vector_size(16), aligned(4), may_alias));
 constexpr std::size_t kLanes = 4;
 
@@ -140,7 +137,7 @@ void bin_particles(const CellGrid& grid, const Vec3* position, const double* rad
 }
 
 // The lanes of `keep` (each all ones or all zeros) as bits: bit m is lane m.
-[[gnu::always_inline]] inline unsigned lane_bits(LaneMask keep) {
+[[gnu::always_inline]] inline unsigned lane_bits(Mask keep) {
 #ifdef __AVX__
   return static_cast<unsigned>(__builtin_ia32_movmskpd256(reinterpret_cast<Lanes>(keep)));
 #else
@@ -153,10 +150,6 @@ constexpr Indices kCompaction[16] = {
     {0, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, {2, 0, 0, 0}, {0, 2, 0, 0},
     {1, 2, 0, 0}, {0, 1, 2, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 3, 0, 0}, {0, 1, 3, 0},
     {2, 3, 0, 0}, {0, 2, 3, 0}, {1, 2, 3, 0}, {0, 1, 2, 3}};
-
-[[gnu::always_inline]] inline Lanes lanes_at(const ScratchArray<double>& a, std::uint32_t k) {
-  return *reinterpret_cast<const UnalignedLanes*>(a.data() + k);
-}
 
 // Appends to out[used...] every particle j > i with |xj − xi|² < ((Ri + Rj) + skin)², scanning
 // the 3×3×3 cells around i's cell (the cells cx−1..cx+1 of one row are one contiguous range),
@@ -181,8 +174,8 @@ inline void append_partners(std::uint32_t i, const Vec3* position, const double*
   const double ri = radius[i];
   const Lanes x = Lanes{} + xi.x, y = Lanes{} + xi.y, z = Lanes{} + xi.z;
   const Lanes r = Lanes{} + ri, s = Lanes{} + skin;
-  const LaneMask self = LaneMask{} + static_cast<std::int64_t>(i);
-  const LaneMask lane = {0, 1, 2, 3};
+  const Mask self = Mask{} + static_cast<std::int64_t>(i);
+  const Mask lane = {0, 1, 2, 3};
   for (std::uint32_t row_z = z_first; row_z <= z_last; ++row_z)
     for (std::uint32_t row_y = y_first; row_y <= y_last; ++row_y) {
       const std::uint32_t row = nx * (row_y + ny * row_z);
@@ -193,14 +186,14 @@ inline void append_partners(std::uint32_t i, const Vec3* position, const double*
       if (room > out.size()) out.resize(std::max(2 * out.size(), room));
       std::uint32_t* const destination = out.data();
       for (std::uint32_t k = begin; k < stop; k += kLanes) {
-        const Lanes dx = lanes_at(binned.x, k) - x;
-        const Lanes dy = lanes_at(binned.y, k) - y;
-        const Lanes dz = lanes_at(binned.z, k) - z;
-        const Lanes reach = (r + lanes_at(binned.radius, k)) + s;  // m
+        const Lanes dx = load_lanes(binned.x.data() + k) - x;
+        const Lanes dy = load_lanes(binned.y.data() + k) - y;
+        const Lanes dz = load_lanes(binned.z.data() + k) - z;
+        const Lanes reach = (r + load_lanes(binned.radius.data() + k)) + s;  // m
         const Indices j = *reinterpret_cast<const UnalignedIndices*>(binned.index.data() + k);
-        const LaneMask keep = ((dx * dx + dy * dy) + dz * dz < reach * reach) &
-                              (__builtin_convertvector(j, LaneMask) > self) &
-                              (lane < static_cast<std::int64_t>(stop - k));
+        const Mask keep = ((dx * dx + dy * dy) + dz * dz < reach * reach) &
+                          (__builtin_convertvector(j, Mask) > self) &
+                          (lane < static_cast<std::int64_t>(stop - k));
         // The kept lanes' indices moved to the front and written as one block.
         const unsigned bits = lane_bits(keep);
         *reinterpret_cast<UnalignedIndices*>(destination + used) =
@@ -321,8 +314,8 @@ void keep_previous_contacts(PairList& list, std::size_t previous_count) {
   w.previous_jkr_attached.size_for_overwrite(jkr ? kept + spares : 0);
 #pragma omp parallel if (parallel)
   {
-    const std::size_t spare =
-        kept + kSpacing * (1 + static_cast<std::size_t>(parallel ? omp_get_thread_num() : 0));
+    // (A team of one, when not parallel: thread 0.)
+    const std::size_t spare = kept + kSpacing * (1 + static_cast<std::size_t>(omp_get_thread_num()));
 #pragma omp for schedule(static)
     for (std::size_t i = 0; i < previous_count; ++i) {
       std::size_t out = w.previous_offsets[i];
@@ -450,8 +443,7 @@ void build_pair_list(const ParticleStore& particles, double skin, PairList& list
     }
     mine.resize(used);
   }
-  for (auto* a : {&binned.x, &binned.y, &binned.z, &binned.radius}) release(*a);
-  release(binned.index);
+  binned = {};  // freed before the previous contacts are kept: the build's peak is there
   for (std::size_t i = 0; i < n; ++i) {
     assert(std::size_t{offsets[i]} + offsets[i + 1] < kNoIndex);
     offsets[i + 1] += offsets[i];

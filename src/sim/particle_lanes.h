@@ -1,5 +1,5 @@
-// The step's per-particle passes four particles at a time: the vector types and the loads,
-// stores and shuffles they share (sim/opening_lanes.h, sim/particle_passes.cpp). Each array of
+// The step's per-particle passes four particles at a time: the loads, stores and shuffles of
+// Vec3 arrays they share (the vector types: core/lanes.h) (sim/opening_lanes.h, sim/particle_passes.cpp). Each array of
 // Vec3 is read as it lies in memory, four particles in three vectors (x y z x | y z x y |
 // z x y z), with GCC's vector extension: AVX2 in the release build, SSE2 pairs in a baseline
 // one. The scalar opening pass was bound by its instructions, not by memory
@@ -13,21 +13,14 @@
 
 #include <cstdint>
 
+#include "core/lanes.h"
 #include "core/particle_store.h"
 #include "core/vec3.h"
-
-// The vector types only cross inlined functions of this header, so the note that their ABI
-// differs without AVX does not concern any caller (GCC gives it at the end of the including
-// file, so it stays off there).
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace quarry::sim {
 namespace {
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "four Vec3s are twelve packed doubles");
-
-typedef double Lanes __attribute__((vector_size(32)));       // one value of four particles
-typedef std::int64_t Mask __attribute__((vector_size(32)));  // a comparison's lanes: 0 or -1
 
 // Four consecutive Vec3s as they lie in memory.
 struct Packed {
@@ -35,18 +28,6 @@ struct Packed {
 };
 static_assert(sizeof(Packed) == 4 * sizeof(Vec3));
 
-// The same four doubles read or written where they lie (8-byte aligned, any type): one vector
-// move each. (A memcpy into a local went through the stack in pieces that the vector load then
-// could not take from the store buffer: the pass ran slower than the scalar one.)
-typedef double UnalignedLanes __attribute__((vector_size(32), aligned(8), may_alias));
-typedef std::int64_t UnalignedMask __attribute__((vector_size(32), aligned(8), may_alias));
-
-[[gnu::always_inline]] inline Lanes load_lanes(const double* s) {
-  return *reinterpret_cast<const UnalignedLanes*>(s);
-}
-[[gnu::always_inline]] inline Mask load_mask(const std::uint64_t* s) {
-  return *reinterpret_cast<const UnalignedMask*>(s);
-}
 [[gnu::always_inline]] inline Packed load4(const Vec3* v) {
   const double* const d = &v->x;
   return {load_lanes(d), load_lanes(d + 4), load_lanes(d + 8)};
