@@ -11,25 +11,29 @@ namespace quarry {
 
 namespace {
 
-using Entry = std::pair<std::uint64_t, std::uint32_t>;  // (cell key < max_cells, triangle)
-
-// Sorts the entries by cell key, keeping the triangles of one cell in the order given
-// (ascending, as they were emitted): two stable counting passes over 12 bits each, since a key
-// is below 2^24 (SurfaceGrid::max_cells). A moving surface is re-gridded at every list rebuild,
-// and std::sort of its entries was 6-8 % of the rotating drum's run.
-void sort_by_cell(std::vector<Entry>& entries, std::vector<Entry>& scratch) {
+// Sorts the (cell key, triangle) entries by key, keeping the triangles of one cell in the order
+// given (ascending, as they were emitted): two stable counting passes over 12 bits each, since a
+// key is below 2^24 (SurfaceGrid::max_cells). Used for sparse grids; a dense one counts per cell.
+void sort_by_cell(std::vector<std::uint32_t>& keys, std::vector<std::uint32_t>& triangles,
+                  std::vector<std::uint32_t>& key_scratch, std::vector<std::uint32_t>& triangle_scratch) {
   static_assert(SurfaceGrid::max_cells <= (std::uint64_t{1} << 24));
   constexpr int kBits = 12;
   constexpr std::size_t kBuckets = std::size_t{1} << kBits;
-  scratch.resize(entries.size());
+  key_scratch.resize(keys.size());
+  triangle_scratch.resize(keys.size());
   std::vector<std::uint32_t> start(kBuckets + 1);
   for (int pass = 0; pass < 2; ++pass) {
     const int shift = pass * kBits;
     std::fill(start.begin(), start.end(), 0u);
-    for (const Entry& e : entries) ++start[((e.first >> shift) & (kBuckets - 1)) + 1];
+    for (const std::uint32_t k : keys) ++start[((k >> shift) & (kBuckets - 1)) + 1];
     for (std::size_t b = 0; b < kBuckets; ++b) start[b + 1] += start[b];
-    for (const Entry& e : entries) scratch[start[(e.first >> shift) & (kBuckets - 1)]++] = e;
-    entries.swap(scratch);
+    for (std::size_t e = 0; e < keys.size(); ++e) {
+      const std::uint32_t to = start[(keys[e] >> shift) & (kBuckets - 1)]++;
+      key_scratch[to] = keys[e];
+      triangle_scratch[to] = triangles[e];
+    }
+    keys.swap(key_scratch);
+    triangles.swap(triangle_scratch);
   }
 }
 
@@ -73,8 +77,10 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
     cell_size_ *= 1.25;  // coarsen until the grid fits; few iterations for any sane mesh
   }
 
-  std::vector<Entry> entries;  // (cell key, triangle)
-  entries.reserve(2 * surface.triangles.size());
+  // The (cell, triangle) entries in triangle order, in buffers kept from build to build: a
+  // moving surface is re-gridded at every list rebuild.
+  entry_keys_.clear();
+  entry_triangles_.clear();
   const double half_cell = 0.5 * cell_size_;
   for (std::uint32_t t = 0; t < surface.triangles.size(); ++t) {
     const Aabb& box = triangle_boxes_[t];
@@ -99,34 +105,43 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
                                                (k + 0.5) * cell_size_};
             if (std::abs(dot(normal, centre - a)) > reach) continue;
           }
-          entries.emplace_back(key(i, j, k), t);
+          entry_keys_.push_back(static_cast<std::uint32_t>(key(i, j, k)));  // < max_cells
+          entry_triangles_.push_back(t);
         }
   }
-  {
-    std::vector<Entry> scratch;
-    sort_by_cell(entries, scratch);
-  }
-  cell_triangles_.resize(entries.size());
-  for (std::size_t e = 0; e < entries.size(); ++e) {
-    if (e == 0 || entries[e].first != entries[e - 1].first) {
-      if (e > 0) cell_offsets_.push_back(static_cast<std::uint32_t>(e));
-      cell_keys_.push_back(entries[e].first);
-    }
-    cell_triangles_[e] = entries[e].second;
-  }
-  if (!entries.empty()) cell_offsets_.push_back(static_cast<std::uint32_t>(entries.size()));
   const auto cells = static_cast<std::uint64_t>(dims_[0]) * static_cast<std::uint64_t>(dims_[1]) *
                      static_cast<std::uint64_t>(dims_[2]);
   occupied_bits_.assign((cells + 63) / 64, 0);
-  for (const std::uint64_t k : cell_keys_) occupied_bits_[k / 64] |= std::uint64_t{1} << (k % 64);
-  if (cells <= kDenseCells && !cell_keys_.empty()) {
-    cell_first_.resize(cells + 1);
-    std::size_t q = 0;  // the first occupied cell at or after c
-    for (std::uint64_t c = 0; c <= cells; ++c) {
-      while (q < cell_keys_.size() && cell_keys_[q] < c) ++q;
-      cell_first_[c] = cell_offsets_[q];
+  if (entry_keys_.empty()) return;
+  if (cells <= kDenseCells) {
+    // Dense: count the entries of every cell, so that cell_first_ is their prefix sum, and
+    // place each triangle at its cell's next slot (in triangle order, so each cell's list is
+    // ascending). One pass over the entries instead of the sparse grid's two sorting passes.
+    cell_first_.assign(cells + 1, 0);
+    for (const std::uint32_t k : entry_keys_) ++cell_first_[k + 1];
+    for (std::uint64_t c = 0; c < cells; ++c) cell_first_[c + 1] += cell_first_[c];
+    cell_triangles_.resize(entry_keys_.size());
+    for (std::size_t e = 0; e < entry_keys_.size(); ++e)
+      cell_triangles_[cell_first_[entry_keys_[e]]++] = entry_triangles_[e];
+    // Each cell's first slot now holds the next cell's first: shift them back.
+    for (std::uint64_t c = cells; c > 0; --c) cell_first_[c] = cell_first_[c - 1];
+    cell_first_[0] = 0;
+    for (std::uint64_t c = 0; c < cells; ++c) {
+      if (cell_first_[c + 1] == cell_first_[c]) continue;
+      cell_keys_.push_back(c);
+      cell_offsets_.push_back(cell_first_[c + 1]);
     }
+  } else {
+    sort_by_cell(entry_keys_, entry_triangles_, key_scratch_, triangle_scratch_);
+    cell_triangles_.assign(entry_triangles_.begin(), entry_triangles_.end());
+    for (std::size_t e = 0; e < entry_keys_.size(); ++e) {
+      if (e > 0 && entry_keys_[e] == entry_keys_[e - 1]) continue;
+      if (e > 0) cell_offsets_.push_back(static_cast<std::uint32_t>(e));
+      cell_keys_.push_back(entry_keys_[e]);
+    }
+    cell_offsets_.push_back(static_cast<std::uint32_t>(entry_keys_.size()));
   }
+  for (const std::uint64_t k : cell_keys_) occupied_bits_[k / 64] |= std::uint64_t{1} << (k % 64);
 }
 
 void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_out) const {

@@ -68,6 +68,9 @@ class SurfaceGrid {
   // rebuild of a moving surface more time, than the search it saves.
   static constexpr std::uint64_t kDenseCells = std::uint64_t{1} << 20;  // 4 MiB of offsets
   std::vector<std::uint32_t> cell_first_;
+  // Scratch of build(), kept so that re-gridding a moving surface does not allocate: the
+  // (cell key, triangle) entries, and the sparse sort's second buffers.
+  std::vector<std::uint32_t> entry_keys_, entry_triangles_, key_scratch_, triangle_scratch_;
 };
 
 }  // namespace quarry
