@@ -114,18 +114,11 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
   occupied_bits_.assign((cells + 63) / 64, 0);
   if (entry_keys_.empty()) return;
   if (cells <= kDenseCells) {
-    // Dense: count the entries of every cell, so that cell_first_ is their prefix sum, and
-    // place each triangle at its cell's next slot (in triangle order, so each cell's list is
-    // ascending). One pass over the entries instead of the sparse grid's two sorting passes.
-    cell_first_.assign(cells + 1, 0);
-    for (const std::uint32_t k : entry_keys_) ++cell_first_[k + 1];
-    for (std::uint64_t c = 0; c < cells; ++c) cell_first_[c + 1] += cell_first_[c];
-    cell_triangles_.resize(entry_keys_.size());
-    for (std::size_t e = 0; e < entry_keys_.size(); ++e)
-      cell_triangles_[cell_first_[entry_keys_[e]]++] = entry_triangles_[e];
-    // Each cell's first slot now holds the next cell's first: shift them back.
-    for (std::uint64_t c = cells; c > 0; --c) cell_first_[c] = cell_first_[c - 1];
-    cell_first_[0] = 0;
+    // Dense: the triangles grouped by cell with a counting sort over the cells, whose bucket
+    // starts are the per-cell table (stable: each cell's list ascending, as emitted). One
+    // pass over the entries instead of the sparse grid's two sorting passes.
+    stable_counting_sort_payload(entry_keys_, static_cast<std::uint32_t>(cells), entry_triangles_,
+                                 cell_first_, cell_triangles_, sort_workspace_);
     for (std::uint64_t c = 0; c < cells; ++c) {
       if (cell_first_[c + 1] == cell_first_[c]) continue;
       cell_keys_.push_back(c);

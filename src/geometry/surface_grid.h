@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/counting_sort.h"
 #include "core/vec3.h"
 #include "geometry/surface.h"
 
@@ -69,8 +70,9 @@ class SurfaceGrid {
   static constexpr std::uint64_t kDenseCells = std::uint64_t{1} << 20;  // 4 MiB of offsets
   std::vector<std::uint32_t> cell_first_;
   // Scratch of build(), kept so that re-gridding a moving surface does not allocate: the
-  // (cell key, triangle) entries, and the sparse sort's second buffers.
+  // (cell key, triangle) entries, and the sorts' second buffers.
   std::vector<std::uint32_t> entry_keys_, entry_triangles_, key_scratch_, triangle_scratch_;
+  CountingSortWorkspace sort_workspace_;
 };
 
 }  // namespace quarry

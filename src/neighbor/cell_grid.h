@@ -12,7 +12,7 @@
 #include "core/particle_store.h"
 #include "core/periodic_box.h"
 #include "core/vec3.h"
-#include "neighbor/counting_sort.h"
+#include "core/counting_sort.h"
 
 namespace quarry {
 

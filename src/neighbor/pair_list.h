@@ -11,7 +11,7 @@
 #include "core/scratch_array.h"
 #include "core/vec3.h"
 #include "neighbor/cell_grid.h"
-#include "neighbor/counting_sort.h"
+#include "core/counting_sort.h"
 
 namespace quarry {
 

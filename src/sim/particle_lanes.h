@@ -1,9 +1,9 @@
-// The step's per-particle passes four particles at a time: the loads, stores and shuffles of
-// Vec3 arrays they share (the vector types: core/lanes.h) (sim/opening_lanes.h, sim/particle_passes.cpp). Each array of
-// Vec3 is read as it lies in memory, four particles in three vectors (x y z x | y z x y |
-// z x y z), with GCC's vector extension: AVX2 in the release build, SSE2 pairs in a baseline
-// one. The scalar opening pass was bound by its instructions, not by memory
-// (docs/performance.md, "Four particles at a time").
+// The step's per-particle passes four particles at a time (sim/opening_lanes.h,
+// sim/particle_passes.cpp): the loads, stores and shuffles of Vec3 arrays they share (the
+// vector types are core/lanes.h's). Each array of Vec3 is read as it lies in memory, four
+// particles in three vectors (x y z x | y z x y | z x y z), with GCC's vector extension: AVX2
+// in the release build, SSE2 pairs in a baseline one. The scalar opening pass was bound by its
+// instructions, not by memory (docs/performance.md, "Four particles at a time").
 //
 // A pass built from these gives the scalar pass's values to the bit: the same operations in
 // the same order lane by lane, so the results do not depend on which particles fall into

@@ -1,7 +1,7 @@
 // Stable counting sort: serial for small inputs; otherwise each thread histograms a contiguous
 // block of items, and block t's items of key c go after those of blocks < t — the same
 // placement the serial sort gives, whatever the number of threads.
-#include "neighbor/counting_sort.h"
+#include "core/counting_sort.h"
 
 #include <algorithm>
 #include <cassert>

@@ -1,6 +1,7 @@
 // Stable counting sort of item indices by small integer keys (cell of a particle, partner of a
-// pair). Used when the neighbour lists are rebuilt (time-step stage 2). O(n + keys); the
-// OpenMP path gives exactly the serial result, so the output never depends on the thread count.
+// pair, cell of a surface grid's triangle). Used when the neighbour lists and a moving
+// surface's grid are rebuilt (time-step stage 2). O(n + keys); the OpenMP path gives exactly
+// the serial result, so the output never depends on the thread count.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // Tests of the stable counting sort: equal to std::stable_sort by key, serial and parallel.
-#include "neighbor/counting_sort.h"
+#include "core/counting_sort.h"
 
 #include <gtest/gtest.h>
 #include <omp.h>
