@@ -494,7 +494,7 @@ void FluidSolver::check_step_health(double dt) const {
     throw std::runtime_error(
         fmt::format("fluid solver, step {}: the velocity is no longer finite after a step of dt = "
                     "{} s; keep dt at "
-                    "about half of stable_time_step() (CFL and 2ν/|u|²)",
+                    "about half of stable_time_step() (CFL, and 2ν/|u|² where there is no drag)",
                     step_count_, dt));
   }
 }

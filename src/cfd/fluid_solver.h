@@ -109,9 +109,11 @@ class FluidSolver {
   double face_velocity(int axis, int i, int j, int k) const;
   // max over fluid cells of |∇·(εu) + ∂ε/∂t| of the last step (1/s).
   double divergence_norm() const { return report_.divergence; }
-  // Largest dt for the explicit advection: min(1/Σ_a(max|u_a|/Δx_a), 2ν/Σ_a max u_a²),
-  // ν = μ/ρ (central differences with forward Euler; viscosity and drag are implicit).
-  // +∞ at rest. Callers use a fraction of it (0.5 recommended).
+  // Largest dt for the explicit central advection (forward Euler): the CFL limit
+  // 1/Σ_a(max|u_a|/Δx_a), and in every fluid cell the step up to which the implicit viscosity
+  // and drag damp every Fourier mode (without drag 2ν/Σ_a u_a², ν = μ/ρ; with β/(ρε) ≫ |u|/Δx
+  // no limit; docs/cfd.md "Time step"). +∞ at rest. Callers use a fraction of it (0.5
+  // recommended). Cost: O(cells).
   double stable_time_step() const;
   const FluidStepReport& last_report() const { return report_; }
   const FluidGrid& grid() const { return grid_; }

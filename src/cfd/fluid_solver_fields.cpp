@@ -105,7 +105,8 @@ double FluidSolver::face_velocity(int axis, int i, int j, int k) const {
 }
 
 double FluidSolver::stable_time_step() const {
-  double convective = 0.0, kinetic = 0.0;
+  // CFL: 1/Σ_a(max|u_a|/Δx_a) over all faces.
+  double convective = 0.0;
   for (int a = 0; a < 3; ++a) {
     double largest = 0.0;
     for (int k = kGhost; k < grid_.cells[2] + kGhost + (a == 2 ? 1 : 0); ++k) {
@@ -116,11 +117,44 @@ double FluidSolver::stable_time_step() const {
       }
     }
     convective += largest / grid_.cell_size[a];
-    kinetic += largest * largest;
   }
   if (convective == 0.0) return std::numeric_limits<double>::infinity();
-  const double nu = properties_.viscosity / properties_.density;
-  return std::min(1.0 / convective, 2.0 * nu / kinetic);
+  // Forward-Euler central advection damped by the implicit viscosity and drag, cell by cell
+  // (frozen coefficients; docs/cfd.md "Time step"). A Fourier mode is multiplied per step by
+  // g = (1 − i Σ c_a sin θ_a)/(1 + d + Σ 2 r_a (1 − cos θ_a)), c_a = |u_a| dt/Δx_a,
+  // r_a = ν dt/Δx_a², d = β dt/(ρ ε). |g| ≤ 1 for every θ if either
+  //   (i)  dt (Σu_a² Σ1/Δx_a² − D²) ≤ 2 (D + ν Σ1/Δx_a²)   (Cauchy–Schwarz on Σ c_a sin θ_a), or
+  //   (ii) dt ((Σ|u_a|/Δx_a)² − D²) ≤ 2 D                 (|Σ c_a sin θ_a| ≤ Σ c_a),
+  // D = β/(ρ ε) (1/s). Without drag (i) is dt ≤ 2ν/Σu_a², the classical limit.
+  const double nu = properties_.viscosity / properties_.density;  // m²/s
+  double inverse_h2 = 0.0;                                         // 1/m²
+  for (int a = 0; a < 3; ++a) inverse_h2 += 1.0 / (grid_.cell_size[a] * grid_.cell_size[a]);
+  const auto limit = [](double numerator, double denominator) {
+    return denominator > 0.0 ? numerator / denominator : std::numeric_limits<double>::infinity();
+  };
+  double damped = std::numeric_limits<double>::infinity();  // a minimum: the same for any team
+  const int team = options_.threading.team(grid_.cell_count());
+#pragma omp parallel for schedule(static) num_threads(team) reduction(min : damped)
+  for (int k = 0; k < grid_.cells[2]; ++k) {
+    for (int j = 0; j < grid_.cells[1]; ++j) {
+      for (int i = 0; i < grid_.cells[0]; ++i) {
+        const std::size_t c = grid_.cell_index(i, j, k);
+        if (blocked_input_[c]) continue;
+        const std::size_t cell = padded(i + kGhost, j + kGhost, k + kGhost);
+        double speed2 = 0.0, rate = 0.0;  // Σ u_a² (m²/s²), Σ |u_a|/Δx_a (1/s): the faces' larger
+        for (int a = 0; a < 3; ++a) {
+          const double u = std::max(std::abs(velocity_[a][cell]), std::abs(velocity_[a][cell + stride_[a]]));
+          speed2 += u * u;
+          rate += u / grid_.cell_size[a];
+        }
+        const double d = drag_input_[c] / (properties_.density * void_fraction_new_[cell]);  // 1/s
+        const double by_viscosity = limit(2.0 * (d + nu * inverse_h2), speed2 * inverse_h2 - d * d);
+        const double by_drag = limit(2.0 * d, rate * rate - d * d);
+        damped = std::min(damped, std::max(by_viscosity, by_drag));
+      }
+    }
+  }
+  return std::min(1.0 / convective, damped);
 }
 
 FluidSolverState FluidSolver::state() const {
