@@ -27,8 +27,16 @@ AxisPair axis_pair(double coordinate, double origin, double size, int cells, boo
   // Position in cell-centre units: cell i's centre is at i.
   double s = (coordinate - origin) / size - 0.5;
   if (periodic) {
+    // fmod(s, span), plus span when negative; the library call and the integer divisions below
+    // only where s lies outside (−span, 2 span): the same values (s − span is exact there,
+    // Sterbenz; fmod is s itself on (−span, 0)), and a third of the weights' time at 100k
+    // particles.
     const double span = static_cast<double>(cells);
-    s = std::fmod(s, span);
+    if (s >= span && s < 2.0 * span) {
+      s -= span;
+    } else if (!(s > -span && s < span)) {
+      s = std::fmod(s, span);
+    }
     if (s < 0.0) s += span;
   } else {
     s = std::clamp(s, -0.5, static_cast<double>(cells) - 0.5);
@@ -38,9 +46,9 @@ AxisPair axis_pair(double coordinate, double origin, double size, int cells, boo
   pair.low = static_cast<int>(floor_s);
   pair.high = pair.low + 1;
   pair.upper_weight = s - floor_s;
-  if (periodic) {
-    pair.low = ((pair.low % cells) + cells) % cells;
-    pair.high = ((pair.high % cells) + cells) % cells;
+  if (periodic) {  // s in [0, span]: low in [0, cells], high in [1, cells + 1]
+    if (pair.low >= cells) pair.low -= cells;
+    if (pair.high >= cells) pair.high -= cells;
   } else {
     pair.low = std::clamp(pair.low, 0, cells - 1);
     pair.high = std::clamp(pair.high, 0, cells - 1);

@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -50,6 +52,49 @@ TEST(CellKernel, WeightsArePositiveAndSumToOne) {
         sum += w.weight[c];
       }
       EXPECT_NEAR(sum, 1.0, 4e-16);
+    }
+  }
+}
+
+// Along a periodic axis the weights repeat with the period, wherever the position lies: the
+// cells and weights at x + m L (m = −3 … 4) are those of the textbook wrap, fmod(s, n) + n
+// when negative and (i mod n + n) mod n, to the bit (cell_weights skips the division where
+// s is within (−n, 2n); s = position in cell-centre units).
+TEST(CellKernel, PeriodicWeightsRepeatWithThePeriodAsTheTextbookWrap) {
+  const cfd::FluidGrid grid = test_grid();
+  const PeriodicAxes periodic{true, true, true};
+  const auto reference = [&](const Vec3& x) {
+    std::array<std::array<int, 2>, 3> cell{};
+    std::array<double, 3> upper{};
+    for (int a = 0; a < 3; ++a) {
+      const int n = grid.cells[static_cast<std::size_t>(a)];
+      double t = std::fmod((x[a] - grid.origin[a]) / grid.cell_size[a] - 0.5, static_cast<double>(n));
+      if (t < 0.0) t += n;
+      const double floor_t = std::floor(t);
+      const int low = static_cast<int>(floor_t);
+      cell[static_cast<std::size_t>(a)] = {((low % n) + n) % n, ((low + 1) % n + n) % n};
+      upper[static_cast<std::size_t>(a)] = t - floor_t;
+    }
+    CellWeights w;
+    int corner = 0;
+    for (int c = 0; c < 2; ++c)
+      for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a, ++corner) {
+          w.cell[static_cast<std::size_t>(corner)] = static_cast<std::uint32_t>(grid.cell_index(cell[0][a], cell[1][b], cell[2][c]));
+          w.weight[static_cast<std::size_t>(corner)] = (a ? upper[0] : 1.0 - upper[0]) * (b ? upper[1] : 1.0 - upper[1]) *
+                                                       (c ? upper[2] : 1.0 - upper[2]);
+        }
+    return w;
+  };
+  const Vec3 period{grid.cells[0] * grid.cell_size.x, grid.cells[1] * grid.cell_size.y, grid.cells[2] * grid.cell_size.z};
+  for (const Vec3& inside : random_positions(grid, 300, 11)) {
+    for (int m = -3; m <= 4; ++m) {
+      const Vec3 x = inside + Vec3{period.x * m, period.y * (m % 3), period.z * -m};
+      const CellWeights w = cell_weights(grid, periodic, x), expected = reference(x);
+      for (std::size_t c = 0; c < 8; ++c) {
+        ASSERT_EQ(w.cell[c], expected.cell[c]) << m;
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(w.weight[c]), std::bit_cast<std::uint64_t>(expected.weight[c])) << m;
+      }
     }
   }
 }
