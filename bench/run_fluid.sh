@@ -2,19 +2,21 @@
 # The CFD-DEM fluidised bed (issue 18, "Performance"): quarry_fluidised_bed at 10k beads in
 # 16 x 16 x 200 cells and 100k beads in 40 x 40 x 40 cells (both >= 50k cells), 1 and 2 threads
 # interleaved, REPEATS times (default 3), at each coupling interval of COUPLING (DEM steps per
-# fluid step; default "10 20": 0.25 and 0.5 ms, a quarter and two thirds of the fluid's own
-# stable step on this bed, which the runs print as fluid_stable_dt_ms). Each run's QUARRY_FLUID_BENCH line goes to
-# bench/results/DATE-CPU-fluid.txt with the machine line; the summary (medians per size and
-# thread count: ms per coupled step, the fluid side's parts, the DEM, fluid/DEM) is printed and
-# appended. Copy the figures into docs/performance.md.
-# usage: bench/run_fluid.sh   (BUILD_DIR=build/release, REPEATS=3, COUPLING="10 20", SKIP_BUILD=1,
+# fluid step; default "10 40": 0.25 and 1 ms; the runs print the fluid's least stable step over
+# the timed steps, fluid_stable_dt_ms, which counts the drag: docs/cfd.md "Time step" advises
+# about half of it). Every interval covers the same simulated time: a warm-up of 400 DEM steps
+# and 1,200 (10k) or 800 (100k) timed ones, so the DEM figures compare. Each run's
+# QUARRY_FLUID_BENCH line goes to bench/results/DATE-CPU-fluid.txt with the machine line; the
+# summary (medians per size and thread count: ms per coupled step, the fluid side's parts, the
+# DEM, fluid/DEM) is printed and appended. Copy the figures into docs/performance.md.
+# usage: bench/run_fluid.sh   (BUILD_DIR=build/release, REPEATS=3, COUPLING="10 40", SKIP_BUILD=1,
 #                             QUIET_WAIT=30)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 BUILD_DIR=${BUILD_DIR:-build/release}
 REPEATS=${REPEATS:-3}
-COUPLING=${COUPLING:-10 20}
+COUPLING=${COUPLING:-10 40}
 QUIET_WAIT=${QUIET_WAIT:-30}
 source bench/lib.sh
 build_bench quarry_fluidised_bed
@@ -30,11 +32,20 @@ trap 'rm -rf "$work"' EXIT
   echo "# CFD-DEM fluidised bed (bench/run_fluid.sh), $(date -u '+%F %H:%M') UTC"
   machine_line
 } > "$out"
-sizes=("10000 16 200 50 100" "100000 40 40 30 60")  # beads, cells across, cells up, warm-up, timed
+sizes=("10000 16 200 400 1200" "100000 40 40 400 800")  # beads, cells across, cells up, DEM steps warm-up, timed
+for interval in $COUPLING; do
+  for size in "${sizes[@]}"; do
+    read -r beads across up warmup_dem timed_dem <<<"$size"
+    if (( warmup_dem % interval || timed_dem % interval )); then
+      echo "run_fluid.sh: an interval of $interval DEM steps does not divide $warmup_dem and $timed_dem" >&2; exit 2
+    fi
+  done
+done
 for repeat in $(seq 1 "$REPEATS"); do
   for size in "${sizes[@]}"; do
-    read -r beads across up warmup steps <<<"$size"
+    read -r beads across up warmup_dem timed_dem <<<"$size"
     for interval in $COUPLING; do
+      warmup=$((warmup_dem / interval)) steps=$((timed_dem / interval))
       for threads in 1 2; do
         wait_quiet
         b0=$(busy); t0=$(date +%s.%N)
