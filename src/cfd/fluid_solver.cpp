@@ -425,9 +425,10 @@ void FluidSolver::solve_pressure_correction(double dt) {
 
 void FluidSolver::correct_velocity(double dt) {
   for (int a = 0; a < 3; ++a) {
+    // u = u* everywhere, then corrected in place on the unknown faces (a swap: predict_momentum
+    // fills u* from u anew at the next step).
+    velocity_[a].swap(predicted_[a]);
     std::vector<double>& u = velocity_[a];
-    const std::vector<double>& star = predicted_[a];
-    u = star;
     const std::ptrdiff_t s = stride_[a];
     int first = 0, last = 0;
     momentum_unknown_range(a, first, last);
@@ -443,7 +444,7 @@ void FluidSolver::correct_velocity(double dt) {
         for (int i = low[0]; i <= high[0]; ++i) {
           const std::size_t face = padded(i, j, k);
           if (blocked_[face] > 0.0 || blocked_[face - s] > 0.0) continue;
-          u[face] = star[face] - correction_coefficient(face - s, face, dt) *
+          u[face] = u[face] - correction_coefficient(face - s, face, dt) *
                                      (correction_[face] - correction_[face - s]) /
                                      grid_.cell_size[a];
         }

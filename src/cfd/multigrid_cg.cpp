@@ -243,7 +243,7 @@ class MultigridCgSolver final : public PressureSolver {
     zeros_.assign(static_cast<std::size_t>(system.size[0]), 0.0);
     fine_is_input_ = !prepare_level(levels_[0]);
     singular_ = !has_fixed_part(levels_[0]);
-    diagonal_only_ = !singular_ && coupling_fraction(levels_[0]) <= kDiagonalDominance;
+    diagonal_only_ = !singular_ && !couples_beyond(levels_[0], kDiagonalDominance);
     if (diagonal_only_) {
       levels_.resize(1);
       return;
@@ -366,24 +366,27 @@ class MultigridCgSolver final : public PressureSolver {
     return held;
   }
 
-  // Largest Σ_N g_PN / diagonal(P) over the active rows (couplings to active neighbours).
-  double coupling_fraction(const Level& level) {
+  // Whether some active row has Σ_N g_PN / diagonal(P) > fraction (couplings to active
+  // neighbours, summed in neighbour_sum's order). Each thread stops at its first such row: a
+  // pressure system, never diagonally dominant, is answered by its first rows, not a pass.
+  bool couples_beyond(const Level& level, double fraction) const {
     const StencilSystem& s = level.system;
-    std::vector<double>& ones = work_[0];
-    ones.assign(s.count(), 1.0);
-    double largest = 0.0;  // a maximum: the same for any team
     const int rows = s.size[1] * s.size[2];
-#pragma omp parallel for schedule(static) num_threads(threading_.team(s.count())) \
-    reduction(max : largest)
+    bool found = false;  // an "any": the same for any team
+#pragma omp parallel for schedule(static) num_threads(threading_.team(s.count())) reduction(|| : found)
     for (int row = 0; row < rows; ++row) {
+      if (found) continue;  // this thread has its answer
       const RowStencil r = row_stencil(level, row % s.size[1], row / s.size[1], zeros_.data());
-      for (int i = 0; i < s.size[0]; ++i) {
+      for (int i = 0; i < s.size[0] && !found; ++i) {
         const std::size_t p = r.start + static_cast<std::size_t>(i);
-        if (s.active[p])
-          largest = std::max(largest, neighbour_sum(r, ones.data(), i) / level.diagonal[p]);
+        if (!s.active[p]) continue;
+        const double x_high = i < r.length - 1 ? r.x_links[i + 1] : (r.wrap ? r.x_links[0] : 0.0);
+        const double sum = r.x_links[i] + x_high + r.low_links[0][i] + r.high_links[0][i] +
+                           r.low_links[1][i] + r.high_links[1][i];
+        found = sum / level.diagonal[p] > fraction;
       }
     }
-    return largest;
+    return found;
   }
 
   // Whether some row holds its unknown to a value (mass, a boundary term, or a coupling to a
