@@ -117,6 +117,36 @@ RowStencil row_stencil(const Level& level, int j, int k, const double* zeros) {
   return r;
 }
 
+// The rows beside grid row (j, k) along y and z as `neighbour` finds them (an axis of one
+// unknown has none; periodic axes wrap), and whether the row wraps along x.
+struct NeighbourRows {
+  std::size_t start = 0;                     // index of (0, j, k)
+  std::array<std::size_t, 2> low{}, high{};  // starts of the rows at j∓1 (y), k∓1 (z)
+  std::array<bool, 2> has_low{}, has_high{};
+  int length = 0;
+  bool wrap = false;  // periodic along x with more than one unknown
+};
+
+inline NeighbourRows neighbour_rows(const StencilSystem& s, int j, int k) {
+  NeighbourRows r;
+  r.length = s.size[0];
+  r.wrap = s.periodic[0] && s.size[0] > 1;
+  r.start = s.index(0, j, k);
+  const std::array<int, 2> at{j, k};
+  for (int b = 0; b < 2; ++b) {
+    const int a = b + 1, n = s.size[a];
+    if (n == 1) continue;
+    const std::size_t stride = a == 1 ? static_cast<std::size_t>(s.size[0])
+                                      : static_cast<std::size_t>(s.size[0]) * s.size[1];
+    const auto span = static_cast<std::size_t>(n - 1) * stride;
+    r.has_low[b] = at[b] > 0 || s.periodic[a];
+    r.low[b] = at[b] > 0 ? r.start - stride : r.start + span;
+    r.has_high[b] = at[b] < n - 1 || s.periodic[a];
+    r.high[b] = at[b] < n - 1 ? r.start + stride : r.start - span;
+  }
+  return r;
+}
+
 // Σ over active neighbours N of g_PN x_N for P = (i, j, k) of the row, in the order x−, x+,
 // y−, y+, z−, z+ (a missing or held neighbour adds 0 · x_P).
 inline double neighbour_sum(const RowStencil& r, const double* x, int i) {
@@ -323,20 +353,24 @@ class MultigridCgSolver final : public PressureSolver {
     const int team = threading_.team(n);
     // Diagonal: mass, boundary terms and every coupling to an existing neighbour (held or
     // not), in the order x−, x+, y−, y+, z−, z+. An unknown coupled to nothing (enclosed by
-    // held unknowns) is held as well.
+    // held unknowns) is held as well. Row by row: the neighbours of a row's unknowns along y
+    // and z are those of the rows beside it (neighbour_rows), along x the row's own.
     bool held = false;
 #pragma omp parallel for schedule(static) num_threads(team) reduction(|| : held)
     for (int row = 0; row < rows; ++row) {
-      const int j = row % s.size[1], k = row / s.size[1];
+      const NeighbourRows r = neighbour_rows(s, row % s.size[1], row / s.size[1]);
       for (int i = 0; i < s.size[0]; ++i) {
-        const std::size_t p = s.index(i, j, k);
-        const std::array<int, 3> at{i, j, k};
+        const std::size_t p = r.start + static_cast<std::size_t>(i);
         double diagonal = s.mass[p] + s.boundary[0][p] + s.boundary[1][p] + s.boundary[2][p];
-        for (int a = 0; a < 3; ++a) {
-          for (int side = -1; side <= 1; side += 2) {
-            const std::ptrdiff_t q = neighbour(s, at, a, side, p);
-            if (q >= 0) diagonal += coupling(s, a, side, p, q);
-          }
+        if (i > 0 || r.wrap) diagonal += s.conductance[0][p];
+        if (i < r.length - 1) {
+          diagonal += s.conductance[0][p + 1];
+        } else if (r.wrap) {
+          diagonal += s.conductance[0][r.start];
+        }
+        for (int b = 0; b < 2; ++b) {
+          if (r.has_low[b]) diagonal += s.conductance[b + 1][p];
+          if (r.has_high[b]) diagonal += s.conductance[b + 1][r.high[b] + static_cast<std::size_t>(i)];
         }
         if (diagonal <= 0.0 && s.active[p]) {
           s.active[p] = 0;
@@ -348,14 +382,15 @@ class MultigridCgSolver final : public PressureSolver {
     // Links once every unknown's state is known.
 #pragma omp parallel for schedule(static) num_threads(team)
     for (int row = 0; row < rows; ++row) {
-      const int j = row % s.size[1], k = row / s.size[1];
+      const NeighbourRows r = neighbour_rows(s, row % s.size[1], row / s.size[1]);
       for (int i = 0; i < s.size[0]; ++i) {
-        const std::size_t p = s.index(i, j, k);
-        const std::array<int, 3> at{i, j, k};
-        for (int a = 0; a < 3; ++a) {
-          const std::ptrdiff_t q = neighbour(s, at, a, -1, p);
-          const bool coupled = q >= 0 && s.active[p] && s.active[static_cast<std::size_t>(q)];
-          level.link[a][p] = coupled ? s.conductance[a][p] : 0.0;
+        const std::size_t p = r.start + static_cast<std::size_t>(i);
+        const bool x_low = i > 0 || r.wrap;
+        const std::size_t q_x = i > 0 ? p - 1 : r.start + static_cast<std::size_t>(r.length - 1);
+        level.link[0][p] = x_low && s.active[p] && s.active[q_x] ? s.conductance[0][p] : 0.0;
+        for (int b = 0; b < 2; ++b) {
+          const bool coupled = r.has_low[b] && s.active[p] && s.active[r.low[b] + static_cast<std::size_t>(i)];
+          level.link[b + 1][p] = coupled ? s.conductance[b + 1][p] : 0.0;
         }
       }
     }
