@@ -148,12 +148,26 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
   const std::int64_t i0 = cell_coordinate(box.lo.x, 0), i1 = cell_coordinate(box.hi.x, 0);
   const std::int64_t j0 = cell_coordinate(box.lo.y, 1), j1 = cell_coordinate(box.hi.y, 1);
   const std::int64_t k0 = cell_coordinate(box.lo.z, 2), k1 = cell_coordinate(box.hi.z, 2);
-  // Triangle t of the grid's lists, if its box overlaps the query's.
+  // Triangle t of the grid's lists, if its box overlaps the query's, into the ascending list
+  // without repeats. A triangle over several cells comes once per cell; the lists are short
+  // (most queries find none or one), so an insertion beats collecting, sorting and erasing.
+  // Past kInserted entries the rest are collected and the whole list sorted at the end.
+  constexpr std::size_t kInserted = 32;
+  bool collected = false;
   const auto take = [&](std::uint32_t t) {
     const Aabb& tb = triangle_boxes_[t];
-    if (tb.lo.x <= box.hi.x && tb.hi.x >= box.lo.x && tb.lo.y <= box.hi.y && tb.hi.y >= box.lo.y &&
-        tb.lo.z <= box.hi.z && tb.hi.z >= box.lo.z)
+    if (!(tb.lo.x <= box.hi.x && tb.hi.x >= box.lo.x && tb.lo.y <= box.hi.y && tb.hi.y >= box.lo.y &&
+          tb.lo.z <= box.hi.z && tb.hi.z >= box.lo.z))
+      return;
+    if (collected || triangles_out.size() >= kInserted) {
+      collected = true;
       triangles_out.push_back(t);
+      return;
+    }
+    auto at = triangles_out.end();
+    while (at != triangles_out.begin() && *(at - 1) > t) --at;
+    if (at != triangles_out.begin() && *(at - 1) == t) return;
+    triangles_out.insert(at, t);
   };
   for (std::int64_t k = k0; k <= k1; ++k)
     for (std::int64_t j = j0; j <= j1; ++j) {
@@ -176,7 +190,7 @@ void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_o
           take(cell_triangles_[e]);
       }
     }
-  if (triangles_out.size() < 2) return;  // most queries: nothing, or one triangle
+  if (!collected) return;
   std::sort(triangles_out.begin(), triangles_out.end());
   triangles_out.erase(std::unique(triangles_out.begin(), triangles_out.end()), triangles_out.end());
 }

@@ -153,6 +153,29 @@ TEST(SurfaceGrid, HundredThousandTrianglesBuildAndQueryCorrectly) {
   EXPECT_TRUE(found.empty());
 }
 
+// Answers stay ascending and unique whatever their length: query() keeps a short answer sorted
+// as it goes (most answers: none or a few triangles) and past 32 collects and sorts. Boxes from
+// within one cell to hundreds of triangles, each checked as check_query does.
+TEST(SurfaceGrid, AnswersOfAnyLengthAreAscendingAndUnique) {
+  const Surface plane = make_plane({0, 0, 0}, {0.3, 0.2, 1}, 1.0, 40);  // tilted: over many cells
+  SurfaceGrid grid;
+  grid.build(plane, 0.02);
+  std::vector<std::uint32_t> found;
+  std::size_t shortest = 1000, longest = 0;
+  for (const double half : {0.001, 0.01, 0.03, 0.1, 0.3}) {
+    for (int n = 0; n < 20; ++n) {
+      const Vec3 centre{-0.4 + 0.04 * n, 0.3 - 0.03 * n, 0.001 * n};
+      const Aabb box{centre - Vec3{half, half, half}, centre + Vec3{half, half, half}};
+      check_query(plane, grid, box);
+      grid.query(box, found);
+      shortest = std::min(shortest, found.size());
+      longest = std::max(longest, found.size());
+    }
+  }
+  EXPECT_LE(shortest, 2u);
+  EXPECT_GT(longest, 100u);  // the collecting path was taken
+}
+
 }  // namespace
 }  // namespace quarry
 
