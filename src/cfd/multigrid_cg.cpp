@@ -72,51 +72,6 @@ inline double coupling(const StencilSystem& s, int a, int side, std::size_t p, s
   return side < 0 ? s.conductance[a][p] : s.conductance[a][static_cast<std::size_t>(q)];
 }
 
-// One grid row (j, k) of a level: where its neighbour rows along y and z start, and the links
-// to read. A missing neighbour row (a non-periodic border, or an axis of one unknown) points at
-// the row itself with links of 0, so every unknown sums the same six terms.
-struct RowStencil {
-  std::size_t start = 0;                    // index of (0, j, k)
-  std::array<std::size_t, 2> low{}, high{};  // starts of the rows at j∓1 (y), k∓1 (z)
-  const double* x_links = nullptr;          // link[0] from (0, j, k)
-  std::array<const double*, 2> low_links{}, high_links{};
-  int length = 0;     // unknowns along x
-  bool wrap = false;  // periodic along x with more than one unknown
-};
-
-RowStencil row_stencil(const Level& level, int j, int k, const double* zeros) {
-  const StencilSystem& s = level.system;
-  RowStencil r;
-  r.length = s.size[0];
-  r.wrap = s.periodic[0] && s.size[0] > 1;
-  r.start = s.index(0, j, k);
-  r.x_links = level.link[0].data() + r.start;
-  const std::array<int, 2> at{j, k};
-  for (int b = 0; b < 2; ++b) {
-    const int a = b + 1, n = s.size[a];
-    const std::size_t stride = a == 1 ? static_cast<std::size_t>(s.size[0])
-                                      : static_cast<std::size_t>(s.size[0]) * s.size[1];
-    r.low[b] = r.high[b] = r.start;
-    r.low_links[b] = level.link[a].data() + r.start;  // 0 where there is no low neighbour
-    r.high_links[b] = zeros;
-    if (n == 1) continue;
-    if (at[b] > 0) {
-      r.low[b] = r.start - stride;
-    } else if (s.periodic[a]) {
-      r.low[b] = r.start + static_cast<std::size_t>(n - 1) * stride;
-    }
-    if (at[b] < n - 1) {
-      r.high[b] = r.start + stride;
-    } else if (s.periodic[a]) {
-      r.high[b] = r.start - static_cast<std::size_t>(n - 1) * stride;
-    } else {
-      continue;
-    }
-    r.high_links[b] = level.link[a].data() + r.high[b];
-  }
-  return r;
-}
-
 // The rows beside grid row (j, k) along y and z as `neighbour` finds them (an axis of one
 // unknown has none; periodic axes wrap), and whether the row wraps along x.
 struct NeighbourRows {
@@ -143,6 +98,35 @@ inline NeighbourRows neighbour_rows(const StencilSystem& s, int j, int k) {
     r.low[b] = at[b] > 0 ? r.start - stride : r.start + span;
     r.has_high[b] = at[b] < n - 1 || s.periodic[a];
     r.high[b] = at[b] < n - 1 ? r.start + stride : r.start - span;
+  }
+  return r;
+}
+
+// One grid row (j, k) of a level: where its neighbour rows along y and z start, and the links
+// to read. A missing neighbour row (a non-periodic border, or an axis of one unknown) points at
+// the row itself with links of 0, so every unknown sums the same six terms.
+struct RowStencil {
+  std::size_t start = 0;                    // index of (0, j, k)
+  std::array<std::size_t, 2> low{}, high{};  // starts of the rows at j∓1 (y), k∓1 (z)
+  const double* x_links = nullptr;          // link[0] from (0, j, k)
+  std::array<const double*, 2> low_links{}, high_links{};
+  int length = 0;     // unknowns along x
+  bool wrap = false;  // periodic along x with more than one unknown
+};
+
+RowStencil row_stencil(const Level& level, int j, int k, const double* zeros) {
+  const NeighbourRows n = neighbour_rows(level.system, j, k);
+  RowStencil r;
+  r.length = n.length;
+  r.wrap = n.wrap;
+  r.start = n.start;
+  r.x_links = level.link[0].data() + r.start;
+  for (int b = 0; b < 2; ++b) {
+    const std::vector<double>& links = level.link[static_cast<std::size_t>(b) + 1];
+    r.low[b] = n.has_low[b] ? n.low[b] : r.start;
+    r.low_links[b] = links.data() + r.start;  // 0 where there is no low neighbour
+    r.high[b] = n.has_high[b] ? n.high[b] : r.start;
+    r.high_links[b] = n.has_high[b] ? links.data() + r.high[b] : zeros;
   }
   return r;
 }

@@ -27,10 +27,9 @@ AxisPair axis_pair(double coordinate, double origin, double size, int cells, boo
   // Position in cell-centre units: cell i's centre is at i.
   double s = (coordinate - origin) / size - 0.5;
   if (periodic) {
-    // fmod(s, span), plus span when negative; the library call and the integer divisions below
-    // only where s lies outside (−span, 2 span): the same values (s − span is exact there,
-    // Sterbenz; fmod is s itself on (−span, 0)), and a third of the weights' time at 100k
-    // particles.
+    // fmod(s, span), plus span when negative, with the library call only where s lies outside
+    // (−span, 2 span): the same values (s − span is exact on [span, 2 span), Sterbenz; fmod is
+    // s itself on (−span, 0)). The indices below then need no integer division either.
     const double span = static_cast<double>(cells);
     if (s >= span && s < 2.0 * span) {
       s -= span;
