@@ -111,35 +111,38 @@ void SurfaceGrid::build(const Surface& surface, double cell_size, const Aabb& cl
   }
   const auto cells = static_cast<std::uint64_t>(dims_[0]) * static_cast<std::uint64_t>(dims_[1]) *
                      static_cast<std::uint64_t>(dims_[2]);
-  occupied_bits_.assign((cells + 63) / 64, 0);
   if (entry_keys_.empty()) return;
   if (cells <= kDenseCells) {
     // Dense: the triangles grouped by cell with a counting sort over the cells, whose bucket
     // starts are the per-cell table (stable: each cell's list ascending, as emitted). One
-    // pass over the entries instead of the sparse grid's two sorting passes.
+    // pass over the entries instead of the sparse grid's two sorting passes; the table is all
+    // a query reads (no keys, offsets or occupancy bits).
     stable_counting_sort_payload(entry_keys_, static_cast<std::uint32_t>(cells), entry_triangles_,
                                  cell_first_, cell_triangles_, sort_workspace_);
-    for (std::uint64_t c = 0; c < cells; ++c) {
-      if (cell_first_[c + 1] == cell_first_[c]) continue;
-      cell_keys_.push_back(c);
-      cell_offsets_.push_back(cell_first_[c + 1]);
-    }
-  } else {
-    sort_by_cell(entry_keys_, entry_triangles_, key_scratch_, triangle_scratch_);
-    cell_triangles_.assign(entry_triangles_.begin(), entry_triangles_.end());
-    for (std::size_t e = 0; e < entry_keys_.size(); ++e) {
-      if (e > 0 && entry_keys_[e] == entry_keys_[e - 1]) continue;
-      if (e > 0) cell_offsets_.push_back(static_cast<std::uint32_t>(e));
-      cell_keys_.push_back(entry_keys_[e]);
-    }
-    cell_offsets_.push_back(static_cast<std::uint32_t>(entry_keys_.size()));
+    return;
   }
+  sort_by_cell(entry_keys_, entry_triangles_, key_scratch_, triangle_scratch_);
+  cell_triangles_.assign(entry_triangles_.begin(), entry_triangles_.end());
+  for (std::size_t e = 0; e < entry_keys_.size(); ++e) {
+    if (e > 0 && entry_keys_[e] == entry_keys_[e - 1]) continue;
+    if (e > 0) cell_offsets_.push_back(static_cast<std::uint32_t>(e));
+    cell_keys_.push_back(entry_keys_[e]);
+  }
+  cell_offsets_.push_back(static_cast<std::uint32_t>(entry_keys_.size()));
+  occupied_bits_.assign((cells + 63) / 64, 0);
   for (const std::uint64_t k : cell_keys_) occupied_bits_[k / 64] |= std::uint64_t{1} << (k % 64);
+}
+
+std::size_t SurfaceGrid::occupied_cell_count() const {
+  if (cell_first_.empty()) return cell_keys_.size();
+  std::size_t count = 0;
+  for (std::size_t c = 0; c + 1 < cell_first_.size(); ++c) count += cell_first_[c + 1] != cell_first_[c];
+  return count;
 }
 
 void SurfaceGrid::query(const Aabb& box, std::vector<std::uint32_t>& triangles_out) const {
   triangles_out.clear();
-  if (cell_keys_.empty() || box.empty()) return;
+  if (cell_triangles_.empty() || box.empty()) return;
   // A box entirely outside the grid touches nothing (cell_coordinate clamps, so test first).
   const Vec3 grid_hi =
       origin_ + Vec3{dims_[0] * cell_size_, dims_[1] * cell_size_, dims_[2] * cell_size_};

@@ -31,7 +31,7 @@ class SurfaceGrid {
   void query(const Aabb& box, std::vector<std::uint32_t>& triangles_out) const;
 
   double cell_size() const { return cell_size_; }  // m, as used (≥ the requested size)
-  std::size_t occupied_cell_count() const { return cell_keys_.size(); }
+  std::size_t occupied_cell_count() const;  // O(cells) on a dense grid
   // Whether queries read rows through the per-cell table (kDenseCells) or search the sparse keys.
   bool dense() const { return !cell_first_.empty(); }
 
@@ -56,11 +56,13 @@ class SurfaceGrid {
   double cell_size_ = 0.0;             // m
   std::int64_t dims_[3] = {0, 0, 0};   // cells per axis
   std::vector<Aabb> triangle_boxes_;   // m
-  std::vector<std::uint64_t> cell_keys_;        // occupied cells, ascending
-  std::vector<std::uint32_t> cell_offsets_;     // cell_keys_.size() + 1
   std::vector<std::uint32_t> cell_triangles_;   // triangles of each occupied cell, ascending
-  // One bit per cell of the grid (at most max_cells: 2 MiB), set where a cell is occupied: a
-  // query skips the binary search of a row with none (most particles are far from a surface).
+  // Sparse grid only (a dense one reads cell_first_ below): the occupied cells, ascending, and
+  // where each one's triangles start; one bit per cell of the grid (at most max_cells: 2 MiB),
+  // set where a cell is occupied, so a query skips the binary search of a row with none (most
+  // particles are far from a surface).
+  std::vector<std::uint64_t> cell_keys_;
+  std::vector<std::uint32_t> cell_offsets_;     // cell_keys_.size() + 1
   std::vector<std::uint64_t> occupied_bits_;
   // A grid of at most kDenseCells cells also keeps, for every cell, its first entry in
   // cell_triangles_ (cells + 1 values, a prefix count): a query then reads a row's triangles as
