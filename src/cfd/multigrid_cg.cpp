@@ -131,6 +131,11 @@ RowStencil row_stencil(const Level& level, int j, int k, const double* zeros) {
   return r;
 }
 
+// The link of unknown i of the row with its high neighbour along x (0 at a non-periodic end).
+inline double x_high_link(const RowStencil& r, int i) {
+  return i < r.length - 1 ? r.x_links[i + 1] : (r.wrap ? r.x_links[0] : 0.0);
+}
+
 // Σ over active neighbours N of g_PN x_N for P = (i, j, k) of the row, in the order x−, x+,
 // y−, y+, z−, z+ (a missing or held neighbour adds 0 · x_P).
 inline double neighbour_sum(const RowStencil& r, const double* x, int i) {
@@ -143,7 +148,7 @@ inline double neighbour_sum(const RowStencil& r, const double* x, int i) {
   } else {
     x_low = i > 0 ? row[i - 1] : (r.wrap ? row[r.length - 1] : row[i]);
     x_high = i < r.length - 1 ? row[i + 1] : (r.wrap ? row[0] : row[i]);
-    g_high = i < r.length - 1 ? r.x_links[i + 1] : (r.wrap ? r.x_links[0] : 0.0);
+    g_high = x_high_link(r, i);
   }
   return r.x_links[i] * x_low + g_high * x_high + r.low_links[0][i] * x[r.low[0] + i] +
          r.high_links[0][i] * x[r.high[0] + i] + r.low_links[1][i] * x[r.low[1] + i] +
@@ -399,8 +404,7 @@ class MultigridCgSolver final : public PressureSolver {
       for (int i = 0; i < s.size[0] && !found; ++i) {
         const std::size_t p = r.start + static_cast<std::size_t>(i);
         if (!s.active[p]) continue;
-        const double x_high = i < r.length - 1 ? r.x_links[i + 1] : (r.wrap ? r.x_links[0] : 0.0);
-        const double sum = r.x_links[i] + x_high + r.low_links[0][i] + r.high_links[0][i] +
+        const double sum = r.x_links[i] + x_high_link(r, i) + r.low_links[0][i] + r.high_links[0][i] +
                            r.low_links[1][i] + r.high_links[1][i];
         found = sum / level.diagonal[p] > fraction;
       }
