@@ -542,7 +542,8 @@ TEST(FluidSolverTest, StableTimeStepFromAdvectionLimits) {
 // g = (1 − i c sin θ)/(1 + d + 2r(1 − cos θ)), c = U dt/Δx, r = ν dt/Δx², d = β dt/(ρ ε)
 // (von Neumann's Fourier analysis: Richtmyer & Morton 1967, Difference Methods for
 // Initial-Value Problems, 2nd ed., ch. 4; docs/cfd.md "Time step"): the measured |g|² of three
-// modes matches it, every mode is damped at stable_time_step() with the drag, and the shortest grows at that step without it.
+// modes matches it, every mode is damped at stable_time_step() with the drag, and the shortest
+// grows at that step without it.
 // Water (ν = 1e-6 m²/s), U = 0.05 m/s, Δx = 1 mm, ε = 0.5, β = 5,000 kg/(m³·s) (β/(ρε) = 10/s):
 // the drag lets the step go from 2ν/U² = 0.8 ms to 2(β/ρε)/((U/Δx)² − (β/ρε)²) = 8.3 ms.
 TEST(FluidSolverTest, StableTimeStepWithDragDampsEveryMode) {
