@@ -15,6 +15,8 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <iostream>
+#include <map>
+#include <string>
 
 #include "bench/settled_bed_scene.h"
 #include "cfdem/fluid_coupling.h"
@@ -41,6 +43,7 @@ struct Options {
   int warmup = 50;          // coupled steps, untimed
   int coupled_steps = 100;  // timed
   int coupling_steps = 10;  // DEM steps per fluid step
+  cfd::Advection advection = cfd::Advection::central;
 };
 
 World bed_world(const Options& o) {
@@ -103,6 +106,7 @@ std::shared_ptr<cfdem::FluidCoupling> attach_fluid(World& world, const Options& 
   options.boundaries.face(2, 1).reference_point = {0.0, 0.0, o.cells_up * kCell};
   options.drag_law = cfd::DragLaw::gidaspow;
   options.coupling_steps = o.coupling_steps;
+  options.solver.advection = o.advection;
   return cfdem::FluidCoupling::attach(world, std::move(options));
 }
 
@@ -144,10 +148,11 @@ int run(const Options& o) {
   }
   const double dem = wall - fluid_side;
   std::cout << fmt::format(
-      "QUARRY_FLUID_BENCH particles={} cells={} threads={} coupling_steps={} coupled_steps={} wall_s={:.4f} "
+      "QUARRY_FLUID_BENCH particles={} cells={} threads={} advection={} coupling_steps={} coupled_steps={} wall_s={:.4f} "
       "step_ms={:.4f}{} dem_ms={:.4f} fluid_over_dem={:.4f} pressure_iterations={:.2f} momentum_iterations={:.2f} "
       "fluid_dt_ms={:.4f} fluid_stable_dt_ms={:.4f} rss_mb={:.1f} state_hash={:016x}\n",
-      world.particles.size(), coupling->options().grid.cell_count(), o.threads, o.coupling_steps, o.coupled_steps, wall,
+      world.particles.size(), coupling->options().grid.cell_count(), o.threads,
+      o.advection == cfd::Advection::hybrid ? "hybrid" : "central", o.coupling_steps, o.coupled_steps, wall,
       wall * per_step, parts, dem * per_step, fluid_side / dem,
       static_cast<double>(iterations) / o.coupled_steps, static_cast<double>(momentum_iterations) / o.coupled_steps,
       o.coupling_steps * world.dt * 1e3, stable_dt * 1e3, bench::peak_rss_bytes() / 1048576.0, sim::state_hash(world));
@@ -169,6 +174,10 @@ int main(int argc, char** argv) {
   app.add_option("--coupled-steps", o.coupled_steps, "timed coupled steps")->check(CLI::PositiveNumber);
   app.add_option("--coupling-steps", o.coupling_steps, "DEM steps per fluid step (default 10)")
       ->check(CLI::PositiveNumber);
+  const std::map<std::string, cfd::Advection> schemes{{"central", cfd::Advection::central},
+                                                      {"hybrid", cfd::Advection::hybrid}};
+  app.add_option("--advection", o.advection, "the fluid's advection scheme: central (default) or hybrid")
+      ->transform(CLI::CheckedTransformer(schemes));
   CLI11_PARSE(app, argc, argv);
   try {
     return run(o);

@@ -1,22 +1,24 @@
 #!/usr/bin/env bash
 # The CFD-DEM fluidised bed (issue 18, "Performance"): quarry_fluidised_bed at 10k beads in
 # 16 x 16 x 200 cells and 100k beads in 40 x 40 x 40 cells (both >= 50k cells), 1 and 2 threads
-# interleaved, REPEATS times (default 3), at each coupling interval of COUPLING (DEM steps per
-# fluid step; default "10 40": 0.25 and 1 ms; the runs print the fluid's least stable step over
-# the timed steps, fluid_stable_dt_ms, which counts the drag: docs/cfd.md "Time step" advises
-# about half of it). Every interval covers the same simulated time: a warm-up of 400 DEM steps
-# and 1,200 (10k) or 800 (100k) timed ones, so the DEM figures compare. Each run's
+# interleaved, REPEATS times (default 3), at each coupling of COUPLING, DEM steps per fluid step
+# and the fluid's advection scheme (default "10:central 40:central 160:hybrid": 0.25, 1 and 4 ms;
+# the runs print the fluid's least stable step over the timed steps, fluid_stable_dt_ms, which
+# counts the drag for central advection and is the CFL limit for hybrid: docs/cfd.md "Time
+# step" advises about half of it). Every interval covers the same simulated time: a warm-up of
+# 480 DEM steps and 1,280 (10k) or 960 (100k) timed ones, so the DEM figures compare. Each run's
 # QUARRY_FLUID_BENCH line goes to bench/results/DATE-CPU-fluid.txt with the machine line; the
 # summary (medians per size and thread count: ms per coupled step, the fluid side's parts, the
 # DEM, fluid/DEM) is printed and appended. Copy the figures into docs/performance.md.
-# usage: bench/run_fluid.sh   (BUILD_DIR=build/release, REPEATS=3, COUPLING="10 40", SKIP_BUILD=1,
+# usage: bench/run_fluid.sh   (BUILD_DIR=build/release, REPEATS=3, COUPLING="10:central 40:central
+#                             160:hybrid", SKIP_BUILD=1,
 #                             QUIET_WAIT=30)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 BUILD_DIR=${BUILD_DIR:-build/release}
 REPEATS=${REPEATS:-3}
-COUPLING=${COUPLING:-10 40}
+COUPLING=${COUPLING:-10:central 40:central 160:hybrid}
 QUIET_WAIT=${QUIET_WAIT:-30}
 source bench/lib.sh
 build_bench quarry_fluidised_bed
@@ -32,8 +34,9 @@ trap 'rm -rf "$work"' EXIT
   echo "# CFD-DEM fluidised bed (bench/run_fluid.sh), $(date -u '+%F %H:%M') UTC"
   machine_line
 } > "$out"
-sizes=("10000 16 200 400 1200" "100000 40 40 400 800")  # beads, cells across, cells up, DEM steps warm-up, timed
-for interval in $COUPLING; do
+sizes=("10000 16 200 480 1280" "100000 40 40 480 960")  # beads, cells across, cells up, DEM steps warm-up, timed
+for coupling in $COUPLING; do
+  interval=${coupling%%:*}
   for size in "${sizes[@]}"; do
     read -r beads across up warmup_dem timed_dem <<<"$size"
     if (( warmup_dem % interval || timed_dem % interval )); then
@@ -44,13 +47,14 @@ done
 for repeat in $(seq 1 "$REPEATS"); do
   for size in "${sizes[@]}"; do
     read -r beads across up warmup_dem timed_dem <<<"$size"
-    for interval in $COUPLING; do
+    for coupling in $COUPLING; do
+      interval=${coupling%%:*} advection=${coupling#*:}
       warmup=$((warmup_dem / interval)) steps=$((timed_dem / interval))
       for threads in 1 2; do
         wait_quiet
         b0=$(busy); t0=$(date +%s.%N)
         line=$(cd "$work" && "$ROOT/$bin" --particles "$beads" --cells-across "$across" --cells-up "$up" \
-                 --warmup "$warmup" --coupled-steps "$steps" --coupling-steps "$interval" --threads "$threads" \
+                 --warmup "$warmup" --coupled-steps "$steps" --coupling-steps "$interval" --advection "$advection" --threads "$threads" \
                  2>/dev/null | grep '^QUARRY_FLUID_BENCH')
         b1=$(busy); t1=$(date +%s.%N)
         # Cores the others used during the run: all busy jiffies less this run's own CPU time.
@@ -61,11 +65,11 @@ for repeat in $(seq 1 "$REPEATS"); do
     done
   done
 done
-# Medians per (beads, interval, threads).
+# Medians per (beads, interval and scheme, threads).
 summary=$(awk '
   /^QUARRY_FLUID_BENCH/ {
     delete kv; for (i = 2; i <= NF; ++i) { split($i, f, "="); kv[f[1]] = f[2] }
-    key = kv["particles"] " " kv["coupling_steps"] " " kv["threads"]; keys[key] = 1; n[key]++
+    key = kv["particles"] " " kv["coupling_steps"] ":" kv["advection"] " " kv["threads"]; keys[key] = 1; n[key]++
     for (name in kv) v[key, name, n[key]] = kv[name]
   }
   function median(key, name,   m, i, j, t, a) {
@@ -74,7 +78,7 @@ summary=$(awk '
     return m % 2 ? a[(m + 1) / 2] : (a[m / 2] + a[m / 2 + 1]) / 2
   }
   END {
-    printf "| beads | cells | DEM steps per fluid step | threads | ms per coupled step | fluid step | void fraction | drag | fluid values | particle forces | DEM | fluid side / DEM | fluid dt / its stable dt |\n"
+    printf "| beads | cells | DEM steps per fluid step: advection | threads | ms per coupled step | fluid step | void fraction | drag | fluid values | particle forces | DEM | fluid side / DEM | fluid dt / its stable dt |\n"
     printf "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
     for (key in keys) {
       split(key, k, " ")

@@ -165,8 +165,8 @@ void FluidSolver::momentum_unknown_range(int axis, int& first, int& last) const 
 // Momentum predictor, per component a at its faces, volume-integrated (V = ΔxΔyΔz):
 // [ρ ε^{n+1}/dt + β] u* − ∇·(ε^{n+1} μ ∇u*) = ρ ε^n u^n/dt − ρ ∇·(ε^n u^n u^n)
 //                                              − (ε^{n+1} | 1) ∂p^n/∂x_a + f_a + ε^{n+1} ρ g_a
-// (model A | B). Advection: central, flux form, the mass flux εu averaged to the momentum cell's
-// faces (second order). Viscous fluxes: ε at the cell centre (normal) or the edge average of
+// (model A | B). Advection: central (second order) or hybrid (options_.advection), flux form,
+// the mass flux εu averaged to the momentum cell's faces. Viscous fluxes: ε at the cell centre (normal) or the edge average of
 // four cells (tangential); walls and inlets as Dirichlet values at the face.
 void FluidSolver::predict_momentum(double dt) {
   const double rho = properties_.density;
@@ -174,6 +174,21 @@ void FluidSolver::predict_momentum(double dt) {
   const double volume = grid_.cell_volume();
   const Vec3& h = grid_.cell_size;
   const bool model_a = options_.model == VolumeAveragedModel::a;
+  const double nu = mu / rho;  // m²/s
+  const bool hybrid = options_.advection == Advection::hybrid;
+  // The momentum flux (m²/s²) through a face of mass flux εu (m/s) between the values `low`
+  // and `high` (m/s), central; hybrid takes (|εu|/2 − νε/Δx)⁺ (high − low) off where positive
+  // (`conductance` = νε/Δx, m/s), i.e. where the face's Péclet number exceeds 2: the face then
+  // diffuses |εu|Δx/2 in all, the physical viscosity included (implicit below), and carries
+  // the upwind value. Where it is not positive nothing is subtracted: central's bits.
+  const auto advective_flux = [hybrid](double mass_flux, double low, double high, double conductance) {
+    double flux = mass_flux * 0.5 * (low + high);
+    if (hybrid) {
+      const double excess = 0.5 * std::abs(mass_flux) - conductance;
+      if (excess > 0.0) flux -= excess * (high - low);
+    }
+    return flux;
+  };
   const std::vector<double>& eps_old = void_fraction_old_;
   const std::vector<double>& eps = void_fraction_new_;
   auto face_eps_old = [&](int b, std::size_t face) {
@@ -228,19 +243,28 @@ void FluidSolver::predict_momentum(double dt) {
         const double beta_face = 0.5 * (drag_[cell_low] + drag_[cell_high]);
         const double force_face = 0.5 * (force_[a][cell_low] + force_[a][cell_high]);
 
-        // −∇·(ε^n u u) at this face, central (per unit volume).
+        // −∇·(ε^n u u) at this face (per unit volume): central, or hybrid with the diffusion
+        // beyond the physical one, (|εu|/2 − νε/Δx)⁺ (u_high − u_low), that makes it upwind.
         double advection = 0.0;
         for (int b = 0; b < 3; ++b) {
           const std::ptrdiff_t sb = stride_[b];
           double flux_high = 0.0, flux_low = 0.0;
           const std::vector<double>& m = mass_flux_old_[b];
           if (b == a) {
-            flux_high = 0.5 * (m[face] + m[face + sa]) * 0.5 * (u[face] + u[face + sa]);
-            flux_low = 0.5 * (m[face - sa] + m[face]) * 0.5 * (u[face - sa] + u[face]);
+            flux_high = advective_flux(0.5 * (m[face] + m[face + sa]), u[face], u[face + sa],
+                                       nu * eps[cell_high] / h[b]);
+            flux_low = advective_flux(0.5 * (m[face - sa] + m[face]), u[face - sa], u[face],
+                                      nu * eps[cell_low] / h[b]);
           } else {
             const std::size_t low_up = cell_low + sb, high_up = cell_high + sb;
-            flux_high = 0.5 * (m[low_up] + m[high_up]) * 0.5 * (u[face] + u[face + sb]);
-            flux_low = 0.5 * (m[cell_low] + m[cell_high]) * 0.5 * (u[face - sb] + u[face]);
+            flux_high = advective_flux(
+                0.5 * (m[low_up] + m[high_up]), u[face], u[face + sb],
+                nu * 0.25 * (eps[cell_low] + eps[cell_high] + eps[low_up] + eps[high_up]) / h[b]);
+            flux_low = advective_flux(0.5 * (m[cell_low] + m[cell_high]), u[face - sb], u[face],
+                                      nu * 0.25 *
+                                          (eps[cell_low] + eps[cell_high] + eps[cell_low - sb] +
+                                           eps[cell_high - sb]) /
+                                          h[b]);
           }
           advection += (flux_high - flux_low) / h[b];
         }
@@ -495,7 +519,8 @@ void FluidSolver::check_step_health(double dt) const {
     throw std::runtime_error(
         fmt::format("fluid solver, step {}: the velocity is no longer finite after a step of dt = "
                     "{} s; keep dt at "
-                    "about half of stable_time_step() (CFL, and 2ν/|u|² where there is no drag)",
+                    "about half of stable_time_step() (CFL, and for central advection 2ν/|u|² where there is "
+                    "no drag; hybrid advection needs only the CFL limit)",
                     step_count_, dt));
   }
 }

@@ -26,8 +26,18 @@ namespace quarry::cfd {
 // caller coupling particles puts β v̄_p there, plus any other force density).
 enum class VolumeAveragedModel { a, b };
 
+// The explicit advection of the momentum predictor (docs/cfd.md "Discretisation", "Time step").
+// central: second order; stable only while the implicit viscosity and drag damp it (cell
+// Péclet number |u|Δx/ν ≲ 2, or a strong drag). hybrid (Spalding 1972; Patankar 1980 §5.2.6):
+// central where a face's Péclet number is ≤ 2, beyond it first-order upwind with the physical
+// viscosity's share taken back, so that the face diffuses max(ν, |u|Δx/2); stable up to the
+// CFL limit whatever the viscosity and drag, first order where it upwinds. Identical bits to
+// central where every face's Péclet number is ≤ 2.
+enum class Advection { central, hybrid };
+
 struct FluidSolverOptions {
   VolumeAveragedModel model = VolumeAveragedModel::a;
+  Advection advection = Advection::central;
   Vec3 gravity;                       // g (m/s²)
   double pressure_tolerance = 1e-10;  // relative residual of the pressure solve
   double velocity_tolerance = 1e-10;  // relative residual of the implicit momentum solves
@@ -109,11 +119,11 @@ class FluidSolver {
   double face_velocity(int axis, int i, int j, int k) const;
   // max over fluid cells of |∇·(εu) + ∂ε/∂t| of the last step (1/s).
   double divergence_norm() const { return report_.divergence; }
-  // Largest dt for the explicit central advection (forward Euler): the CFL limit
-  // 1/Σ_a(max|u_a|/Δx_a), and in every fluid cell the step up to which the implicit viscosity
-  // and drag damp every Fourier mode (without drag 2ν/Σ_a u_a², ν = μ/ρ; with β/(ρε) ≫ |u|/Δx
-  // no limit; docs/cfd.md "Time step"). +∞ at rest. Callers use a fraction of it (0.5
-  // recommended). Cost: O(cells).
+  // Largest dt for the explicit advection (forward Euler): the CFL limit 1/Σ_a(max|u_a|/Δx_a);
+  // for central advection also, in every fluid cell, the step up to which the implicit
+  // viscosity and drag damp every Fourier mode (without drag 2ν/Σ_a u_a², ν = μ/ρ; with
+  // β/(ρε) ≫ |u|/Δx no limit; docs/cfd.md "Time step"). Hybrid advection needs only the CFL
+  // limit. +∞ at rest. Callers use a fraction of it (0.5 recommended). Cost: O(cells).
   double stable_time_step() const;
   const FluidStepReport& last_report() const { return report_; }
   const FluidGrid& grid() const { return grid_; }

@@ -119,6 +119,11 @@ double FluidSolver::stable_time_step() const {
     convective += largest / grid_.cell_size[a];
   }
   if (convective == 0.0) return std::numeric_limits<double>::infinity();
+  // Hybrid advection: the step multiplies a mode by g = N/(1 + d + Σ 2 r_a (1 − cos θ_a)) with
+  // N = (1 − Σc_a) + Σ_up [c_a e^{−iθ_a} + 2 r_a (1 − cos θ_a)] + Σ_central c_a (1 − i sin θ_a),
+  // c_a ≤ 2 r_a on the central faces. While Σc_a ≤ 1 (CFL) the triangle inequality gives
+  // |N| ≤ 1 + Σ_up 2 r_a (1 − cos θ_a) + Σ_central c_a sin²θ_a/2 ≤ the denominator: no other limit.
+  if (options_.advection == Advection::hybrid) return 1.0 / convective;
   // Forward-Euler central advection damped by the implicit viscosity and drag, cell by cell
   // (frozen coefficients; docs/cfd.md "Time step"). A Fourier mode is multiplied per step by
   // g = (1 − i Σ c_a sin θ_a)/(1 + d + Σ 2 r_a (1 − cos θ_a)), c_a = |u_a| dt/Δx_a,

@@ -546,29 +546,46 @@ TEST(FluidSolverTest, StableTimeStepFromAdvectionLimits) {
 // grows at that step without it.
 // Water (ν = 1e-6 m²/s), U = 0.05 m/s, Δx = 1 mm, ε = 0.5, β = 5,000 kg/(m³·s) (β/(ρε) = 10/s):
 // the drag lets the step go from 2ν/U² = 0.8 ms to 2(β/ρε)/((U/Δx)² − (β/ρε)²) = 8.3 ms.
-TEST(FluidSolverTest, StableTimeStepWithDragDampsEveryMode) {
-  constexpr double kRho = 1000.0, kMu = 1e-3, kH = 1e-3, kU = 0.05, kEps = 0.5, kBeta = 5000.0;
+// The Fourier mode of the two tests below: water (ρ = 1000 kg/m³, μ = 1e-3 Pa·s) in a periodic
+// row of 16 x 2 x 2 cells of Δx = 1 mm at ε = 0.5, u = (U, 1e-3 U sin(θ x/Δx), 0), U = 0.05 m/s.
+namespace mode {
+constexpr double kRho = 1000.0, kMu = 1e-3, kH = 1e-3, kU = 0.05, kEps = 0.5, kAmplitude = 1e-3 * kU;
+constexpr double kNu = kMu / kRho;  // m²/s
+
+std::unique_ptr<FluidSolver> bed(double theta, double beta, Advection advection = Advection::central) {
   FluidGrid grid;
   grid.cells = {16, 2, 2};
   grid.cell_size = {kH, kH, kH};
   FluidBoundaries boundaries;
   for (int a = 0; a < 3; ++a) boundaries.set_periodic(a);
-  const double nu = kMu / kRho;
-  // The solver with the mode of wavenumber θ (per cell) at amplitude 1e-3 U, and β.
-  const auto bed = [&](double theta, double beta) {
-    auto solver = std::make_unique<FluidSolver>(grid, FluidProperties{kRho, kMu}, boundaries);
-    solver->set_void_fraction(std::vector<double>(grid.cell_count(), kEps));
-    std::fill(solver->drag_coefficient().begin(), solver->drag_coefficient().end(), beta);
-    solver->set_velocity([&](const Vec3& x) { return Vec3{kU, 1e-3 * kU * std::sin(theta * x.x / kH), 0.0}; });
-    return solver;
-  };
-  const auto energy = [&](const FluidSolver& solver) {  // Σ u_y² over the y faces (m²/s²)
-    double sum = 0.0;
-    for (int k = 0; k < 2; ++k)
-      for (int j = 0; j < 2; ++j)
-        for (int i = 0; i < 16; ++i) sum += std::pow(solver.face_velocity(1, i, j, k), 2);
-    return sum;
-  };
+  FluidSolverOptions options;
+  options.advection = advection;
+  auto solver = std::make_unique<FluidSolver>(grid, FluidProperties{kRho, kMu}, boundaries, options);
+  solver->set_void_fraction(std::vector<double>(grid.cell_count(), kEps));
+  std::fill(solver->drag_coefficient().begin(), solver->drag_coefficient().end(), beta);
+  solver->set_velocity([&](const Vec3& x) { return Vec3{kU, kAmplitude * std::sin(theta * x.x / kH), 0.0}; });
+  return solver;
+}
+
+double energy(const FluidSolver& solver) {  // Σ u_y² over the y faces (m²/s²)
+  double sum = 0.0;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 16; ++i) sum += std::pow(solver.face_velocity(1, i, j, k), 2);
+  return sum;
+}
+
+double growth(FluidSolver& solver, double dt) {  // |g|² of the mode over one step
+  const double before = energy(solver);
+  solver.step(dt);
+  return energy(solver) / before;
+}
+}  // namespace mode
+
+TEST(FluidSolverTest, StableTimeStepWithDragDampsEveryMode) {
+  using namespace mode;
+  constexpr double kBeta = 5000.0;
+  const double nu = kNu;
   const double dt = bed(std::numbers::pi / 2.0, kBeta)->stable_time_step();
   const double drag_free = 2.0 * nu / (kU * kU);
   EXPECT_GT(dt, 10.0 * drag_free);
@@ -576,9 +593,7 @@ TEST(FluidSolverTest, StableTimeStepWithDragDampsEveryMode) {
   for (const double theta : {std::numbers::pi / 2.0, std::numbers::pi / 4.0, std::numbers::pi / 8.0}) {
     for (const double beta : {kBeta, 0.0}) {
       const auto solver = bed(theta, beta);
-      const double before = energy(*solver);
-      solver->step(dt);
-      const double measured = energy(*solver) / before;
+      const double measured = growth(*solver, dt);
       const double c = kU * dt / kH, r = nu * dt / (kH * kH), d = beta * dt / (kRho * kEps);
       const double expected =
           (1.0 + std::pow(c * std::sin(theta), 2)) / std::pow(1.0 + d + 2.0 * r * (1.0 - std::cos(theta)), 2);
@@ -589,10 +604,77 @@ TEST(FluidSolverTest, StableTimeStepWithDragDampsEveryMode) {
     }
   }
   // Without the drag the same step lets the shortest mode grow: the drag is what makes it stable.
-  const auto undamped = bed(std::numbers::pi / 2.0, 0.0);
-  const double before = energy(*undamped);
-  undamped->step(dt);
-  EXPECT_GT(energy(*undamped) / before, 1.1);
+  EXPECT_GT(growth(*bed(std::numbers::pi / 2.0, 0.0), dt), 1.1);
+}
+
+
+// Hybrid advection (Spalding 1972; Patankar 1980, Numerical Heat Transfer and Fluid Flow, §5.2.6)
+// needs only the CFL limit. The same mode as above, in water without drag at a cell Péclet number
+// UΔx/ν = 50: each x face takes (U/2 − ν/Δx)(u_high − u_low) off the central flux, so
+// g = (1 − i c sin θ − (c − 2r)(1 − cos θ))/(1 + d + 2r(1 − cos θ)) (c > 2r; docs/cfd.md "Time
+// step"). stable_time_step() is the CFL limit, 1/(U/Δx + max|u_y|/Δx), 25 times 2ν/U²'s bound
+// on central advection here; at it and at half of it every mode is damped, as measured to the
+// formula, while central advection at the same step makes the shortest mode grow by 85 %.
+TEST(FluidSolverTest, HybridAdvectionDampsEveryModeUpToTheCflLimit) {
+  using namespace mode;
+  const double nu = kNu;
+  const double stable = bed(std::numbers::pi / 2.0, 0.0, Advection::hybrid)->stable_time_step();
+  // max|u_y| over the faces is the amplitude times the largest |sin| sampled at the cell centres.
+  double largest_sine = 0.0;
+  for (int i = 0; i < 16; ++i) largest_sine = std::max(largest_sine, std::abs(std::sin(std::numbers::pi / 2.0 * (i + 0.5))));
+  EXPECT_NEAR(stable, 1.0 / (kU / kH + kAmplitude * largest_sine / kH), 1e-15);
+  EXPECT_GT(stable, 20.0 * 2.0 * nu / (kU * kU));
+  for (const double dt : {stable, 0.5 * stable}) {
+    for (const double theta : {std::numbers::pi / 2.0, std::numbers::pi / 4.0, std::numbers::pi / 8.0}) {
+      for (const double beta : {0.0, 5000.0}) {
+        const auto solver = bed(theta, beta, Advection::hybrid);
+        const double measured = growth(*solver, dt);
+        const double c = kU * dt / kH, r = nu * dt / (kH * kH), d = beta * dt / (kRho * kEps);
+        const double real = 1.0 - (c - 2.0 * r) * (1.0 - std::cos(theta)), imaginary = c * std::sin(theta);
+        const double expected =
+            (real * real + imaginary * imaginary) / std::pow(1.0 + d + 2.0 * r * (1.0 - std::cos(theta)), 2);
+        EXPECT_NEAR(measured, expected, 1e-8) << dt << " " << theta << " " << beta;
+        EXPECT_LE(measured, 1.0) << dt << " " << theta << " " << beta;
+      }
+    }
+  }
+  EXPECT_GT(growth(*bed(std::numbers::pi / 2.0, 0.0, Advection::central), stable), 1.8);
+}
+
+// Where every face's Péclet number |εu|Δx/(νε) is at most 2, hybrid advection is central to the
+// bit; where it is not (the same flow, 4000 times less viscous), it is not.
+TEST(FluidSolverTest, HybridAdvectionIsCentralWherePecletNumbersAreSmall) {
+  FluidGrid grid;
+  grid.cells = {8, 6, 5};
+  grid.cell_size = {0.1, 0.1, 0.1};
+  FluidBoundaries boundaries;
+  boundaries.set_periodic(0);
+  boundaries.face(1, 0).kind = BoundaryKind::velocity_inlet;
+  boundaries.face(1, 0).velocity = {0.1, 0.5, 0.0};
+  boundaries.face(1, 1).kind = BoundaryKind::pressure_outlet;
+  boundaries.face(2, 1).velocity = {0.3, 0.0, 0.0};  // a sliding wall
+  const auto velocities = [&](double viscosity, Advection advection) {
+    FluidSolverOptions options;
+    options.advection = advection;
+    FluidSolver solver(grid, FluidProperties{1000.0, viscosity}, boundaries, options);
+    std::vector<double> eps(grid.cell_count());
+    for (std::size_t c = 0; c < eps.size(); ++c) eps[c] = 0.7 + 0.1 * std::sin(0.7 * static_cast<double>(c));
+    solver.set_void_fraction(eps);
+    solver.set_velocity([](const Vec3& x) {
+      return Vec3{0.5 * std::sin(6.0 * x.y), 0.5 + 0.3 * std::cos(5.0 * x.x), 0.4 * std::sin(7.0 * x.x + 3.0 * x.y)};
+    });
+    for (int n = 0; n < 3; ++n) solver.step(2e-3);
+    std::vector<double> u;
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < grid.cells[2]; ++k)
+        for (int j = 0; j < grid.cells[1]; ++j)
+          for (int i = 0; i < grid.cells[0]; ++i) u.push_back(solver.face_velocity(a, i, j, k));
+    return u;
+  };
+  // |u| ≤ 1.5 m/s with the ghost values, Δx = 0.1 m, face ε from 0.6 to 0.8: Péclet ≤ 2 needs
+  // ν ≥ 0.1 m²/s; ν = 0.2 m²/s (μ = 200 Pa·s).
+  EXPECT_EQ(velocities(200.0, Advection::hybrid), velocities(200.0, Advection::central));
+  EXPECT_NE(velocities(0.05, Advection::hybrid), velocities(0.05, Advection::central));
 }
 
 }  // namespace

@@ -47,6 +47,8 @@ FluidCouplingOptions coupling_options_from_spec(const World& world) {
   options.blocked = blocked_cells_from_spec(world, options.grid);
   check_blocked_cells(spec, options.grid, options.boundaries, options.blocked);
   options.solver.model = spec.model.value == FluidModel::b ? cfd::VolumeAveragedModel::b : cfd::VolumeAveragedModel::a;
+  options.solver.advection =
+      spec.advection.value == FluidAdvection::hybrid ? cfd::Advection::hybrid : cfd::Advection::central;
   // Δt_f = n Δt_DEM with n a whole number (the seed's rule: physical times must match).
   const double ratio = spec.time_step.value / world.dt;
   const double steps = std::round(ratio);

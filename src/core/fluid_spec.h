@@ -15,6 +15,7 @@ namespace quarry {
 
 enum class FluidBoundaryType { wall, velocity_inlet, pressure_outlet, periodic };
 enum class FluidModel { a, b };
+enum class FluidAdvection { central, hybrid };
 
 struct FluidFaceSpec {
   Located<FluidBoundaryType> type{FluidBoundaryType::wall};
@@ -66,6 +67,7 @@ struct FluidSpec {
   Located<Vec3> cells{Vec3{1.0, 1.0, 1.0}};     // integers ≥ 1 per axis
   std::array<FluidFaceSpec, 6> faces;           // x_min, x_max, y_min, y_max, z_min, z_max
   Located<FluidModel> model{FluidModel::a};
+  Located<FluidAdvection> advection{FluidAdvection::central};  // cfd::Advection
   Located<std::string> drag_law{std::string("stokes")};  // a name of cfd::kDragLawNames
   std::optional<FluidDragUdfSpec> drag_udf;     // replaces drag_law when present
   std::vector<FluidMonitorSpec> monitors;

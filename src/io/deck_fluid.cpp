@@ -25,6 +25,9 @@ const EnumChoices<FluidBoundaryType> kFluidBoundaryTypes{
 
 const EnumChoices<FluidModel> kFluidModels{"fluid model", {{"A", FluidModel::a}, {"B", FluidModel::b}}};
 
+const EnumChoices<FluidAdvection> kFluidAdvections{
+    "fluid advection scheme", {{"central", FluidAdvection::central}, {"hybrid", FluidAdvection::hybrid}}};
+
 const EnumChoices<FluidMonitorType> kFluidMonitorTypes{
     "fluid monitor type",
     {{"pressure_drop", FluidMonitorType::pressure_drop},
@@ -161,12 +164,13 @@ void read_fluid_section(MapReader& root, const DeckParseOptions& options,
   DeckContext& context = map.context();
   FluidSpec spec;
   spec.where = map.location();
-  map.reject_unknown_keys({"density", "viscosity", "time_step", "grid", "boundaries", "model",
+  map.reject_unknown_keys({"density", "viscosity", "time_step", "grid", "boundaries", "model", "advection",
                            "drag_law", "drag_udf", "monitors", "blocked"});
   map.read("density", spec.density, positive(), "kg/m³");
   map.read("viscosity", spec.viscosity, positive(), "Pa·s");
   map.read("time_step", spec.time_step, positive(), "s", Presence::required);
   map.read("model", spec.model, kFluidModels);
+  map.read("advection", spec.advection, kFluidAdvections);
 
   if (map.require("grid")) {
     MapReader grid(context, *map.find("grid"), *map.find_key("grid"), "grid");
@@ -273,6 +277,7 @@ std::string fluid_section_text(const FluidSpec& spec) {
     out += "}\n";
   }
   out += "  model: " + spelling_of(kFluidModels, spec.model.value) + "\n";
+  out += "  advection: " + spelling_of(kFluidAdvections, spec.advection.value) + "\n";
   if (spec.drag_udf)
     out += fmt::format("  drag_udf: {{library: {}, function: {}}}\n", quoted(spec.drag_udf->library.value),
                        quoted(spec.drag_udf->function.value));

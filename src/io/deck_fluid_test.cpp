@@ -34,6 +34,7 @@ fluid:
     z_max: {type: pressure_outlet, reference_pressure: 101325, reference_point: [0, 0, 0.006]}
   model: A
   drag_udf: {library: libs/usrStokesDrag.so, function: usrStokesDrag}
+  advection: hybrid
 )";
 
 void expect_fluid(const FluidSpec& f) {
@@ -54,6 +55,7 @@ void expect_fluid(const FluidSpec& f) {
   EXPECT_EQ(f.faces[5].reference_pressure.value, 101325.0);
   EXPECT_EQ(f.faces[5].reference_point.value, (Vec3{0, 0, 0.006}));
   EXPECT_EQ(f.model.value, FluidModel::a);
+  EXPECT_EQ(f.advection.value, FluidAdvection::hybrid);
   ASSERT_TRUE(f.drag_udf.has_value());
   EXPECT_EQ(f.drag_udf->function.value, "usrStokesDrag");
 }
@@ -96,6 +98,7 @@ TEST(DeckFluid, DefaultsAndTheBuiltInLaw) {
   EXPECT_EQ(spec.fluid->viscosity.value, 1e-3);
   EXPECT_EQ(spec.fluid->drag_law.value, "schiller_naumann");
   EXPECT_FALSE(spec.fluid->drag_udf.has_value());
+  EXPECT_EQ(spec.fluid->advection.value, FluidAdvection::central);
   for (const FluidFaceSpec& face : spec.fluid->faces) EXPECT_EQ(face.type.value, FluidBoundaryType::wall);
 }
 
