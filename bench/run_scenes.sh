@@ -133,7 +133,11 @@ bench_one() {   # scene code threads skin rep
     R_LOOP=$(awk -v t="$total" -v o="${output:-0}" 'BEGIN{printf "%.6g", t-o}')
     R_NB=$(sed -n 's/.* \([0-9]*\) list rebuilds.*/\1/p' <<<"$line")
     R_SHARE=$(awk -v n="$neigh" -v l="$R_LOOP" 'BEGIN{if(l>0 && n!="") printf "%.4f", n/l}')
-    R_NEIGH=""; R_COORD=""
+    R_NEIGH=""
+    # The mean coordination number at the end, 2 × particle-particle contacts / particles, as
+    # the peers' contact/atom sum per particle (walls not counted in either).
+    R_COORD=$(awk -F, 'NR==1{for(i=1;i<=NF;++i) c[$i]=i; next}
+                       {p=$c["particles"]; k=$c["particle_contacts"]} END{if(p>0) printf "%.4f", 2*k/p}' "$RUNS/out/monitors.csv")
     # monitors.csv: time_s, particles, kinetic_energy_J, ..., the scene's mass monitor (last column)
     awk -F, 'NR==1{for(i=1;i<=NF;++i) c[$i]=i; next}
              {print $c["time_s"], $NF, $c["kinetic_energy_J"], $c["particles"]}' "$RUNS/out/monitors.csv" > "$rows"
@@ -143,8 +147,9 @@ bench_one() {   # scene code threads skin rep
     timed_run "$tag" "$log" "$RUNS" $launch liggghts -in in.lig.scene -var dfile "$s.data" -var mesh "$s.stl" \
       -var period "$period" -var skin "$skin" -var dt "$DT" -var nsteps "$STEPS" -var every "$RECORD" -log none
     parse_run_log liggghts "$log" "$STEPS"
-    # thermo rows "step atoms m_above m_rising ke" between the header and the Loop line
-    awk -v dt="$DT" -v s="$s" '/^ *Step /{on=1; next} /^Loop time/{on=0} on && $1 ~ /^[0-9]+$/ {
+    # thermo rows "step atoms m_above m_rising ke" between the header and the timed run's Loop
+    # line (the contacts' run 0 after it has rows of its own)
+    awk -v dt="$DT" -v s="$s" '/^ *Step /{on=1; next} /^Loop time/{exit} on && $1 ~ /^[0-9]+$/ {
          print $1*dt, (s == "hopper" ? $3 : $4), $5, $2 }' "$log" > "$rows"
   fi
   local metrics; metrics=$(second_half "$s" "$rows")

@@ -34,7 +34,7 @@ double torque_about_axis(const Vec3& torque_about_origin, const Vec3& force, con
 std::vector<std::string> monitor_columns(const World& world, std::size_t surface_count) {
   std::vector<std::string> c = {"time_s", "particles", "kinetic_energy_J", "mean_speed_m_s",
                                 "mean_vx_m_s", "mean_vy_m_s", "mean_vz_m_s", "contacts",
-                                "removed_outside"};
+                                "particle_contacts", "removed_outside"};
   for (std::size_t s = 0; s < surface_count; ++s)
     for (const char* q : {"Fx_N", "Fy_N", "Fz_N", "F_N", "Tx_Nm", "Ty_Nm", "Tz_Nm"})
       c.push_back(world.surfaces[s].mesh.name + "_" + q);
@@ -58,8 +58,9 @@ std::vector<double> monitor_row(World& world, std::size_t surface_count) {
   }
   const double n = static_cast<double>(p.size());
   if (n > 0) speed /= n, velocity /= n;
+  const auto pairs = static_cast<double>(world.pair_contact_count());
   std::vector<double> row = {world.time, n, kinetic, speed, velocity.x, velocity.y, velocity.z,
-                             static_cast<double>(world.pair_contact_count() + world.wall_contact_count()),
+                             pairs + static_cast<double>(world.wall_contact_count()), pairs,
                              static_cast<double>(world.removed_outside)};
   for (std::size_t s = 0; s < surface_count; ++s) {
     const Vec3 f = world.surfaces[s].mesh.total_force, t = world.surfaces[s].mesh.total_torque;

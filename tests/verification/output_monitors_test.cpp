@@ -143,7 +143,8 @@ TEST(OutputVerification, ContactsFileHoldsHertzForcesAndTheParticlesTheirContact
 // A ball sliding on the floor: once the tangential spring has stretched to the Coulomb limit the
 // friction force in the contacts file is |Ft| = μs |Fn| (Coulomb's law of sliding friction; μs =
 // 0.3 here, no dashpot), against the sliding direction; the same for two balls sliding past
-// each other (pair forces evaluated at the frame's state).
+// each other (pair forces evaluated at the frame's state). The monitors count the two contacts,
+// one of them between particles.
 TEST(OutputVerification, ContactsFileHoldsCoulombFrictionWhileSliding) {
   std::vector<sim::NewParticle> balls(3);
   balls[0].position = {0, 0, kRadius - 5e-5};
@@ -165,6 +166,11 @@ TEST(OutputVerification, ContactsFileHoldsCoulombFrictionWhileSliding) {
   const std::vector<Vec3> ends = vtu_test::vectors_of(contacts.arrays.at("Points"));
   EXPECT_LT(ends[0].z < ends[1].z ? tangential[0].y : -tangential[0].y, 0.0);
   EXPECT_LT(tangential[1].x, 0.0);  // the floor: on the ball, which slides along +x
+  // monitors.csv counts both contacts, and the particle–particle one alone.
+  const std::vector<std::string> columns = sim::monitor_columns(world, world.surfaces.size());
+  const std::vector<double> row = sim::monitor_row(world, world.surfaces.size());
+  EXPECT_EQ(row[column_index(columns, "contacts")], 2.0);
+  EXPECT_EQ(row[column_index(columns, "particle_contacts")], 1.0);
 }
 
 // A particle monitor follows a ball in free fall: z(t) = z0 − g t²/2. Velocity Verlet integrates a
