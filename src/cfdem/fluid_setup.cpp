@@ -49,10 +49,14 @@ FluidCouplingOptions coupling_options_from_spec(const World& world) {
   options.solver.model = spec.model.value == FluidModel::b ? cfd::VolumeAveragedModel::b : cfd::VolumeAveragedModel::a;
   options.solver.advection =
       spec.advection.value == FluidAdvection::hybrid ? cfd::Advection::hybrid : cfd::Advection::central;
-  // Δt_f = n Δt_DEM with n a whole number (the seed's rule: physical times must match).
+  // Δt_f = n Δt_DEM with n a whole number (the seed's rule: physical times must match). A DEM
+  // step the deck fixed must divide the fluid's; an automatic one (a Rayleigh fraction, which
+  // moves with the materials and sizes) takes the whole number of its steps at or below the
+  // fluid's (at least one), so the two stay commensurate whichever the deck changes.
   const double ratio = spec.time_step.value / world.dt;
-  const double steps = std::round(ratio);
-  if (steps < 1.0 || std::abs(ratio - steps) > 1e-9 * steps)
+  const bool automatic = !world.spec.simulation.fixed_time_step.has_value();
+  const double steps = automatic ? std::max(1.0, std::floor(ratio * (1.0 + 1e-9))) : std::round(ratio);
+  if (!automatic && (steps < 1.0 || std::abs(ratio - steps) > 1e-9 * steps))
     throw UserError(spec.time_step.where,
                     fmt::format("the fluid time step {:.6g} s is not a whole multiple of the DEM time "
                                 "step {:.6g} s (ratio {:.9g})",

@@ -128,10 +128,16 @@ int command_check(const std::string& deck) {
   if (fluid) {
     const cfd::FluidGrid& g = fluid->options().grid;
     const std::size_t blocked = fluid->blocked_cells().count;
-    std::cout << fmt::format("{}: fluid grid {} x {} x {} = {}, {} blocked ({:.1f} %), fluid step {:.4g} s ({} DEM steps)\n",
+    const double fluid_step = fluid->options().coupling_steps * world.dt;  // s
+    const double asked = spec.fluid->time_step.value;                       // s, the deck's
+    const std::string rounded =
+        std::abs(fluid_step - asked) > 1e-9 * asked
+            ? fmt::format("; the deck's {:.4g} s rounded down to whole steps of the automatic DEM step", asked)
+            : "";
+    std::cout << fmt::format("{}: fluid grid {} x {} x {} = {}, {} blocked ({:.1f} %), fluid step {:.4g} s ({} DEM steps{})\n",
                              deck, g.cells[0], g.cells[1], g.cells[2], count(g.cell_count(), "cell", "cells"), blocked,
                              100.0 * static_cast<double>(blocked) / static_cast<double>(g.cell_count()),
-                             fluid->options().coupling_steps * world.dt, fluid->options().coupling_steps);
+                             fluid_step, fluid->options().coupling_steps, rounded);
   }
   return 0;
 }
