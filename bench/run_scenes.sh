@@ -13,7 +13,9 @@
 # discharge rate and the rising side's share over the run's second half. Writes
 #   bench/results/<date>-<machine>-scenes.csv   one row per timed run
 #   bench/results/<date>-<machine>-scenes.md    medians, Quarry/LIGGGHTS, rebuilds, the neighbour
-#                                               stage's share, the physics check
+#                                               stage's share, the mean coordination number at the
+#                                               end (particle-particle contacts, both codes), the
+#                                               physics check
 #   bench/results/<date>-<machine>-scenes.png   particle-steps per second against the threads
 # Usage:  bash bench/run_scenes.sh                          # hopper and drum, 3 repeats
 #         SCENES=drum REPEATS=1 THREADS=1 bash bench/run_scenes.sh
