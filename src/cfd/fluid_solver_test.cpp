@@ -154,7 +154,7 @@ TEST(FluidSolverTest, TaylorGreenSecondOrderInSpace) {
 // A 3-D box with every boundary kind but periodic in z, a blocked block, ε varying in space and
 // time and drag: after each step ∇·(εu) + ∂ε/∂t vanishes to the pressure tolerance, i.e.
 // ‖r‖∞ ≤ ‖r‖₂ ≤ tol ‖r*‖₂ ≤ tol √N ‖r*‖∞ with r* the residual of the predicted velocity.
-FluidSolver mixed_box(const Threading& threading) {
+FluidSolver mixed_box(const Threading& threading, Advection advection = Advection::central) {
   FluidGrid grid;
   grid.cells = {16, 12, 8};
   grid.cell_size = {0.1, 0.1, 0.1};
@@ -167,6 +167,7 @@ FluidSolver mixed_box(const Threading& threading) {
   FluidSolverOptions options;
   options.gravity = {0.0, -9.81, 0.0};
   options.threading = threading;
+  options.advection = advection;
   FluidSolver solver(grid, FluidProperties{1000.0, 1.0}, boundaries, options);
   for (int k = 0; k < 8; ++k) {
     for (int j = 3; j < 6; ++j) {
@@ -223,38 +224,40 @@ TEST(FluidSolverTest, DivergenceFreeToSolverToleranceAfterEveryStep) {
 
 // Same inputs and steps on 1 and on 2 threads (every loop on a team: threshold 0), and with the
 // team switched between steps as the run loop's thread governor does: identical bits.
+// Both advection schemes (hybrid upwinds here: face Péclet numbers up to about 20).
 TEST(FluidSolverTest, OneAndTwoThreadsBitIdentical) {
-  std::vector<std::vector<double>> results;
-  for (int threads : {1, 2, 0}) {  // 0: 2, 1, 2, 1, … from step to step
-    Threading threading;
-    threading.threads = threads == 0 ? 2 : threads;
-    threading.threshold = 0;
-    FluidSolver solver = mixed_box(threading);
-    const FluidGrid& grid = solver.grid();
-    for (int n = 1; n <= 5; ++n) {
-      if (threads == 0) {
-        threading.threads = n % 2 == 1 ? 2 : 1;
-        solver.set_threading(threading);
+  for (const Advection advection : {Advection::central, Advection::hybrid}) {
+    std::vector<std::vector<double>> results;
+    for (int threads : {1, 2, 0}) {  // 0: 2, 1, 2, 1, … from step to step
+      Threading threading;
+      threading.threads = threads == 0 ? 2 : threads;
+      threading.threshold = 0;
+      FluidSolver solver = mixed_box(threading, advection);
+      const FluidGrid& grid = solver.grid();
+      for (int n = 1; n <= 5; ++n) {
+        if (threads == 0) {
+          threading.threads = n % 2 == 1 ? 2 : 1;
+          solver.set_threading(threading);
+        }
+        solver.set_void_fraction(porosity_at(grid, n * 0.01));
+        solver.step(0.01);
       }
-      solver.set_void_fraction(porosity_at(grid, n * 0.01));
-      solver.step(0.01);
-    }
-    std::vector<double> state;
-    for (int k = 0; k < grid.cells[2]; ++k) {
-      for (int j = 0; j < grid.cells[1]; ++j) {
-        for (int i = 0; i < grid.cells[0]; ++i) {
-          for (int a = 0; a < 3; ++a) state.push_back(solver.face_velocity(a, i, j, k));
-          state.push_back(solver.pressure(i, j, k));
+      std::vector<double> state;
+      for (int k = 0; k < grid.cells[2]; ++k) {
+        for (int j = 0; j < grid.cells[1]; ++j) {
+          for (int i = 0; i < grid.cells[0]; ++i) {
+            for (int a = 0; a < 3; ++a) state.push_back(solver.face_velocity(a, i, j, k));
+            state.push_back(solver.pressure(i, j, k));
+          }
         }
       }
+      results.push_back(state);
     }
-    results.push_back(state);
-  }
-  for (std::size_t r = 1; r < results.size(); ++r) {
-    ASSERT_EQ(results[0].size(), results[r].size());
-    EXPECT_EQ(std::memcmp(results[0].data(), results[r].data(), results[0].size() * sizeof(double)),
-              0)
-        << "variant " << r;
+    for (std::size_t r = 1; r < results.size(); ++r) {
+      ASSERT_EQ(results[0].size(), results[r].size());
+      EXPECT_EQ(std::memcmp(results[0].data(), results[r].data(), results[0].size() * sizeof(double)), 0)
+          << "variant " << r << (advection == Advection::hybrid ? ", hybrid" : ", central");
+    }
   }
 }
 
