@@ -166,8 +166,9 @@ void FluidSolver::momentum_unknown_range(int axis, int& first, int& last) const 
 // [ρ ε^{n+1}/dt + β] u* − ∇·(ε^{n+1} μ ∇u*) = ρ ε^n u^n/dt − ρ ∇·(ε^n u^n u^n)
 //                                              − (ε^{n+1} | 1) ∂p^n/∂x_a + f_a + ε^{n+1} ρ g_a
 // (model A | B). Advection: central (second order) or hybrid (options_.advection), flux form,
-// the mass flux εu averaged to the momentum cell's faces. Viscous fluxes: ε at the cell centre (normal) or the edge average of
-// four cells (tangential); walls and inlets as Dirichlet values at the face.
+// the mass flux εu averaged to the momentum cell's faces. Viscous fluxes: ε at the cell centre
+// (normal) or the edge average of four cells (tangential); walls and inlets as Dirichlet values
+// at the face.
 void FluidSolver::predict_momentum(double dt) {
   const double rho = properties_.density;
   const double mu = properties_.viscosity;

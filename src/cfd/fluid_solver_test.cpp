@@ -624,7 +624,8 @@ TEST(FluidSolverTest, HybridAdvectionDampsEveryModeUpToTheCflLimit) {
   const double stable = bed(std::numbers::pi / 2.0, 0.0, Advection::hybrid)->stable_time_step();
   // max|u_y| over the faces is the amplitude times the largest |sin| sampled at the cell centres.
   double largest_sine = 0.0;
-  for (int i = 0; i < 16; ++i) largest_sine = std::max(largest_sine, std::abs(std::sin(std::numbers::pi / 2.0 * (i + 0.5))));
+  for (int i = 0; i < 16; ++i)
+    largest_sine = std::max(largest_sine, std::abs(std::sin(std::numbers::pi / 2.0 * (i + 0.5))));
   EXPECT_NEAR(stable, 1.0 / (kU / kH + kAmplitude * largest_sine / kH), 1e-15);
   EXPECT_GT(stable, 20.0 * 2.0 * nu / (kU * kU));
   for (const double dt : {stable, 0.5 * stable}) {

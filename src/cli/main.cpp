@@ -134,7 +134,8 @@ int command_check(const std::string& deck) {
         std::abs(fluid_step - asked) > 1e-9 * asked
             ? fmt::format("; the deck's {:.4g} s rounded down to whole steps of the automatic DEM step", asked)
             : "";
-    std::cout << fmt::format("{}: fluid grid {} x {} x {} = {}, {} blocked ({:.1f} %), fluid step {:.4g} s ({} DEM steps{})\n",
+    std::cout << fmt::format("{}: fluid grid {} x {} x {} = {}, {} blocked ({:.1f} %), "
+                             "fluid step {:.4g} s ({} DEM steps{})\n",
                              deck, g.cells[0], g.cells[1], g.cells[2], count(g.cell_count(), "cell", "cells"), blocked,
                              100.0 * static_cast<double>(blocked) / static_cast<double>(g.cell_count()),
                              fluid_step, fluid->options().coupling_steps, rounded);
