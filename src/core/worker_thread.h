@@ -1,9 +1,13 @@
 // WorkerThread: one thread that runs one task at a time for its owner, who hands a task over
-// (start) and later waits for it (wait). The thread sleeps on a condition variable between tasks,
-// so it costs nothing while idle, even on a busy machine, and is reused from task to task (a new
-// std::thread per task costs tens of µs to start).
+// (start) and later waits for it (wait). Both sides spin a short while (kSpin) before sleeping
+// on a condition variable: on a virtual machine waking sleeping threads cost the structure
+// alongside the DEM some 0.15 ms per step (the vCPU halts; bench/micro/worker_thread_bench.cpp);
+// a longer wait sleeps, so an idle worker costs nothing. The thread is reused from task to task
+// (a new std::thread per task costs tens of µs to start).
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -14,6 +18,11 @@ namespace quarry {
 
 class WorkerThread {
  public:
+  // How long either side spins before it sleeps: longer than the gaps of a DEM step's handover
+  // (the serial hooks between two steps, a structure finishing a little after the DEM), short
+  // against anything worth sleeping through.
+  static constexpr std::chrono::microseconds kSpin{3000};
+
   WorkerThread();
   ~WorkerThread();  // waits for a task under way, then ends the thread
   WorkerThread(const WorkerThread&) = delete;
@@ -29,9 +38,10 @@ class WorkerThread {
 
   std::mutex mutex_;
   std::condition_variable changed_;
-  std::function<void()> task_;
-  bool busy_ = false, stopping_ = false;
-  std::exception_ptr error_;
+  std::function<void()> task_;          // under mutex_
+  std::exception_ptr error_;            // under mutex_
+  std::atomic<bool> busy_{false};       // written under mutex_, read by the spinning side too
+  std::atomic<bool> stopping_{false};   // likewise
   std::thread thread_;  // last: started once the members above exist
 };
 

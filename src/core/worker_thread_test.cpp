@@ -65,6 +65,24 @@ TEST(WorkerThread, ATasksExceptionReachesWaitAndTheWorkerGoesOn) {
   worker.wait();
 }
 
+// Both sides spin kSpin before they sleep: a task longer than that is still waited for (the
+// caller sleeps and is woken), and a worker idle longer than that still takes the next task.
+TEST(WorkerThread, HandsOverPastTheSpinOnBothSides) {
+  WorkerThread worker;
+  const auto beyond_spin = 3 * WorkerThread::kSpin;
+  int ran = 0;
+  worker.start([&ran, beyond_spin] {
+    std::this_thread::sleep_for(beyond_spin);
+    ran = 1;
+  });
+  worker.wait();  // spins, then sleeps until the task is done
+  EXPECT_EQ(ran, 1);
+  std::this_thread::sleep_for(beyond_spin);  // the worker is asleep by now
+  worker.start([&ran] { ran = 2; });
+  worker.wait();
+  EXPECT_EQ(ran, 2);
+}
+
 TEST(WorkerThread, DestroyedWhileATaskRunsItWaitsForIt) {
   std::atomic<int> finished{0};
   {
