@@ -127,7 +127,8 @@ bench_one() {   # scene code threads skin rep
   wait_quiet
   if [ "$code" = quarry ]; then
     timed_run "$tag" "$log" "$RUNS" env OMP_PROC_BIND=false "$QBIN" run "${s}_skin$skin.yaml" --threads "$np" --overwrite
-    # "quarry: S steps in T s (...), N particles, R removed (left the domain), B list rebuilds"
+    # "quarry: S steps in T s (...), N particles, R removed (left the domain), B list rebuilds (P listed
+    # pairs per particle at the end)"
     local line total output neigh
     line=$(grep -m1 '^quarry: [0-9]* steps in' "$log" || true)
     total=$(awk '/^total \(wall\)/{print $3}' "$log"); output=$(awk '/^output /{print $2}' "$log")
@@ -135,7 +136,9 @@ bench_one() {   # scene code threads skin rep
     R_LOOP=$(awk -v t="$total" -v o="${output:-0}" 'BEGIN{printf "%.6g", t-o}')
     R_NB=$(sed -n 's/.* \([0-9]*\) list rebuilds.*/\1/p' <<<"$line")
     R_SHARE=$(awk -v n="$neigh" -v l="$R_LOOP" 'BEGIN{if(l>0 && n!="") printf "%.4f", n/l}')
-    R_NEIGH=""
+    # the summary's "(P listed pairs per particle at the end)": the half list with its skin, as
+    # the peers' "Ave neighs/atom"
+    R_NEIGH=$(sed -n 's/.*(\([0-9.]*\) listed pairs per particle.*/\1/p' <<<"$line")
     # The mean coordination number at the end, 2 × particle-particle contacts / particles, as
     # the peers' contact/atom sum per particle (walls not counted in either).
     R_COORD=$(awk -F, 'NR==1{for(i=1;i<=NF;++i) c[$i]=i; next}

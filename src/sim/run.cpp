@@ -134,14 +134,21 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
         log << fmt::format("quarry: note: factory '{}' had not finished at the end time\n",
                            factory.spec().name.value);
   }
+  // The listed pairs per particle at the end (the half list with its skin): LIGGGHTS' "Total #
+  // of neighbors" / atoms, for the benchmarks' side-by-side tables.
+  const std::string listed =
+      world.particles.size() > 0
+          ? fmt::format(" ({:.2f} listed pairs per particle at the end)",
+                        static_cast<double>(world.pairs.size()) / static_cast<double>(world.particles.size()))
+          : std::string();
   log << fmt::format("quarry: {} in {:.2f} s ({:.0f} steps/s, {:.3g} particle-steps/s), {}, {} removed "
-                     "(left the domain), {}\n",
+                     "(left the domain), {}{}\n",
                      plural(summary.steps, "step", "steps"), summary.wall_seconds,
                      summary.steps / std::max(summary.wall_seconds, 1e-9),
                      static_cast<double>(summary.steps) * static_cast<double>(world.particles.size()) /
                          std::max(summary.wall_seconds, 1e-9),
                      plural(world.particles.size(), "particle", "particles"), world.removed_outside,
-                     plural(world.rebuilds, "list rebuild", "list rebuilds"));
+                     plural(world.rebuilds, "list rebuild", "list rebuilds"), listed);
   // The table's stages and its "untimed" line add up to the wall time above (issue 20: the
   // output at the end was missing, the table summed 63 s of a 71 s run).
   if (requested > 1 && options.adapt_threads && governor.steps_with_one() > 0)
