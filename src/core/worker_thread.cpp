@@ -1,27 +1,53 @@
 // WorkerThread (worker_thread.h).
 #include "core/worker_thread.h"
 
+#include <ctime>
 #include <stdexcept>
 #include <utility>
 
 namespace quarry {
 namespace {
 
-// True once `done()` holds, false if WorkerThread::kSpin passed first. Reads the clock every
-// 64 turns; each turn tells the core it is spinning (a pause on x86).
-template <class Done>
-bool spin_until(Done done) {
-  const auto deadline = std::chrono::steady_clock::now() + WorkerThread::kSpin;
-  for (unsigned turn = 1;; ++turn) {
-    if (done()) return true;
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
-    if (turn % 64 == 0 && std::chrono::steady_clock::now() >= deadline) return false;
-  }
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 }  // namespace
+
+// True once `done()` holds, false if WorkerThread::kSpin passed first or if this side's spins
+// have lately not had a core to themselves. That is how a busy machine shows: a spinning thread
+// then takes turns on its core with another runnable thread (another process, or the very thread
+// it waits for), and its CPU time falls behind the wall time. It then sleeps at once (the other
+// runs instead), but spins every kProbe-th time to look again.
+template <class Done>
+bool WorkerThread::Spin::until(Done done) {
+  using Clock = std::chrono::steady_clock;
+  constexpr double kOwnCore = 0.75;  // CPU time / wall time of the recent spins to keep spinning
+  constexpr unsigned kProbe = 16;
+  ++calls;
+  if (wall > 0.0 && cpu < kOwnCore * wall && calls % kProbe != 0) return false;
+  const auto start = Clock::now();
+  const double cpu_start = thread_cpu_seconds();
+  bool finished = false;
+  for (unsigned turn = 1;; ++turn) {
+    if (done()) {
+      finished = true;
+      break;
+    }
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+    if (turn % 64 == 0 && Clock::now() - start >= kSpin) break;
+  }
+  // The recent spins' CPU and wall time, each spin weighing 1/8 (an exponential mean).
+  const double spin_wall = std::chrono::duration<double>(Clock::now() - start).count();
+  const double spin_cpu = thread_cpu_seconds() - cpu_start;
+  cpu = 0.875 * cpu + 0.125 * spin_cpu;
+  wall = 0.875 * wall + 0.125 * spin_wall;
+  return finished;
+}
 
 WorkerThread::WorkerThread() : thread_([this] { loop(); }) {}
 
@@ -47,7 +73,7 @@ void WorkerThread::start(std::function<void()> task) {
 }
 
 void WorkerThread::wait() {
-  spin_until([this] { return !busy_.load(std::memory_order_acquire); });
+  waiter_spin_.until([this] { return !busy_.load(std::memory_order_acquire); });
   std::exception_ptr error;
   {
     std::unique_lock lock(mutex_);
@@ -59,7 +85,7 @@ void WorkerThread::wait() {
 
 void WorkerThread::loop() {
   for (;;) {
-    spin_until([this] { return busy_.load(std::memory_order_acquire) || stopping_.load(std::memory_order_acquire); });
+    worker_spin_.until([this] { return busy_.load(std::memory_order_acquire) || stopping_.load(std::memory_order_acquire); });
     std::unique_lock lock(mutex_);
     changed_.wait(lock, [this] { return busy_.load() || stopping_.load(); });
     if (!busy_.load()) return;  // stopping, nothing to do

@@ -1,9 +1,11 @@
 // WorkerThread: one thread that runs one task at a time for its owner, who hands a task over
-// (start) and later waits for it (wait). Both sides spin a short while (kSpin) before sleeping
-// on a condition variable: on a virtual machine waking sleeping threads cost the structure
-// alongside the DEM some 0.15 ms per step (the vCPU halts; bench/micro/worker_thread_bench.cpp);
-// a longer wait sleeps, so an idle worker costs nothing. The thread is reused from task to task
-// (a new std::thread per task costs tens of µs to start).
+// (start) and later waits for it (wait). Both sides spin a while (up to kSpin) before sleeping
+// on a condition variable: on a virtual machine, waking sleeping threads cost the structure
+// alongside the DEM some 0.15 ms per step (the vCPU halts; bench/micro/worker_thread_bench.cpp).
+// A side whose recent spins did not have a core to themselves (a busy machine) sleeps at once,
+// so that the thread it waits for, or another process, gets the core. A longer wait sleeps, so an
+// idle worker costs nothing. The thread is reused from task to task (a new std::thread per task
+// costs tens of µs to start).
 #pragma once
 
 #include <atomic>
@@ -35,6 +37,16 @@ class WorkerThread {
 
  private:
   void loop();
+
+  // One side's spinning (worker_thread.cpp): the recent spins' CPU and wall time, s.
+  struct Spin {
+    double cpu = 0.0, wall = 0.0;
+    unsigned calls = 0;
+    template <class Done>
+    bool until(Done done);
+  };
+  Spin waiter_spin_;  // the owner's, in wait()
+  Spin worker_spin_;  // the worker's, between tasks
 
   std::mutex mutex_;
   std::condition_variable changed_;
