@@ -85,7 +85,9 @@ void WorkerThread::wait() {
 
 void WorkerThread::loop() {
   for (;;) {
-    worker_spin_.until([this] { return busy_.load(std::memory_order_acquire) || stopping_.load(std::memory_order_acquire); });
+    worker_spin_.until([this] {
+      return busy_.load(std::memory_order_acquire) || stopping_.load(std::memory_order_acquire);
+    });
     std::unique_lock lock(mutex_);
     changed_.wait(lock, [this] { return busy_.load() || stopping_.load(); });
     if (!busy_.load()) return;  // stopping, nothing to do

@@ -139,7 +139,8 @@ RunSummary run_loop(World& world, const RunOptions& options, double end_time, Cl
   const std::string listed =
       world.particles.size() > 0
           ? fmt::format(" ({:.2f} listed pairs per particle at the end)",
-                        static_cast<double>(world.pairs.size()) / static_cast<double>(world.particles.size()))
+                        static_cast<double>(world.pairs.size()) /
+                            static_cast<double>(world.particles.size()))
           : std::string();
   log << fmt::format("quarry: {} in {:.2f} s ({:.0f} steps/s, {:.3g} particle-steps/s), {}, {} removed "
                      "(left the domain), {}{}\n",
