@@ -11,12 +11,18 @@
 
 namespace quarry {
 
+class SharedLoop;
+
 struct Threading {
   int threads = 0;  // 0: the caller's OpenMP default (OMP_NUM_THREADS, or the cores)
   // Loops over fewer items than this run on one thread: below it, starting a team costs more
   // than the work. Results are bit-identical either way; the determinism tests set it to 0 so
   // that small scenes do run on several threads.
   std::size_t threshold = 2048;
+  // Where a loop that would run on one thread may be shared with a thread that waits for it
+  // (SharedLoop; the structure's steps beside the DEM's): null, nowhere. Only loops whose items
+  // write their own results use it, so results do not depend on it either.
+  SharedLoop* shared = nullptr;
 
   // Threads for a loop over n items.
   int team(std::size_t n) const {

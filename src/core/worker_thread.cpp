@@ -20,15 +20,18 @@ double thread_cpu_seconds() {
 // have lately not had a core to themselves. That is how a busy machine shows: a spinning thread
 // then takes turns on its core with another runnable thread (another process, or the very thread
 // it waits for), and its CPU time falls behind the wall time. It then sleeps at once (the other
-// runs instead), but spins every kProbe-th time to look again.
-template <class Done>
-bool WorkerThread::Spin::until(Done done) {
+// runs instead), but spins every kProbe-th time to look again. Between looks it calls help(),
+// which may run some of the awaited work itself (SharedLoop::help); kSpin then counts from the
+// last time it did.
+template <class Done, class Help>
+bool WorkerThread::Spin::until(Done done, Help help) {
   using Clock = std::chrono::steady_clock;
   constexpr double kOwnCore = 0.75;  // CPU time / wall time of the recent spins to keep spinning
   constexpr unsigned kProbe = 16;
   ++calls;
   if (wall > 0.0 && cpu < kOwnCore * wall && calls % kProbe != 0) return false;
-  const auto start = Clock::now();
+  const auto wall_start = Clock::now();
+  auto start = wall_start;
   const double cpu_start = thread_cpu_seconds();
   bool finished = false;
   for (unsigned turn = 1;; ++turn) {
@@ -36,13 +39,17 @@ bool WorkerThread::Spin::until(Done done) {
       finished = true;
       break;
     }
+    if (help()) {
+      start = Clock::now();
+      continue;
+    }
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
 #endif
     if (turn % 64 == 0 && Clock::now() - start >= kSpin) break;
   }
   // The recent spins' CPU and wall time, each spin weighing 1/8 (an exponential mean).
-  const double spin_wall = std::chrono::duration<double>(Clock::now() - start).count();
+  const double spin_wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
   const double spin_cpu = thread_cpu_seconds() - cpu_start;
   cpu = 0.875 * cpu + 0.125 * spin_cpu;
   wall = 0.875 * wall + 0.125 * spin_wall;
@@ -73,7 +80,8 @@ void WorkerThread::start(std::function<void()> task) {
 }
 
 void WorkerThread::wait() {
-  waiter_spin_.until([this] { return !busy_.load(std::memory_order_acquire); });
+  waiter_spin_.until([this] { return !busy_.load(std::memory_order_acquire); },
+                     [this] { return shared_loops_.help(); });
   std::exception_ptr error;
   {
     std::unique_lock lock(mutex_);
@@ -85,9 +93,11 @@ void WorkerThread::wait() {
 
 void WorkerThread::loop() {
   for (;;) {
-    worker_spin_.until([this] {
-      return busy_.load(std::memory_order_acquire) || stopping_.load(std::memory_order_acquire);
-    });
+    worker_spin_.until(
+        [this] {
+          return busy_.load(std::memory_order_acquire) || stopping_.load(std::memory_order_acquire);
+        },
+        [] { return false; });
     std::unique_lock lock(mutex_);
     changed_.wait(lock, [this] { return busy_.load() || stopping_.load(); });
     if (!busy_.load()) return;  // stopping, nothing to do

@@ -16,6 +16,8 @@
 #include <mutex>
 #include <thread>
 
+#include "core/shared_loop.h"
+
 namespace quarry {
 
 class WorkerThread {
@@ -33,7 +35,11 @@ class WorkerThread {
   // Runs `task` on the worker. Pre: no task under way (wait() returned since the last start).
   void start(std::function<void()> task);
   // Blocks until the task has returned; rethrows what it threw. No task under way: returns.
+  // While it spins it runs items of the task's shared loops (shared_loops()).
   void wait();
+  // Loops the task may run through (SharedLoop::run) so that its owner, waiting in wait(),
+  // takes items of them instead of only spinning.
+  SharedLoop& shared_loops() { return shared_loops_; }
 
  private:
   void loop();
@@ -42,11 +48,12 @@ class WorkerThread {
   struct Spin {
     double cpu = 0.0, wall = 0.0;
     unsigned calls = 0;
-    template <class Done>
-    bool until(Done done);
+    template <class Done, class Help>
+    bool until(Done done, Help help);
   };
   Spin waiter_spin_;  // the owner's, in wait()
   Spin worker_spin_;  // the worker's, between tasks
+  SharedLoop shared_loops_;
 
   std::mutex mutex_;
   std::condition_variable changed_;

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "core/diagnostics.h"
+#include "core/shared_loop.h"
 #include "fem/shell_element_batch.h"
 
 namespace quarry::fem {
@@ -25,12 +26,18 @@ namespace {
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_standard_layout_v<Vec3>);
 double* dofs(std::vector<Vec3>& field) { return &field.data()->x; }
 
-// body(i) for i in [0, count) on `team` threads (static schedule), or for a team of one as a
-// plain loop: libgomp ends even a one-thread region with a futex wake, a system call (with the
-// 4 regions of a step, 5 % of the samples on the 1,296-quad plate: n 36, one thread, +7 %).
+// body(i) for i in [0, count) on `team` threads (static schedule); for a team of one shared
+// with a waiting thread where `threading` has one (SharedLoop: the structure beside the DEM), else
+// as a plain loop: libgomp ends even a one-thread region with a futex wake, a system call (with
+// the 4 regions of a step, 5 % of the samples on the 1,296-quad plate: n 36, one thread, +7 %).
+// Every body here writes only its own item's results: the same bits however it runs.
 template <class Body>
-void parallel_for(int team, int count, const Body& body) {
+void parallel_for(const Threading& threading, int team, int count, const Body& body) {
   if (team <= 1) {
+    if (threading.shared != nullptr) {
+      threading.shared->run(count, body);
+      return;
+    }
     for (int i = 0; i < count; ++i) body(i);
     return;
   }
@@ -362,7 +369,16 @@ void ShellSolver::compute_element_forces(double dt) {
     element_internal_energy_[e] = forces.internal_energy_increment;
     element_hourglass_energy_[e] = forces.hourglass_energy_increment;
   };
-  if (element_team <= 1) {  // (see parallel_for)
+  if (element_team <= 1 && options_.threading.shared != nullptr) {
+    // Items of kBatchesPerItem batches (32 quads, some 5 µs), then the singles, one item each.
+    constexpr int kBatchesPerItem = 4;
+    const int batch_items = (batches + kBatchesPerItem - 1) / kBatchesPerItem;
+    options_.threading.shared->run(batch_items + singles, [&](int item) {
+      if (item >= batch_items) return run_single(item - batch_items);
+      const int end = std::min(batches, (item + 1) * kBatchesPerItem);
+      for (int b = item * kBatchesPerItem; b < end; ++b) run_batch(b);
+    });
+  } else if (element_team <= 1) {  // (see parallel_for)
     for (int b = 0; b < batches; ++b) run_batch(b);
     for (int k = 0; k < singles; ++k) run_single(k);
   } else {
@@ -473,7 +489,7 @@ void ShellSolver::step(double dt) {
   // 1. Half kick to t + dt/2 with the forces of t (external loads as set now); the damping's
   // work over the step, α m v² dt on the free DOFs at v(t + dt/2).
   // 2. Drift: x(t + dt) = x(t) + dt v(t + dt/2); the work of the loads over it.
-  parallel_for(node_team, node_blocks, [&](int block) {
+  parallel_for(options_.threading, node_team, node_blocks, [&](int block) {
     const auto [begin, end] = dof_range(block);
     half_kick(v, force, internal_force, inverse_mass, begin, end, half, alpha, true);
     half_kick(w, moment, internal_moment, inverse_inertia, begin, end, half, alpha, true);
@@ -504,7 +520,7 @@ void ShellSolver::step(double dt) {
   // depend on the threads). 4. Half kick to t + dt; the reactions at the prescribed DOFs and
   // their work; the kinetic energy.
   const double* const element_forces = element_forces_.data()->data()->data();
-  parallel_for(node_team, node_blocks, [&](int block) {
+  parallel_for(options_.threading, node_team, node_blocks, [&](int block) {
     const int end_node = std::min(nodes, (block + 1) * kNodeBlock);
     for (int n = block * kNodeBlock; n < end_node; ++n) {
       std::array<double, 6> sum{};

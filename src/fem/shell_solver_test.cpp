@@ -6,16 +6,20 @@
 // and 2 threads; energy balance of a triangle mesh; model validation errors.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <iostream>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/diagnostics.h"
+#include "core/shared_loop.h"
 #include "fem/shell_solver.h"
 #include "fem/shell_test_meshes.h"
 
@@ -250,10 +254,11 @@ TEST(ShellEnergy, HourglassWarningRisesForAnHourglassMotion) {
   EXPECT_TRUE(solver.energies().hourglass_warning);
 }
 
-// A mixed quad/triangle plate with plasticity, loads and damping, stepped with 1 and 2 threads:
-// positions, velocities, energies and stresses must be the same bits.
+// A mixed quad/triangle plate with plasticity, loads and damping, stepped with 1 and 2 threads,
+// and on one thread whose loops another thread joins (SharedLoop, as the structure beside the
+// DEM): positions, velocities, energies and stresses must be the same bits.
 TEST(ShellDeterminism, OneAndTwoThreadsGiveIdenticalBits) {
-  auto run = [](int threads) {
+  auto run = [](int threads, SharedLoop* shared = nullptr) {
     ShellModel model = testing::rectangle(8, 8, 0.2, 0.2, 0.003, testing::MeshKind::quads, 5,
                                           ThicknessRule::lobatto, testing::steel(250e6, 1e9));
     // Cut the last row of cells into triangles.
@@ -273,6 +278,7 @@ TEST(ShellDeterminism, OneAndTwoThreadsGiveIdenticalBits) {
     options.damping = 50.0;
     options.threading.threads = threads;
     options.threading.threshold = 0;
+    options.threading.shared = shared;
     ShellSolver solver(model, options);
     std::vector<NodalLoad> loads(model.nodes.size());
     for (std::size_t n = 0; n < loads.size(); ++n) {
@@ -284,21 +290,33 @@ TEST(ShellDeterminism, OneAndTwoThreadsGiveIdenticalBits) {
     return solver;
   };
   const ShellSolver one = run(1);
+  SharedLoop shared;
+  std::atomic<bool> stop{false};
+  std::atomic<int> helped{0};
+  std::thread helper([&] {
+    while (!stop.load()) helped += shared.help() ? 1 : 0;
+  });
+  const ShellSolver joined = run(1, &shared);
+  stop = true;
+  helper.join();
+  std::cout << "the helper ran items in " << helped.load() << " of the shared loops\n";
   const ShellSolver two = run(2);
-  ASSERT_EQ(one.node_count(), two.node_count());
-  EXPECT_EQ(0, std::memcmp(one.positions().data(), two.positions().data(),
-                           one.positions().size_bytes()));
-  EXPECT_EQ(0, std::memcmp(one.velocities().data(), two.velocities().data(),
-                           one.velocities().size_bytes()));
-  EXPECT_EQ(0, std::memcmp(one.angular_velocities().data(), two.angular_velocities().data(),
-                           one.angular_velocities().size_bytes()));
-  EXPECT_EQ(one.energies().internal, two.energies().internal);
-  EXPECT_EQ(one.energies().hourglass, two.energies().hourglass);
-  EXPECT_EQ(one.energies().kinetic, two.energies().kinetic);
   double plastic = 0.0;
-  for (int e = 0; e < one.element_count(); ++e) {
-    EXPECT_EQ(one.element_result(e).von_mises_top, two.element_result(e).von_mises_top);
-    plastic = std::max(plastic, one.element_result(e).plastic_strain_max);
+  for (const ShellSolver* other : {&two, &joined}) {
+    ASSERT_EQ(one.node_count(), other->node_count());
+    EXPECT_EQ(0, std::memcmp(one.positions().data(), other->positions().data(),
+                             one.positions().size_bytes()));
+    EXPECT_EQ(0, std::memcmp(one.velocities().data(), other->velocities().data(),
+                             one.velocities().size_bytes()));
+    EXPECT_EQ(0, std::memcmp(one.angular_velocities().data(), other->angular_velocities().data(),
+                             one.angular_velocities().size_bytes()));
+    EXPECT_EQ(one.energies().internal, other->energies().internal);
+    EXPECT_EQ(one.energies().hourglass, other->energies().hourglass);
+    EXPECT_EQ(one.energies().kinetic, other->energies().kinetic);
+    for (int e = 0; e < one.element_count(); ++e) {
+      EXPECT_EQ(one.element_result(e).von_mises_top, other->element_result(e).von_mises_top);
+      plastic = std::max(plastic, one.element_result(e).plastic_strain_max);
+    }
   }
   EXPECT_GT(plastic, 0.0);  // the run did reach the plastic branch
 }

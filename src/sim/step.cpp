@@ -69,6 +69,8 @@ class AlongsideHooks {
   void start() {
     if (!threaded_) return;
     if (!world_.alongside) world_.alongside = std::make_unique<WorkerThread>();
+    // Their one-thread loops shared with this thread once it waits for them in finish().
+    world_.alongside_threading.shared = &world_.alongside->shared_loops();
     world_.alongside->start([this] { run(world_.alongside_timers); });
     started_ = true;
   }
