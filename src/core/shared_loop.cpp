@@ -2,6 +2,7 @@
 // few per loop of tens of µs, so the simplest ordering to reason about costs nothing here.
 #include "core/shared_loop.h"
 
+#include <chrono>
 #include <thread>
 
 namespace quarry {
@@ -36,13 +37,17 @@ void SharedLoop::run_items(int count, Call call, const void* body) {
   const std::uint64_t open = make_state(loop, 0, static_cast<std::uint64_t>(count));
   state_.store(open);
   claim_and_run(open, true);
-  // Items a helper claimed may still be running (µs). Yield now and then, so that a helper
-  // descheduled on this core can finish its item.
+  // Items a helper claimed may still be running (some µs each). Past kPatience the helper has
+  // likely lost its core to another process: sleep, so that this core goes idle and the
+  // scheduler can move the helper here to finish its item (a yield keeps the core busy).
+  constexpr auto kPatience = std::chrono::microseconds(50);
+  const auto since = std::chrono::steady_clock::now();
   for (unsigned turn = 1; done_.load() < count; ++turn) {
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
 #endif
-    if (turn % 1024 == 0) std::this_thread::yield();
+    if (turn % 64 == 0 && std::chrono::steady_clock::now() - since > kPatience)
+      std::this_thread::sleep_for(kPatience);
   }
   std::exception_ptr error;
   {

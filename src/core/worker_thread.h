@@ -4,7 +4,8 @@
 // alongside the DEM some 0.15 ms per step (the vCPU halts; bench/micro/worker_thread_bench.cpp).
 // A side whose recent spins did not have a core to themselves (a busy machine) sleeps at once,
 // so that the thread it waits for, or another process, gets the core. A longer wait sleeps, so an
-// idle worker costs nothing. The thread is reused from task to task (a new std::thread per task
+// idle worker costs nothing. While the owner spins in wait() it runs items of the task's shared
+// loops (shared_loops()). The thread is reused from task to task (a new std::thread per task
 // costs tens of µs to start).
 #pragma once
 
