@@ -31,25 +31,30 @@ bool WorkerThread::Spin::until(Done done, Help help) {
   ++calls;
   if (wall > 0.0 && cpu < kOwnCore * wall && calls % kProbe != 0) return false;
   const auto wall_start = Clock::now();
-  auto start = wall_start;
+  auto start = wall_start, last_look = wall_start;  // kSpin counts from start
   const double cpu_start = thread_cpu_seconds();
-  double helped = 0.0;  // s of wall time spent in help() that ran something
+  // s of wall time spent in help() that ran something (from the clock's last reading before
+  // it: up to 64 turns of spinning more, some µs)
+  double helped = 0.0;
   bool finished = false;
   for (unsigned turn = 1;; ++turn) {
     if (done()) {
       finished = true;
       break;
     }
-    const auto before_help = Clock::now();
     if (help()) {
-      start = Clock::now();
-      helped += std::chrono::duration<double>(start - before_help).count();
+      const auto now = Clock::now();
+      helped += std::chrono::duration<double>(now - last_look).count();
+      start = last_look = now;
       continue;
     }
 #if defined(__x86_64__) || defined(__i386__)
     __builtin_ia32_pause();
 #endif
-    if (turn % 64 == 0 && Clock::now() - start >= kSpin) break;
+    if (turn % 64 == 0) {
+      last_look = Clock::now();
+      if (last_look - start >= kSpin) break;
+    }
   }
   // The recent spins' CPU and wall time, each spin weighing 1/8 (an exponential mean). Time
   // spent helping counts as neither (taken off both, as if it had had its core): counted, it
