@@ -13,6 +13,8 @@
 #include <ctime>
 #include <stdexcept>
 
+#include "core/spin_pause.h"
+
 namespace quarry::api {
 
 namespace {
@@ -46,9 +48,7 @@ std::uint32_t wait_change(std::atomic<std::uint32_t>& word, std::uint32_t seen,
     const std::uint32_t now = word.load(std::memory_order_acquire);
     if (now != seen) return now;
     if (k % 64 == 63 && Clock::now() - start >= spin) break;
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
+    spin_pause();
   }
   const auto left = budget - std::chrono::duration_cast<std::chrono::milliseconds>(
                                  Clock::now() - start);

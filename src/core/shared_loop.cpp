@@ -5,6 +5,8 @@
 #include <chrono>
 #include <thread>
 
+#include "core/spin_pause.h"
+
 namespace quarry {
 namespace {
 
@@ -43,9 +45,7 @@ void SharedLoop::run_items(int count, Call call, const void* body) {
   constexpr auto kPatience = std::chrono::microseconds(50);
   const auto since = std::chrono::steady_clock::now();
   for (unsigned turn = 1; done_.load() < count; ++turn) {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
+    spin_pause();
     if (turn % 64 == 0 && std::chrono::steady_clock::now() - since > kPatience)
       std::this_thread::sleep_for(kPatience);
   }

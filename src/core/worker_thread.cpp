@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/spin_pause.h"
+
 namespace quarry {
 namespace {
 
@@ -48,9 +50,7 @@ bool WorkerThread::Spin::until(Done done, Help help) {
       start = last_look = now;
       continue;
     }
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
+    spin_pause();
     if (turn % 64 == 0) {
       last_look = Clock::now();
       if (last_look - start >= kSpin) break;
