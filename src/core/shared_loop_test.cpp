@@ -14,7 +14,7 @@
 namespace quarry {
 namespace {
 
-// A thread calling help() until stopped; counts the items it ran.
+// A thread calling help() until stopped.
 class Helper {
  public:
   explicit Helper(SharedLoop& loop)

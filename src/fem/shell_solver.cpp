@@ -369,18 +369,16 @@ void ShellSolver::compute_element_forces(double dt) {
     element_internal_energy_[e] = forces.internal_energy_increment;
     element_hourglass_energy_[e] = forces.hourglass_energy_increment;
   };
-  if (element_team <= 1 && options_.threading.shared != nullptr) {
-    // Items of kBatchesPerItem batches (32 quads, some 5 µs), then the singles, one item each.
+  if (element_team <= 1) {
+    // Items of kBatchesPerItem batches (32 quads, some 5 µs: a share for a waiting thread,
+    // parallel_for), then the singles, one item each; in order, on one thread.
     constexpr int kBatchesPerItem = 4;
     const int batch_items = (batches + kBatchesPerItem - 1) / kBatchesPerItem;
-    options_.threading.shared->run(batch_items + singles, [&](int item) {
+    parallel_for(options_.threading, 1, batch_items + singles, [&](int item) {
       if (item >= batch_items) return run_single(item - batch_items);
       const int end = std::min(batches, (item + 1) * kBatchesPerItem);
       for (int b = item * kBatchesPerItem; b < end; ++b) run_batch(b);
     });
-  } else if (element_team <= 1) {  // (see parallel_for)
-    for (int b = 0; b < batches; ++b) run_batch(b);
-    for (int k = 0; k < singles; ++k) run_single(k);
   } else {
 #pragma omp parallel num_threads(element_team)
     {
