@@ -12,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <exception>
 #include <functional>
 #include <mutex>
@@ -20,6 +21,27 @@
 #include "core/shared_loop.h"
 
 namespace quarry {
+
+// One side's recent spins (WorkerThread): whether they had a core to themselves, judged by the
+// thread's CPU time against the wall time, each spin weighing 1/8 (an exponential mean).
+class SpinRecord {
+ public:
+  static constexpr double kOwnCore = 0.75;   // CPU / wall time of recent spins to go on spinning
+  static constexpr unsigned kProbe = 16;     // while not: spin every kProbe-th wait, to look again
+  static constexpr double kSample = 100e-6;  // s: a spin shorter than this is no sample
+
+  // At a wait: whether to spin (else sleep at once).
+  bool spin_next();
+  // A spin of `wall` s of wall time and `cpu` s of CPU time, both without the time it helped.
+  void add(double wall, double cpu);
+  // Waits that slept at once.
+  std::uint64_t slept_at_once() const { return slept_at_once_; }
+
+ private:
+  double cpu_ = 0.0, wall_ = 0.0;  // s, the means
+  unsigned calls_ = 0;
+  std::uint64_t slept_at_once_ = 0;
+};
 
 class WorkerThread {
  public:
@@ -45,10 +67,9 @@ class WorkerThread {
  private:
   void loop();
 
-  // One side's spinning (worker_thread.cpp): the recent spins' CPU and wall time, s.
+  // One side's spinning (worker_thread.cpp).
   struct Spin {
-    double cpu = 0.0, wall = 0.0;
-    unsigned calls = 0;
+    SpinRecord record;
     template <class Done, class Help>
     bool until(Done done, Help help);
   };

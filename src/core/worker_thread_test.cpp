@@ -83,6 +83,34 @@ TEST(WorkerThread, HandsOverPastTheSpinOnBothSides) {
   EXPECT_EQ(ran, 2);
 }
 
+// The spin statistics (SpinRecord): spins that lost their core make a side sleep at once, but
+// look again every kProbe-th wait; waits too short to measure (a task found done: some µs, the
+// clocks disagreeing by a third of it) are no evidence either way.
+TEST(SpinRecord, ShortSpinsAreNoEvidenceOfABusyMachine) {
+  SpinRecord record;
+  for (int i = 0; i < 100; ++i) {
+    EXPECT_TRUE(record.spin_next());
+    record.add(2e-6, 1e-6);  // 2 µs of wall time, half of it on the CPU clock
+  }
+  EXPECT_TRUE(record.spin_next());
+  EXPECT_EQ(record.slept_at_once(), 0u);
+}
+
+TEST(SpinRecord, SpinsWithoutACoreMakeItSleepButLookAgain) {
+  SpinRecord record;
+  EXPECT_TRUE(record.spin_next());  // nothing known yet: spin
+  record.add(1e-3, 0.9e-3);         // had its core
+  EXPECT_TRUE(record.spin_next());
+  for (int i = 0; i < 8; ++i) record.add(3e-3, 1e-3);  // shared its core with another thread
+  int spun = 0;
+  for (unsigned i = 0; i < 10 * SpinRecord::kProbe; ++i) spun += record.spin_next();
+  EXPECT_EQ(spun, 10);  // every kProbe-th wait only
+  EXPECT_EQ(record.slept_at_once(), 10 * SpinRecord::kProbe - 10);
+  for (int i = 0; i < 30; ++i) record.add(1e-3, 1e-3);  // the probes found a core again
+  EXPECT_TRUE(record.spin_next());
+  EXPECT_TRUE(record.spin_next());
+}
+
 TEST(WorkerThread, DestroyedWhileATaskRunsItWaitsForIt) {
   std::atomic<int> finished{0};
   {
