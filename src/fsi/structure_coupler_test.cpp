@@ -205,6 +205,60 @@ std::string thrown_beads_deck() {
   return bed_deck("[0, 0, -9.81]", throw_beads, "{rayleigh_fraction: 0.2}");
 }
 
+// The structure's pace between syncs (StructureSide::keep_up): each DEM step gets the steps left
+// to the structure's sync point over the DEM steps left to the DEM's, so within a period no DEM
+// step gets more than one structure step more than another (PERIOD 2.13 DEM steps of 16.3
+// structure steps, the flagship's proportions: stepped up to the DEM's time instead, the
+// structure ran 2 steps in one DEM step and 30 in the next). The pace moves no bit: at every
+// sync the state is that of a structure stepped a whole period at once (finish_period).
+TEST(StructureSide, SpreadsAPeriodsStepsEvenlyOverItsDemSteps) {
+  const CoupledScene scene = make_scene(free_plate(), thrown_beads_deck());
+  fem::ShellSolver paced_solver(scene.adapted.model), whole_solver(scene.adapted.model);
+  const double structure_dt = 0.9 * paced_solver.stable_time_step().time_step;  // s
+  const double dem_dt = 16.3 * structure_dt;                                     // s
+  const ScheduleSettings schedule = resolve_schedule(2.13 * dem_dt, std::nullopt, 1.0);
+  StructureSide paced(paced_solver, scene.mesh.node_of_vertex, 0.9, schedule);
+  StructureSide whole(whole_solver, scene.mesh.node_of_vertex, 0.9, schedule);
+  paced.begin_period(dem_dt);
+  whole.begin_period(dem_dt);
+  std::vector<Vec3> force(scene.mesh.node_of_vertex.size());  // N per vertex, a load that varies
+  std::vector<std::int64_t> shares;  // structure steps per DEM step, this period
+  int periods_checked = 0;
+  double last_sync = 0.0;  // s, the DEM's
+  for (int n = 1; n <= 400; ++n) {
+    const double time = n * dem_dt;  // s, the end of DEM step n
+    const std::int64_t before = paced.structure_steps();
+    paced.keep_up(time, dem_dt);
+    if (!paced.schedule().reached(time, dem_dt)) {
+      shares.push_back(paced.structure_steps() - before);
+      continue;
+    }
+    paced.finish_period(dem_dt);
+    whole.finish_period(dem_dt);
+    shares.push_back(paced.structure_steps() - before);
+    // The first period holds the cycle-2 reset, which recounts its steps once under way.
+    if (paced.schedule().synchronisations() > 0) {
+      const auto [fewest, most] = std::minmax_element(shares.begin(), shares.end());
+      EXPECT_LE(*most - *fewest, 1) << "period ending at DEM step " << n;
+      ++periods_checked;
+    }
+    shares.clear();
+    ASSERT_EQ(paced_solver.time(), whole_solver.time());
+    ASSERT_EQ(paced_solver.state().positions, whole_solver.state().positions);
+    ASSERT_EQ(paced_solver.state().velocities, whole_solver.state().velocities);
+    for (std::size_t k = 0; k < force.size(); ++k)
+      force[k] = Vec3{0.0, 0.01 * std::sin(0.1 * n + k), -0.02 * (1.0 + std::cos(0.3 * n))};
+    for (StructureSide* side : {&paced, &whole}) {
+      side->receive(force, time - last_sync);  // the DEM's window since its last sync
+      side->synchronised();
+      side->begin_period(dem_dt);
+    }
+    last_sync = time;
+  }
+  EXPECT_GT(periods_checked, 150);
+  EXPECT_GT(paced_solver.step_count(), 6000);
+}
+
 // The run loop's path: the coupler as an end-of-step hook of plain sim::step calls gives the
 // same states, bit for bit, as advance_period (between syncs neither solver sees the other).
 TEST(StructureCoupler, StepHookMatchesAdvancePeriod) {

@@ -7,6 +7,7 @@
 // quarry_get_surface_loads returns, so the two paths take the same steps to the bit.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <span>
@@ -52,8 +53,10 @@ class StructureSide {
   // cycle-2 reset.
   void begin_period(double dem_dt);
   bool at_sync() const { return period_steps_done_ == period_steps_; }
-  // Steps the structure while it is behind `dem_time` (s) and short of its sync point (the
-  // built-in coupler after each DEM step).
+  // The structure's share of its period for the DEM step that ends at `dem_time` (s), of
+  // `dem_dt` (the built-in coupler at each DEM step): the steps left to its sync point spread
+  // evenly over the DEM steps left to the DEM's, this one included; at the DEM's sync step, all.
+  // Called again for the same DEM time (the end-of-step hook after the alongside one): nothing.
   void keep_up(double dem_time, double dem_dt);
   // Steps the structure to its sync point.
   void finish_period(double dem_dt);
@@ -102,6 +105,9 @@ class StructureSide {
   std::int64_t period_steps_ = 0, period_steps_done_ = 0;  // this period's
   std::int64_t structure_steps_ = 0;
   std::vector<std::string> messages_;
+  // s, the DEM time keep_up last stepped for; no part of the state (set_state clears it): the
+  // first call after a restart is for a later DEM time in either case.
+  double paced_to_ = -INFINITY;
 };
 
 }  // namespace quarry::fsi
