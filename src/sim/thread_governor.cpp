@@ -1,4 +1,5 @@
-// ThreadGovernor: run → baseline window (chosen team) → probe window (the other team) → decide.
+// ThreadGovernor: run → baseline window (chosen team) → probe window (the other team) → check
+// window (chosen team) → decide.
 #include "sim/thread_governor.h"
 
 #include <algorithm>
@@ -53,17 +54,24 @@ void ThreadGovernor::step_took(double seconds) {
       baseline_per_step_ = phase_seconds_ / static_cast<double>(phase_steps_);
       start_phase(Phase::probe);
       break;
-    case Phase::probe: {
+    case Phase::probe:
       if (!window_full) break;
-      const double probe_per_step = phase_seconds_ / static_cast<double>(phase_steps_);
-      if (probe_per_step < (1.0 - options_.switch_margin) * baseline_per_step_) {
-        chosen_ = current_;  // the other team is faster now: take it, and look again soon
-        ++switches_;
+      probe_per_step_ = phase_seconds_ / static_cast<double>(phase_steps_);
+      start_phase(Phase::check);
+      break;
+    case Phase::check: {
+      if (!window_full) break;
+      const double check_per_step = phase_seconds_ / static_cast<double>(phase_steps_);
+      // The chosen team's time at the probe's moment: the mean of the windows before and after.
+      const double chosen_per_step = 0.5 * (baseline_per_step_ + check_per_step);
+      if (probe_per_step_ < (1.0 - options_.switch_margin) * chosen_per_step) {
+        chosen_ = chosen_ == 1 ? requested_ : 1;  // the other team is faster: take it, and look
+        ++switches_;                              // again soon
         period_seconds_ = options_.first_period_seconds;
-        reference_per_step_ = probe_per_step;
+        reference_per_step_ = probe_per_step_;
       } else {
         period_seconds_ = std::min(2.0 * period_seconds_, options_.max_period_seconds);
-        reference_per_step_ = baseline_per_step_;
+        reference_per_step_ = check_per_step;
       }
       start_phase(Phase::run);
       break;

@@ -4,9 +4,11 @@
 // barrier for the thread the scheduler has set aside: the hopper took 2.0× as long on two
 // threads as on one (docs/performance.md "Threads on a busy machine"). The results are
 // bit-identical for any thread count, so the team may change between any two steps: the governor
-// times a window of steps with the current team, then a window with the other, and keeps the
-// faster. A choice confirmed by a probe is probed again after twice as long (up to a minute),
-// so a steady machine pays little for the probing; sooner if the steps' cost drifts.
+// times a window of steps with the current team, then a window with the other, then one with the
+// current team again, and keeps the faster: the probe against the mean of the windows around it,
+// so that work growing or shrinking steadily over the windows (a pour filling up) weighs on both
+// teams alike. A choice confirmed by a probe is probed again after twice as long (up to a
+// minute), so a steady machine pays little for the probing; sooner if the steps' cost drifts.
 #pragma once
 
 #include <cstdint>
@@ -43,7 +45,7 @@ class ThreadGovernor {
   int switches() const { return switches_; }
 
  private:
-  enum class Phase { run, baseline, probe };
+  enum class Phase { run, baseline, probe, check };  // check: the chosen team after the probe
   void start_phase(Phase phase);
 
   int requested_ = 1;
@@ -54,6 +56,7 @@ class ThreadGovernor {
   double phase_seconds_ = 0.0;       // wall time in this phase so far
   std::uint64_t phase_steps_ = 0;
   double baseline_per_step_ = 0.0;   // s per step of the chosen team just before the probe
+  double probe_per_step_ = 0.0;      // s per step of the other team in the probe
   double reference_per_step_ = 0.0;  // s per step of the chosen team at the last decision
   double window_seconds_ = 0.0;      // the run phase's current window
   std::uint64_t window_steps_ = 0;

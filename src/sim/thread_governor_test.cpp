@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace quarry::sim {
 namespace {
 
@@ -70,6 +72,30 @@ TEST(ThreadGovernor, ProbesAgainWhenTheStepsCostDrifts) {
   // One window of 0.1 s to see the drift, a baseline and a probe window: a few hundred steps,
   // not the rest of a 32 s period (~16,000 steps).
   EXPECT_LT(governor.steps_with_one() - before, 400u);
+}
+
+// The work per step growing steadily (a pour filling up): each window's steps cost 20 % more
+// than the last one's whatever the team, two threads 1.15x faster than one at any moment. The
+// probe of two threads comes after the baseline of one, so against that baseline alone two
+// threads looked slower (1.2 / 1.15 = 1.04); against the mean of the windows before and after
+// the probe (1.2) they are found faster.
+TEST(ThreadGovernor, ComparesTheTeamsAcrossASteadyGrowthOfTheWork) {
+  ThreadGovernor governor(2);
+  feed(governor, 20000, [](int team) { return team == 1 ? 1e-3 : 2e-3; });  // a busy machine
+  ASSERT_EQ(governor.threads(), 1);
+  const double growth = std::log(1.2) / 0.1;  // 1/s: +20 % per 0.1 s of wall time
+  double wall = 0.0;                          // s since the machine became quiet
+  std::uint64_t with_all = 0, steps = 0;
+  while (wall < 1.5) {
+    const int team = governor.threads();
+    const double t = 1e-4 * std::exp(growth * wall) / (team == 1 ? 1.0 : 1.15);
+    wall += t;
+    with_all += team == 2;
+    ++steps;
+    governor.step_took(t);
+  }
+  EXPECT_EQ(governor.threads(), 2);
+  EXPECT_GT(static_cast<double>(with_all) / static_cast<double>(steps), 0.5);
 }
 
 // Differences within the margin do not make it switch back and forth.
