@@ -18,8 +18,7 @@ void ThreadGovernor::start_phase(Phase phase) {
   phase_steps_ = 0;
   window_seconds_ = 0.0;
   window_steps_ = 0;
-  const int other = chosen_ == 1 ? requested_ : 1;
-  current_ = phase == Phase::probe ? other : chosen_;
+  current_ = phase == Phase::probe ? other_team() : chosen_;
 }
 
 void ThreadGovernor::step_took(double seconds) {
@@ -65,8 +64,8 @@ void ThreadGovernor::step_took(double seconds) {
       // The chosen team's time at the probe's moment: the mean of the windows before and after.
       const double chosen_per_step = 0.5 * (baseline_per_step_ + check_per_step);
       if (probe_per_step_ < (1.0 - options_.switch_margin) * chosen_per_step) {
-        chosen_ = chosen_ == 1 ? requested_ : 1;  // the other team is faster: take it, and look
-        ++switches_;                              // again soon
+        chosen_ = other_team();  // the other team is faster: take it, and look again soon
+        ++switches_;
         period_seconds_ = options_.first_period_seconds;
         reference_per_step_ = probe_per_step_;
       } else {

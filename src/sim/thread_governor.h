@@ -47,6 +47,7 @@ class ThreadGovernor {
  private:
   enum class Phase { run, baseline, probe, check };  // check: the chosen team after the probe
   void start_phase(Phase phase);
+  int other_team() const { return chosen_ == 1 ? requested_ : 1; }  // the one a probe times
 
   int requested_ = 1;
   Options options_;
