@@ -46,8 +46,9 @@ struct LoadWindow {
   std::size_t element_count() const { return force_impulse.size(); }
 
   // Adds this step's loads × dt (s): surface.triangle_force and surface.vertex_force as the
-  // particle–surface stage filled them. Pre: the mesh has the sizes given at construction
-  // (throws std::logic_error otherwise). Cost: O(triangles + vertices).
+  // particle–surface stage filled them, at the triangles and vertices it marked. Pre: the mesh
+  // has the sizes given at construction (throws std::logic_error otherwise); its loads are
+  // marked (Surface::add_contact_load or list_step_loads). Cost: O(loaded entries + mesh / 64).
   void accumulate(const Surface& surface, double dt);
 
   // The means since the window started into `frame` (time = `time`, s), then restarts the

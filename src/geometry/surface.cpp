@@ -2,6 +2,7 @@
 #include "geometry/surface.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace quarry {
@@ -42,14 +43,51 @@ void Surface::reset_loads() {
   vertex_force.assign(vertices.size(), {});
   total_force = {};
   total_torque = {};
+  loaded_triangles.assign((triangles.size() + 63) / 64, 0);
+  loaded_vertices.assign((vertices.size() + 63) / 64, 0);
   if (vertex_velocities.size() != vertices.size()) vertex_velocities.assign(vertices.size(), {});
 }
 
 void Surface::clear_step_loads() {
-  for (auto& f : triangle_force) f = {};
-  for (auto& f : vertex_force) f = {};
+  for_each_loaded(loaded_triangles, [this](std::uint32_t t) { triangle_force[t] = {}; });
+  for_each_loaded(loaded_vertices, [this](std::uint32_t n) { vertex_force[n] = {}; });
+  std::fill(loaded_triangles.begin(), loaded_triangles.end(), 0);
+  std::fill(loaded_vertices.begin(), loaded_vertices.end(), 0);
   total_force = {};
   total_torque = {};
+  // Every writer marks what it loads (add_contact_load, list_step_loads): nothing is left.
+  [[maybe_unused]] const auto zero = [](const Vec3& f) { return f == Vec3{}; };
+  assert(std::all_of(triangle_force.begin(), triangle_force.end(), zero));
+  assert(std::all_of(vertex_force.begin(), vertex_force.end(), zero));
+}
+
+namespace {
+void mark(std::vector<std::uint64_t>& bits, std::uint32_t i) {
+  if (i / 64 >= bits.size()) bits.resize(i / 64 + 1, 0);  // a mesh whose loads were never reset
+  bits[i / 64] |= std::uint64_t{1} << (i % 64);
+}
+}  // namespace
+
+void Surface::add_contact_load(std::uint32_t t, const Vec3& reaction,
+                               const std::array<double, 3>& weights, const Vec3& point) {
+  triangle_force[t] += reaction;
+  mark(loaded_triangles, t);
+  const auto& tri = triangles[t];
+  for (int k = 0; k < 3; ++k) {
+    vertex_force[tri[k]] += reaction * weights[k];
+    mark(loaded_vertices, tri[k]);
+  }
+  total_force += reaction;
+  total_torque += cross(point, reaction);
+}
+
+void Surface::list_step_loads() {
+  loaded_triangles.assign((triangle_force.size() + 63) / 64, 0);
+  loaded_vertices.assign((vertex_force.size() + 63) / 64, 0);
+  for (std::size_t t = 0; t < triangle_force.size(); ++t)
+    if (!(triangle_force[t] == Vec3{})) mark(loaded_triangles, static_cast<std::uint32_t>(t));
+  for (std::size_t n = 0; n < vertex_force.size(); ++n)
+    if (!(vertex_force[n] == Vec3{})) mark(loaded_vertices, static_cast<std::uint32_t>(n));
 }
 
 Aabb Surface::bounds() const {

@@ -641,12 +641,7 @@ bool wall_contacts_of(const World& world, std::uint32_t i, std::size_t candidate
 void add_reactions(World& world, const WallContact* begin, const WallContact* end) {
   for (const WallContact* c = begin; c < end; ++c) {
     Surface& surface = world.surfaces[c->surface].mesh;
-    const Vec3 reaction = -c->force_on_particle;
-    surface.triangle_force[c->triangle] += reaction;
-    const auto& tri = surface.triangles[c->triangle];
-    for (int k = 0; k < 3; ++k) surface.vertex_force[tri[k]] += reaction * c->weights[k];
-    surface.total_force += reaction;
-    surface.total_torque += cross(c->point, reaction);
+    surface.add_contact_load(c->triangle, -c->force_on_particle, c->weights, c->point);
   }
 }
 
