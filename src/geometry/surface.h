@@ -56,11 +56,12 @@ struct Surface {
   void update_triangle_bounds();
   // Sizes the load arrays to the mesh and zeroes them (call after the mesh changes).
   void reset_loads();
-  // Zeroes the per-step loads (triangle_force, vertex_force, totals) and empties the lists of
-  // loaded triangles and vertices. Cost: O(listed entries).
+  // Zeroes the per-step loads (triangle_force, vertex_force, totals) and their marks.
+  // Cost: O(marked entries + mesh / 64).
   void clear_step_loads();
   // Adds a contact's reaction (N, the force on the surface) at `point` (m) on triangle t,
-  // shared among its vertices by the barycentric weights, to the step's loads and totals.
+  // shared among its vertices by the barycentric weights, to the step's loads and totals, and
+  // marks them. The contact stage's only way to load a surface.
   void add_contact_load(std::uint32_t t, const Vec3& reaction, const std::array<double, 3>& weights,
                         const Vec3& point);
   // Marks every triangle and vertex with a non-zero load, for whoever wrote triangle_force and
