@@ -48,7 +48,7 @@ struct LoadWindow {
   // Adds this step's loads × dt (s): surface.triangle_force and surface.vertex_force as the
   // particle–surface stage filled them, at the triangles and vertices it marked. Pre: the mesh
   // has the sizes given at construction (throws std::logic_error otherwise); its loads are
-  // marked (Surface::add_contact_load or list_step_loads). Cost: O(loaded entries + mesh / 64).
+  // marked (Surface::add_contact_load or mark_step_loads). Cost: O(loaded entries + mesh / 64).
   void accumulate(const Surface& surface, double dt);
 
   // The means since the window started into `frame` (time = `time`, s), then restarts the

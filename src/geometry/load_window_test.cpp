@@ -43,7 +43,7 @@ TEST(LoadWindow, ImpulsesAreTheSumOfLoadTimesStepToTheBit) {
     const double dt = 1e-5 * (1.0 + 0.1 * (step % 7));  // s
     for (std::size_t t = 0; t < triangles; ++t) surface.triangle_force[t] = draw();
     for (std::size_t n = 0; n < vertices; ++n) surface.vertex_force[n] = draw();
-    surface.list_step_loads();
+    surface.mark_step_loads();
     window.accumulate(surface, dt);
     for (std::size_t t = 0; t < triangles; ++t) {  // the sums written out, every triangle
       const Vec3 f = surface.triangle_force[t], n = surface.triangle_normals[t];
@@ -66,24 +66,24 @@ TEST(LoadWindow, ImpulsesAreTheSumOfLoadTimesStepToTheBit) {
 // The contact stage's way: contacts added one by one (Surface::add_contact_load, triangles in
 // any order and repeated, each marked), the window fed from the marks; the clearing then zeroes
 // what was marked. The impulses are those of a window fed from every triangle and vertex
-// (list_step_loads after writing the same loads), to the bit, over steps that load different
+// (mark_step_loads after writing the same loads), to the bit, over steps that load different
 // parts of the mesh (an element of two triangles loaded by both, in either order).
 TEST(LoadWindow, ContactsMarkedAsAddedGiveTheImpulsesOfTheWholeMesh) {
-  Surface listed = make_box({0, 0, 0}, {1, 1, 1}, 3);
-  listed.reset_loads();
-  Surface whole = listed;
-  const std::size_t triangles = listed.triangle_count();
+  Surface marked = make_box({0, 0, 0}, {1, 1, 1}, 3);
+  marked.reset_loads();
+  Surface whole = marked;
+  const std::size_t triangles = marked.triangle_count();
   std::vector<std::uint32_t> element_of_triangle(triangles);
   for (std::size_t t = 0; t < triangles; ++t)
     element_of_triangle[t] = static_cast<std::uint32_t>(t / 2);
-  LoadWindow from_lists(listed, element_of_triangle, triangles / 2);
+  LoadWindow from_marks(marked, element_of_triangle, triangles / 2);
   LoadWindow from_all(whole, element_of_triangle, triangles / 2);
   std::mt19937_64 random(7);
   std::uniform_real_distribution<double> load(-3.0, 3.0), weight(0.0, 1.0);
   std::uniform_int_distribution<std::uint32_t> triangle(0,
                                                        static_cast<std::uint32_t>(triangles - 1));
   for (int step = 0; step < 50; ++step) {
-    listed.clear_step_loads();
+    marked.clear_step_loads();
     whole.triangle_force.assign(triangles, {});
     whole.vertex_force.assign(whole.vertex_count(), {});
     for (int c = 0; c < 12; ++c) {  // contacts, some on the same triangle or element
@@ -92,29 +92,29 @@ TEST(LoadWindow, ContactsMarkedAsAddedGiveTheImpulsesOfTheWholeMesh) {
       const double a = weight(random), b = (1.0 - a) * weight(random);
       const std::array<double, 3> w{a, b, 1.0 - a - b};
       const Vec3 point{weight(random), weight(random), weight(random)};  // m
-      listed.add_contact_load(t, reaction, w, point);
+      marked.add_contact_load(t, reaction, w, point);
       whole.triangle_force[t] += reaction;
       for (int k = 0; k < 3; ++k) whole.vertex_force[whole.triangles[t][k]] += reaction * w[k];
     }
-    whole.list_step_loads();
-    from_lists.accumulate(listed, 1e-5);
+    whole.mark_step_loads();
+    from_marks.accumulate(marked, 1e-5);
     from_all.accumulate(whole, 1e-5);
   }
-  const LoadWindow &a = from_lists, &b = from_all;
+  const LoadWindow &a = from_marks, &b = from_all;
   for (std::size_t e = 0; e < triangles / 2; ++e) {
     EXPECT_TRUE(same_bits(a.force_impulse[e], b.force_impulse[e])) << "element " << e;
     EXPECT_TRUE(same_bits(a.normal_impulse[e], b.normal_impulse[e])) << "element " << e;
     EXPECT_TRUE(same_bits(a.shear_impulse[e], b.shear_impulse[e])) << "element " << e;
   }
-  for (std::size_t n = 0; n < listed.vertex_count(); ++n)
+  for (std::size_t n = 0; n < marked.vertex_count(); ++n)
     EXPECT_TRUE(same_bits(a.nodal_impulse[n], b.nodal_impulse[n])) << "vertex " << n;
-  listed.clear_step_loads();
-  for (const Vec3& f : listed.triangle_force) EXPECT_EQ(f, Vec3{});
-  for (const Vec3& f : listed.vertex_force) EXPECT_EQ(f, Vec3{});
-  int marked = 0;
-  for_each_loaded(listed.loaded_triangles, [&](std::uint32_t) { ++marked; });
-  for_each_loaded(listed.loaded_vertices, [&](std::uint32_t) { ++marked; });
-  EXPECT_EQ(marked, 0);
+  marked.clear_step_loads();
+  for (const Vec3& f : marked.triangle_force) EXPECT_EQ(f, Vec3{});
+  for (const Vec3& f : marked.vertex_force) EXPECT_EQ(f, Vec3{});
+  int marks = 0;
+  for_each_loaded(marked.loaded_triangles, [&](std::uint32_t) { ++marks; });
+  for_each_loaded(marked.loaded_vertices, [&](std::uint32_t) { ++marks; });
+  EXPECT_EQ(marks, 0);
 }
 
 }  // namespace

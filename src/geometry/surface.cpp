@@ -7,6 +7,15 @@
 
 namespace quarry {
 
+namespace {
+// Words of the load marks of n entries (one bit each), and the mark of entry i set.
+std::size_t mark_words(std::size_t n) { return (n + 63) / 64; }
+void mark(std::vector<std::uint64_t>& bits, std::uint32_t i) {
+  assert(i / 64 < bits.size());  // sized with the loads (reset_loads, mark_step_loads)
+  bits[i / 64] |= std::uint64_t{1} << (i % 64);
+}
+}  // namespace
+
 void Surface::update_normals_and_areas() {
   triangle_normals.resize(triangles.size());
   triangle_areas.resize(triangles.size());
@@ -43,8 +52,8 @@ void Surface::reset_loads() {
   vertex_force.assign(vertices.size(), {});
   total_force = {};
   total_torque = {};
-  loaded_triangles.assign((triangles.size() + 63) / 64, 0);
-  loaded_vertices.assign((vertices.size() + 63) / 64, 0);
+  loaded_triangles.assign(mark_words(triangles.size()), 0);
+  loaded_vertices.assign(mark_words(vertices.size()), 0);
   if (vertex_velocities.size() != vertices.size()) vertex_velocities.assign(vertices.size(), {});
 }
 
@@ -55,18 +64,11 @@ void Surface::clear_step_loads() {
   std::fill(loaded_vertices.begin(), loaded_vertices.end(), 0);
   total_force = {};
   total_torque = {};
-  // Every writer marks what it loads (add_contact_load, list_step_loads): nothing is left.
+  // Every writer marks what it loads (add_contact_load, mark_step_loads): nothing is left.
   [[maybe_unused]] const auto zero = [](const Vec3& f) { return f == Vec3{}; };
   assert(std::all_of(triangle_force.begin(), triangle_force.end(), zero));
   assert(std::all_of(vertex_force.begin(), vertex_force.end(), zero));
 }
-
-namespace {
-void mark(std::vector<std::uint64_t>& bits, std::uint32_t i) {
-  if (i / 64 >= bits.size()) bits.resize(i / 64 + 1, 0);  // a mesh whose loads were never reset
-  bits[i / 64] |= std::uint64_t{1} << (i % 64);
-}
-}  // namespace
 
 void Surface::add_contact_load(std::uint32_t t, const Vec3& reaction,
                                const std::array<double, 3>& weights, const Vec3& point) {
@@ -81,9 +83,9 @@ void Surface::add_contact_load(std::uint32_t t, const Vec3& reaction,
   total_torque += cross(point, reaction);
 }
 
-void Surface::list_step_loads() {
-  loaded_triangles.assign((triangle_force.size() + 63) / 64, 0);
-  loaded_vertices.assign((vertex_force.size() + 63) / 64, 0);
+void Surface::mark_step_loads() {
+  loaded_triangles.assign(mark_words(triangle_force.size()), 0);
+  loaded_vertices.assign(mark_words(vertex_force.size()), 0);
   for (std::size_t t = 0; t < triangle_force.size(); ++t)
     if (!(triangle_force[t] == Vec3{})) mark(loaded_triangles, static_cast<std::uint32_t>(t));
   for (std::size_t n = 0; n < vertex_force.size(); ++n)

@@ -41,9 +41,8 @@ struct Surface {
   Vec3 total_torque;                             // N·m about the origin
   // The triangles and vertices whose load above may be non-zero this step, one bit each (bit
   // i % 64 of word i / 64): the load windows and the clearing visit them alone, in ascending
-  // order (for_each_loaded). A large mesh is mostly untouched each step; scanning all of it
-  // twice a step was 9 % of the rigid flagship's run (its 5,904 triangles). A list of the
-  // loaded ones, sorted each step, cost more than the scan.
+  // order (for_each_loaded), since a large mesh is mostly untouched each step
+  // (docs/performance.md, "The load windows visit the marked triangles alone").
   std::vector<std::uint64_t> loaded_triangles, loaded_vertices;
 
   std::size_t triangle_count() const { return triangles.size(); }
@@ -66,7 +65,7 @@ struct Surface {
                         const Vec3& point);
   // Marks every triangle and vertex with a non-zero load, for whoever wrote triangle_force and
   // vertex_force directly (a restored checkpoint, a test). Cost: O(triangles + vertices).
-  void list_step_loads();
+  void mark_step_loads();
   Aabb bounds() const;
 };
 

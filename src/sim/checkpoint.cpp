@@ -447,7 +447,7 @@ RestoredWorld read_payload(std::istream& in, std::uint64_t payload_bytes) {
   // are those of the last list build.
   for (WorldSurface& s : world.surfaces) {
     s.mesh.update_triangle_bounds();
-    s.mesh.list_step_loads();  // the last step's loads, cleared by the next contact stage
+    s.mesh.mark_step_loads();  // the last step's loads, cleared by the next contact stage
     if (s.moving()) build_search_grid(world, s);
   }
   world.initialized = true;

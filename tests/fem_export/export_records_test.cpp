@@ -50,7 +50,7 @@ Export run_export(const std::string& name, int steps) {
   for (int n = 1; n <= steps; ++n) {
     surfaces[0].vertex_force[0] = {0.0, 0.0, load_in_step(n)};
     surfaces[0].triangle_force[0] = {0.0, 0.0, load_in_step(n)};
-    surfaces[0].list_step_loads();
+    surfaces[0].mark_step_loads();
     exporter.after_step(meshes, kDt * n, static_cast<std::uint64_t>(n), kDt);
   }
   exporter.finish(meshes, kDt * steps, false);
@@ -183,7 +183,7 @@ TEST(ExportRecords, MovingSurfaceRecordsItsMeanDisplacement) {
       surfaces[0].vertices[v] = surfaces[0].reference_vertices[v] + velocity * (kDt * n);
     surfaces[0].update_normals_and_areas();
     surfaces[0].vertex_force[0] = {0.0, 0.0, -1.0};
-    surfaces[0].list_step_loads();
+    surfaces[0].mark_step_loads();
     exporter.after_step(meshes, kDt * n, static_cast<std::uint64_t>(n), kDt);
   }
   exporter.finish(meshes, kDt * steps, false);

@@ -37,11 +37,11 @@ TEST(LoadWindow, MeansAreImpulsesOverTheInterval) {
   LoadWindow window(plate);
   plate.triangle_force[0] = {1.0, 0.0, -4.0};
   plate.vertex_force[2] = {0.0, 0.0, -4.0};
-  plate.list_step_loads();
+  plate.mark_step_loads();
   window.accumulate(plate, 0.1);
   plate.triangle_force[0] = {3.0, 0.0, -8.0};
   plate.vertex_force[2] = {0.0, 0.0, -8.0};
-  plate.list_step_loads();
+  plate.mark_step_loads();
   window.accumulate(plate, 0.3);
   LoadFrame frame;
   window.take_means(plate, 0.4, frame);
@@ -407,7 +407,7 @@ TEST(LoadExporter, MemoryIsIndependentOfTheNumberOfIntervals) {
     for (std::size_t v = 0; v < surfaces[0].vertex_count(); ++v)
       surfaces[0].vertex_force[v] = {0.0, 0.0, -std::sin(0.01 * n + v)};
     surfaces[0].triangle_force[3] = {0.0, 0.0, -1.0};
-    surfaces[0].list_step_loads();
+    surfaces[0].mark_step_loads();
     exporter.after_step(meshes, 1e-4 * n, static_cast<std::uint64_t>(n), 1e-4);
     if (n == 500) resident_early = resident_bytes();
   }
