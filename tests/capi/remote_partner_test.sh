@@ -18,6 +18,8 @@ trap cleanup EXIT
 # serve LOG ENDPOINT: starts `quarry serve` and sets $endpoint to the one it listens at.
 serve() {
   local log=$1
+  # The log exists before the loop reads it: the background job's redirection may come later.
+  : > "$log"
   "$quarry" serve --endpoint "$2" --threads 2 > "$log" 2>&1 &
   servers+=($!)
   for _ in $(seq 1 400); do

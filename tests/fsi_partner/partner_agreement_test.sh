@@ -66,6 +66,7 @@ partner in_process --threads 2
 compare in_process
 
 ipc_path=$(mktemp -u "${TMPDIR:-/tmp}/quarry-shell-partner-XXXXXX.ipc")
+: > "$work/serve.log"  # exists before the loop reads it: the job's redirection may come later
 "$quarry" serve --endpoint "ipc://$ipc_path" --threads 2 > "$work/serve.log" 2>&1 &
 server=$!
 endpoint=
