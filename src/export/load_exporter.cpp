@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "export/aster_comm.h"
@@ -150,14 +151,14 @@ void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, d
   const std::size_t record = output.history->frame_count();  // 1-based number of this record
   if (output.med) output.med->write(static_cast<int>(record), frame, output.displacement);
   if (output.csv.is_open()) {
-    std::string rows;
+    fmt::memory_buffer rows;  // one buffer for the record's rows, not a string per row
     for (std::size_t e = 0; e < frame.pressure.size(); ++e) {
       const Vec3& s = frame.shear_stress[e];
       const Vec3& f = frame.force[e];
-      rows += fmt::format("{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", time, e,
-                          frame.pressure[e], s.x, s.y, s.z, f.x, f.y, f.z);
+      fmt::format_to(std::back_inserter(rows), "{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n",
+                     time, e, frame.pressure[e], s.x, s.y, s.z, f.x, f.y, f.z);
     }
-    output.csv << rows;
+    output.csv.write(rows.data(), static_cast<std::streamsize>(rows.size()));
     output.csv.flush();
     if (!output.csv) throw FileError("cannot write the loads CSV of surface '" + output.name + "' (disk full?)");
   }

@@ -8,6 +8,7 @@
 #include <array>
 #include <bit>
 #include <cstdint>
+#include <cstring>
 #include <stdexcept>
 #include <string_view>
 #include <type_traits>
@@ -30,28 +31,51 @@ void append_little_endian(std::string& out, T value) {
       std::conditional_t<sizeof(T) == 4, std::uint32_t,
                          std::conditional_t<sizeof(T) == 2, std::uint16_t, std::uint8_t>>>;
   auto bits = std::bit_cast<Bits>(value);
-  for (std::size_t byte = 0; byte < sizeof(T); ++byte) {
-    out.push_back(static_cast<char>(bits & 0xFFu));
-    bits = static_cast<Bits>(bits >> 8);
+  if constexpr (std::endian::native == std::endian::little) {
+    out.append(reinterpret_cast<const char*>(&bits), sizeof(T));  // the bytes as they lie
+  } else {
+    for (std::size_t byte = 0; byte < sizeof(T); ++byte) {
+      out.push_back(static_cast<char>(bits & 0xFFu));
+      bits = static_cast<Bits>(bits >> 8);
+    }
   }
 }
 
 
+// The bytes of `count` values of T at `data` in little-endian order: one copy on a
+// little-endian host (a frame's megabyte byte by byte took some milliseconds), the values one
+// by one otherwise.
 template <class T>
-std::string scalar_payload(std::span<const T> values) {
+std::string little_endian_bytes(const T* data, std::size_t count) {
   std::string payload;
-  payload.reserve(values.size() * sizeof(T));
-  for (const T& value : values) append_little_endian(payload, value);
+  if constexpr (std::endian::native == std::endian::little) {
+    payload.resize(count * sizeof(T));
+    if (count > 0) std::memcpy(payload.data(), data, count * sizeof(T));
+  } else {
+    payload.reserve(count * sizeof(T));
+    for (std::size_t k = 0; k < count; ++k) append_little_endian(payload, data[k]);
+  }
   return payload;
 }
 
+template <class T>
+std::string scalar_payload(std::span<const T> values) {
+  return little_endian_bytes(values.data(), values.size());
+}
+
 std::string vec3_payload(std::span<const Vec3> values) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_trivially_copyable_v<Vec3>);
   std::string payload;
-  payload.reserve(values.size() * 3 * sizeof(double));
-  for (const Vec3& value : values) {
-    append_little_endian(payload, value.x);
-    append_little_endian(payload, value.y);
-    append_little_endian(payload, value.z);
+  if constexpr (std::endian::native == std::endian::little) {
+    payload.resize(values.size() * sizeof(Vec3));
+    if (!values.empty()) std::memcpy(payload.data(), values.data(), payload.size());
+  } else {
+    payload.reserve(values.size() * sizeof(Vec3));
+    for (const Vec3& value : values) {
+      append_little_endian(payload, value.x);
+      append_little_endian(payload, value.y);
+      append_little_endian(payload, value.z);
+    }
   }
   return payload;
 }
