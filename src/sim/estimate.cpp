@@ -166,9 +166,9 @@ BedCalibration calibrate_bed(const SimulationSpec& deck, std::size_t type_index,
   return c;
 }
 
-// A scratch output folder beside where the run would write (same file system: the cost of a
-// frame is mostly its fsyncs), removed afterwards: the nearest existing folder of the deck's
-// output directory, in a hidden subfolder of this process.
+// A scratch output folder beside where the run would write (same file system: a frame's
+// fsyncs cost there what the run's will), removed afterwards: the nearest existing folder of
+// the deck's output directory, in a hidden subfolder of this process.
 std::filesystem::path scratch_folder(const SimulationSpec& spec) {
   namespace fs = std::filesystem;
   std::error_code error;
