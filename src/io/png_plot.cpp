@@ -481,8 +481,8 @@ std::string encode_line_plot_png(const PlotSpec& spec, int width, int height) {
   image.height = static_cast<png_uint_32>(height);
   image.format = PNG_FORMAT_RGB;
   // Encoded once into a buffer of libpng's upper bound on the stream (asking for the size
-  // first compressed the image twice: half the time of a run's plots). Should the bound ever
-  // be short, libpng says so by raising `size` to what it needs, and the write is made again.
+  // first compressed the image twice). Should the bound ever be short, libpng says so by
+  // raising `size` to what it needs, and the write is made again.
   std::string png(PNG_IMAGE_PNG_SIZE_MAX(image), '\0');
   for (int attempt = 0; attempt < 2; ++attempt) {
     png_alloc_size_t size = png.size();

@@ -43,8 +43,8 @@ void append_little_endian(std::string& out, T value) {
 
 
 // The bytes of `count` values of T at `data` in little-endian order: one copy on a
-// little-endian host (a frame's megabyte byte by byte took some milliseconds), the values one
-// by one otherwise.
+// little-endian host, the values one by one otherwise (docs/performance.md, "The output stage
+// of the rigid flagship").
 template <class T>
 std::string little_endian_bytes(const T* data, std::size_t count) {
   std::string payload;
