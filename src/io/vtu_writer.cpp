@@ -41,12 +41,21 @@ void append_little_endian(std::string& out, T value) {
   }
 }
 
+// A Vec3 as its three components: the layout its array has in memory (three packed doubles).
+// Called on big-endian hosts only; a little-endian one copies whole arrays.
+[[maybe_unused]] void append_little_endian(std::string& out, const Vec3& value) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double));
+  append_little_endian(out, value.x);
+  append_little_endian(out, value.y);
+  append_little_endian(out, value.z);
+}
 
 // The bytes of `count` values of T at `data` in little-endian order: one copy on a
 // little-endian host, the values one by one otherwise (docs/performance.md, "The output stage
 // of the rigid flagship").
 template <class T>
 std::string little_endian_bytes(const T* data, std::size_t count) {
+  static_assert(std::is_trivially_copyable_v<T>);
   std::string payload;
   if constexpr (std::endian::native == std::endian::little) {
     payload.resize(count * sizeof(T));
@@ -64,20 +73,7 @@ std::string scalar_payload(std::span<const T> values) {
 }
 
 std::string vec3_payload(std::span<const Vec3> values) {
-  static_assert(sizeof(Vec3) == 3 * sizeof(double) && std::is_trivially_copyable_v<Vec3>);
-  std::string payload;
-  if constexpr (std::endian::native == std::endian::little) {
-    payload.resize(values.size() * sizeof(Vec3));
-    if (!values.empty()) std::memcpy(payload.data(), values.data(), payload.size());
-  } else {
-    payload.reserve(values.size() * sizeof(Vec3));
-    for (const Vec3& value : values) {
-      append_little_endian(payload, value.x);
-      append_little_endian(payload, value.y);
-      append_little_endian(payload, value.z);
-    }
-  }
-  return payload;
+  return little_endian_bytes(values.data(), values.size());
 }
 
 // Zeros when `values` is empty (an optional per-vertex array never sized), else the values.
