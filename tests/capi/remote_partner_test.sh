@@ -8,28 +8,8 @@ set -euo pipefail
 quarry=$1 partner=$2 work=$3
 rm -rf "$work"
 mkdir -p "$work"
-servers=()
-cleanup() {
-  for pid in "${servers[@]}"; do kill -KILL "$pid" 2>/dev/null || true; done
-  rm -f "${ipc_path:-}"
-}
-trap cleanup EXIT
-
-# serve LOG ENDPOINT: starts `quarry serve` and sets $endpoint to the one it listens at.
-serve() {
-  local log=$1
-  # The log exists before the loop reads it: the background job's redirection may come later.
-  : > "$log"
-  "$quarry" serve --endpoint "$2" --threads 2 > "$log" 2>&1 &
-  servers+=($!)
-  for _ in $(seq 1 400); do
-    endpoint=$(sed -n 's/^quarry serve: listening on \([^ ]*\).*/\1/p' "$log")
-    [ -n "$endpoint" ] && return 0
-    kill -0 "${servers[-1]}" 2>/dev/null || { cat "$log"; echo "quarry serve exited before listening"; exit 1; }
-    sleep 0.05
-  done
-  cat "$log"; echo "quarry serve did not listen within 20 s"; exit 1
-}
+source "$(dirname "$0")/../serve_checks.sh"
+trap 'stop_servers_now; rm -f "${ipc_path:-}"' EXIT
 
 # run NAME [partner options]: runs the partner, echoes its output, prints its state hash.
 run() {
@@ -55,12 +35,7 @@ echo "with the load view: in process $in_process_view, ipc $ipc_view, tcp $tcp_v
 [ -n "$in_process" ] && [ "$ipc" = "$in_process" ] && [ "$tcp" = "$in_process" ] || { echo "the hashes differ"; exit 1; }
 [ "$in_process_view" = "$in_process" ] && [ "$ipc_view" = "$in_process" ] && [ "$tcp_view" = "$in_process" ] ||
   { echo "the hashes with the load view differ from those with copies"; exit 1; }
-# SIGTERM ends a server cleanly: exit code 0 (under ASan its leak check runs then), socket file gone.
-for pid in "${servers[@]}"; do
-  kill -TERM "$pid"
-  code=0
-  wait "$pid" || code=$?
-  [ "$code" -eq 0 ] || { cat "$work"/serve_*.log; echo "quarry serve exited with $code after SIGTERM"; exit 1; }
-done
+# SIGTERM ends a server cleanly: exit code 0, socket file gone.
+stop_servers "$work"/serve_*.log
 [ ! -e "$ipc_path" ] || { echo "the ipc socket file is left behind"; exit 1; }
 echo "ok: the remote runs reproduce the in-process state bit for bit"

@@ -27,12 +27,8 @@ set -euo pipefail
 quarry=$1 reference=$2 partner=$3 cases=$4 work=$5
 rm -rf "$work"
 mkdir -p "$work"
-server=
-cleanup() {
-  [ -n "$server" ] && kill -KILL "$server" 2>/dev/null || true
-  rm -f "${ipc_path:-}"
-}
-trap cleanup EXIT
+source "$(dirname "$0")/../serve_checks.sh"
+trap 'stop_servers_now; rm -f "${ipc_path:-}"' EXIT
 
 deck=$cases/beads_on_plate.yaml model=$cases/plate_4x4.bdf end=0.04
 
@@ -66,21 +62,9 @@ partner in_process --threads 2
 compare in_process
 
 ipc_path=$(mktemp -u "${TMPDIR:-/tmp}/quarry-shell-partner-XXXXXX.ipc")
-: > "$work/serve.log"  # exists before the loop reads it: the job's redirection may come later
-"$quarry" serve --endpoint "ipc://$ipc_path" --threads 2 > "$work/serve.log" 2>&1 &
-server=$!
-endpoint=
-for _ in $(seq 1 400); do
-  endpoint=$(sed -n 's/^quarry serve: listening on \([^ ]*\).*/\1/p' "$work/serve.log")
-  [ -n "$endpoint" ] && break
-  kill -0 "$server" 2>/dev/null || { cat "$work/serve.log"; echo "quarry serve exited before listening"; exit 1; }
-  sleep 0.05
-done
-[ -n "$endpoint" ] || { cat "$work/serve.log"; echo "quarry serve did not listen within 20 s"; exit 1; }
+serve "$work/serve.log" "ipc://$ipc_path"
 partner remote --endpoint "$endpoint"
 grep -q "arrays in shared memory" "$work/serve.log" || { cat "$work/serve.log"; echo "ipc without shared memory"; exit 1; }
 compare remote
-kill -TERM "$server"
-wait "$server" || { cat "$work/serve.log"; echo "quarry serve did not stop cleanly"; exit 1; }
-server=
+stop_servers "$work/serve.log"
 echo "ok: the external partner (in process and against quarry serve) reproduces the built-in path bit for bit"
