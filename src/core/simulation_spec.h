@@ -214,14 +214,7 @@ struct OutputSpec {
 // `export: true`; written by src/export while the run goes. ----
 enum class ExportFormat { med, calculix, vtu, csv };
 enum class CalculixAnalysis { static_step, dynamic };
-enum class SupportFixity { clamped, pinned };  // clamped: DOFs 1–6 fixed; pinned: DOFs 1–3
-
-// A CalculiX node set with a boundary condition: the nodes inside the box [min, max] (m).
-struct SupportSpec {
-  Located<std::string> name;
-  Located<Vec3> min, max;
-  Located<SupportFixity> fix{SupportFixity::clamped};
-};
+// SupportSpec (structure_spec.h): the CalculiX model's supports, as a Gmsh structure's.
 
 // The structural model of the exported surface for the CalculiX deck: shells of one
 // thickness and one linear elastic material, and the supports.

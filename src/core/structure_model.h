@@ -159,12 +159,12 @@ struct StructureModel {
   // at its first occurrence; print with notes.format().
   Diagnostics notes;
 
-  // The file:line of a card, for messages.
+  // The file:line:column of a card, for messages: its first line, column 1 (where its name is).
   SourceLocation where(const CardLocation& location) const {
     if (location.file_index < 0 ||
         location.file_index >= static_cast<std::int32_t>(source_files.size()))
       return {};
-    return {source_files[static_cast<std::size_t>(location.file_index)], location.line, 0};
+    return {source_files[static_cast<std::size_t>(location.file_index)], location.line, 1};
   }
 };
 

@@ -17,6 +17,33 @@ namespace {
 
 }  // namespace
 
+ElementShape element_shape(const std::array<Vec3, 4>& x, int node_count) {
+  ElementShape shape;
+  double longest = 0.0;  // m²
+  for (int i = 0; i < node_count; ++i) {
+    longest = std::max(longest, norm2(x[(i + 1) % node_count] - x[i]));
+  }
+  shape.longest_edge = std::sqrt(longest);
+  shape.area = element_area(x, node_count);
+  if (!(shape.area > 1e-12 * longest)) {
+    shape.kind = ElementShape::degenerate;
+    return shape;
+  }
+  if (node_count == 4) {
+    // Each corner's triangle must keep the orientation of the whole (no bow-tie, convex).
+    const ElementFrame frame = element_frame(x, 4);
+    for (int i = 0; i < 4; ++i) {
+      const Vec3 corner = cross(x[(i + 1) % 4] - x[i], x[(i + 3) % 4] - x[i]);
+      if (!(dot(corner, frame.e3) > 0.0)) {
+        shape.kind = ElementShape::not_convex;
+        shape.corner = i;
+        return shape;
+      }
+    }
+  }
+  return shape;
+}
+
 void validate_shell_model(const ShellModel& model) {
   const auto node_count = static_cast<std::int64_t>(model.nodes.size());
   for (std::size_t i = 0; i < model.nodes.size(); ++i) {
@@ -84,26 +111,15 @@ void validate_shell_model(const ShellModel& model) {
       }
       x[i] = model.nodes[el.nodes[i]];
     }
-    double longest = 0.0;
-    for (int i = 0; i < el.node_count; ++i) {
-      longest = std::max(longest, norm2(x[(i + 1) % el.node_count] - x[i]));
-    }
-    const double area = element_area(x, el.node_count);
-    if (!(area > 1e-12 * longest)) {
+    const ElementShape shape = element_shape(x, el.node_count);
+    if (shape.kind == ElementShape::degenerate) {
       fail(fmt::format("shell model: element {}: degenerate (area {} m², longest edge {} m); "
                        "check the node order and coincident nodes",
-                       e, area, std::sqrt(longest)));
+                       e, shape.area, shape.longest_edge));
     }
-    if (el.node_count == 4) {
-      // Each corner's triangle must keep the orientation of the whole (no bow-tie, convex).
-      const ElementFrame frame = element_frame(x, 4);
-      for (int i = 0; i < 4; ++i) {
-        const Vec3 corner = cross(x[(i + 1) % 4] - x[i], x[(i + 3) % 4] - x[i]);
-        if (!(dot(corner, frame.e3) > 0.0)) {
-          fail(fmt::format("shell model: element {}: not convex at its node {} (node {})", e, i,
-                           el.nodes[i]));
-        }
-      }
+    if (shape.kind == ElementShape::not_convex) {
+      fail(fmt::format("shell model: element {}: not convex at its node {} (node {})", e,
+                       shape.corner, el.nodes[shape.corner]));
     }
   }
   for (std::size_t b = 0; b < model.boundary_conditions.size(); ++b) {

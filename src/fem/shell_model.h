@@ -61,6 +61,19 @@ struct ShellModel {
   std::vector<BoundaryCondition> boundary_conditions;
 };
 
+// The shape of an element with corners x[0 .. node_count − 1] (m): degenerate (area ≤ 1e-12
+// of the squared longest edge, coincident or collinear corners), a quad not convex at a corner
+// (a bow-tie, or a re-entrant corner: that corner's triangle turns against the element's
+// normal), or fine. The test of validate_shell_model, for the model readers to report at the
+// element's card. Cost: O(1).
+struct ElementShape {
+  enum Kind { fine, degenerate, not_convex } kind = fine;
+  double area = 0.0;          // m²
+  double longest_edge = 0.0;  // m
+  int corner = -1;            // not_convex: the first such corner (0-based)
+};
+ElementShape element_shape(const std::array<Vec3, 4>& x, int node_count);
+
 // Throws std::invalid_argument naming the first offending item (element id = its index, node,
 // section, material) and the value: bad indices, repeated nodes, degenerate elements (area ≤
 // 1e-12 of the squared longest edge), thickness ≤ 0, integration points out of range, E ≤ 0,

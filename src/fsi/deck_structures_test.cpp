@@ -5,6 +5,7 @@
 #include <string>
 
 #include "io/deck.h"
+#include "io/deck_writer.h"
 
 namespace quarry {
 namespace {
@@ -43,6 +44,57 @@ structures:
                liner.drilling);
   EXPECT_EQ(liner.damping.value, 0.0);
   EXPECT_FALSE(liner.export_loads.value);
+}
+
+// A Gmsh mesh's entry: its unit, section, material, coupling group and supports; and the deck
+// a checkpoint stores (io/deck_writer) gives the same entry back, drilling included, so that a
+// restart builds the same structure.
+TEST(DeckStructures, GmshEntryAndItsWrittenDeck) {
+  const std::string mesh = std::string(QUARRY_SOURCE_DIR) + "/tests/models/plate.msh";
+  const std::string text = R"(simulation:
+  end_time: 1.0
+  domain: {min: [0, 0, 0], max: [1, 1, 1]}
+materials:
+  - {name: steel, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
+structures:
+  - {name: plate, model: )" + mesh + R"(, material: steel, units: mm, thickness: 0.005,
+     youngs_modulus: 2.1e11, poisson_ratio: 0.28, density: 7850, yield_stress: 2.5e8,
+     hardening_modulus: 1.0e9, coupling_group: coupling surface, drilling: 0.2,
+     supports: [{name: edge, box: {min: [0, 0, 0], max: [0, 0.2, 0]}, fix: pinned}]}
+)";
+  const SimulationSpec spec = parse_deck_string(text, "deck.yaml");
+  ASSERT_EQ(spec.structures.size(), 1u);
+  const auto check = [&](const SimulationSpec& s) {
+    const StructureSpec& plate = s.structures.at(0);
+    ASSERT_TRUE(plate.mesh);
+    const MeshStructureSpec& m = *plate.mesh;
+    EXPECT_EQ(m.units.value, MeshLengthUnit::millimetre);
+    EXPECT_DOUBLE_EQ(m.thickness.value, 0.005);
+    EXPECT_DOUBLE_EQ(m.youngs_modulus.value, 2.1e11);
+    EXPECT_DOUBLE_EQ(m.poisson_ratio.value, 0.28);
+    EXPECT_DOUBLE_EQ(m.density.value, 7850.0);
+    EXPECT_DOUBLE_EQ(m.yield_stress.value, 2.5e8);
+    EXPECT_DOUBLE_EQ(m.hardening_modulus.value, 1.0e9);
+    EXPECT_EQ(m.coupling_group.value, "coupling surface");
+    ASSERT_EQ(m.supports.size(), 1u);
+    EXPECT_EQ(m.supports[0].name.value, "edge");
+    EXPECT_EQ(m.supports[0].max.value, (Vec3{0.0, 0.2, 0.0}));
+    EXPECT_EQ(m.supports[0].fix.value, SupportFixity::pinned);
+    ASSERT_TRUE(plate.drilling);
+    EXPECT_DOUBLE_EQ(plate.drilling->value, 0.2);
+  };
+  check(spec);
+  check(parse_deck_string(write_deck(spec), "written.yaml"));
+  // A bulk-data entry has no mesh part.
+  const std::string model = std::string(QUARRY_SOURCE_DIR) + "/tests/models/plate_free.bdf";
+  EXPECT_FALSE(parse_deck_string(R"(simulation:
+  end_time: 1.0
+  domain: {min: [0, 0, 0], max: [1, 1, 1]}
+materials:
+  - {name: steel, density: 7800, youngs_modulus: 2.0e8, poisson_ratio: 0.3}
+structures:
+  - {name: bed, model: )" + model + R"(, material: steel}
+)", "deck.yaml").structures.at(0).mesh);
 }
 
 }  // namespace

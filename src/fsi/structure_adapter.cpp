@@ -10,6 +10,7 @@
 
 #include "core/structure_model.h"
 #include "io/bulk_data.h"
+#include "io/gmsh_reader.h"
 
 namespace quarry::fsi {
 
@@ -27,6 +28,32 @@ fem::ShellMaterial shell_material(const IsotropicMaterial& m) {
     out.hardening_modulus = m.plasticity->hardening_modulus;
   }
   return out;
+}
+
+// A degenerate or non-convex element, reported at its card (the solver's own check,
+// fem::element_shape, would otherwise stop the run with the element's index alone).
+void report_shape(const StructureModel& structure, const ShellElement& card,
+                  const fem::ShellModel& model, const fem::ShellElement& element,
+                  Diagnostics& errors) {
+  std::array<Vec3, 4> x{};
+  for (std::size_t k = 0; k < static_cast<std::size_t>(element.node_count); ++k)
+    x[k] = model.nodes[static_cast<std::size_t>(element.nodes[k])];
+  const fem::ElementShape shape = fem::element_shape(x, element.node_count);
+  const char* kind = card.shape == ShellShape::quad4 ? "quadrilateral" : "triangle";
+  if (shape.kind == fem::ElementShape::degenerate)
+    errors.error(structure.where(card.where),
+                 fmt::format("shell element {} ({}) is degenerate: area {:.3g} m² for a longest "
+                             "edge of {:.3g} m",
+                             card.id, kind, shape.area, shape.longest_edge),
+                 "its grid points coincide or lie on one line: check their coordinates and the "
+                 "element's list of grid points");
+  else if (shape.kind == fem::ElementShape::not_convex)
+    errors.error(structure.where(card.where),
+                 fmt::format("shell element {} ({}) is not convex at grid {} (a bow-tie or a "
+                             "re-entrant corner)",
+                             card.id, kind, card.nodes[static_cast<std::size_t>(shape.corner)]),
+                 "list the grid points in order around the element, and check their "
+                 "coordinates");
 }
 
 }  // namespace
@@ -90,6 +117,7 @@ AdaptedStructure adapt_structure(const StructureModel& structure, const AdapterO
     element.node_count = e.node_count();
     for (int k = 0; k < element.node_count; ++k) element.nodes[static_cast<std::size_t>(k)] = node_of_grid.at(e.nodes[static_cast<std::size_t>(k)]);
     element.section = found->second;
+    report_shape(structure, e, model, element, errors);
     model.elements.push_back(element);
     out.element_id.push_back(e.id);
   }
@@ -201,6 +229,78 @@ CoupledStructure prepare_coupling(const StructureModel& structure, const Adapter
   out.period = edem.period;
   out.filter = edem.filter;
   return out;
+}
+
+StructureModel mesh_structure(const std::string& path, const MeshStructureSpec& spec) {
+  GmshReadOptions read;
+  read.units = spec.units.value == MeshLengthUnit::millimetre ? UnitSystem::mm_tonne_second
+                                                               : UnitSystem::si;
+  StructureModel model = read_gmsh(path, read);
+
+  constexpr int kId = 1;  // of the one section, material and constraint set
+  ShellProperty section;
+  section.id = kId;
+  section.thickness = spec.thickness.value;
+  section.membrane_material_id = kId;
+  section.bending_material_id = kId;
+  section.shear_material_id = kId;
+  section.fiber_bottom = -0.5 * section.thickness;
+  section.fiber_top = 0.5 * section.thickness;
+  model.properties[kId] = section;
+  IsotropicMaterial material;
+  material.id = kId;
+  material.youngs_modulus = spec.youngs_modulus.value;
+  material.poisson_ratio = spec.poisson_ratio.value;
+  material.shear_modulus = material.youngs_modulus / (2.0 * (1.0 + material.poisson_ratio));
+  material.density = spec.density.value;
+  if (spec.yield_stress.value > 0.0)
+    material.plasticity = J2Plasticity{spec.yield_stress.value, spec.hardening_modulus.value, {}};
+  model.materials[kId] = material;
+  for (ShellElement& element : model.shells) element.property_id = kId;
+
+  const IdSet* group = nullptr;
+  std::vector<std::string> names;
+  for (const auto& [id, set] : model.sets) {
+    if (set.kind != SetKind::element) continue;
+    names.push_back(fmt::format("\"{}\"", set.name));
+    if (set.name == spec.coupling_group.value) group = &set;
+  }
+  if (!group)
+    throw UserError(spec.coupling_group.where,
+                    fmt::format("the mesh \"{}\" has no physical surface group \"{}\"", path,
+                                spec.coupling_group.value),
+                    names.empty() ? "give the coupled surfaces a physical group in Gmsh "
+                                    "(Physical Surface(\"name\") = {...})"
+                                  : fmt::format("its surface groups: {}", fmt::join(names, ", ")));
+  model.surfaces[group->id] = Surface{group->id, group->members, group->where};
+  EdemCoupling coupling;
+  coupling.surfaces.push_back({group->id, group->name, group->where});
+  model.couplings.push_back(coupling);
+
+  for (const SupportSpec& support : spec.supports) {
+    SinglePointConstraint constraint;
+    constraint.set_id = kId;
+    constraint.dofs = support.fix.value == SupportFixity::clamped ? DofSet::all() : DofSet{0x07};
+    const Vec3 &lo = support.min.value, &hi = support.max.value;  // m
+    for (const auto& [id, grid] : model.nodes) {
+      const Vec3& p = grid.position;
+      if (p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z)
+        constraint.nodes.push_back(id);
+    }
+    if (constraint.nodes.empty())
+      throw UserError(support.name.where,
+                      fmt::format("support \"{}\" holds no node of the mesh \"{}\"",
+                                  support.name.value, path),
+                      "its box is in m, inclusive, and the mesh's coordinates are converted from "
+                      "its `units` first: widen the box to take the supported nodes");
+    model.constraints.push_back(std::move(constraint));
+  }
+  return model;
+}
+
+CoupledStructure read_coupled_mesh(const std::string& path, const MeshStructureSpec& spec,
+                                   const AdapterOptions& options) {
+  return prepare_coupling(mesh_structure(path, spec), options);
 }
 
 CoupledStructure read_coupled_structure(const std::string& path, const AdapterOptions& options,

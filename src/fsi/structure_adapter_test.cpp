@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "core/structure_model.h"
@@ -133,6 +135,157 @@ TEST(StructureAdapter, ModelsTheSolverCannotRunAreRefused) {
             std::string::npos);
   EXPECT_EQ(first_error(replace("SPC1,1,123456,1\n", "SPC1,1,123456,1\nSPC1,2,3,5\n"), {.constraint_set = 2}),
             "no error");
+}
+
+// An element the solver cannot integrate (a bow-tie quad, corners on one line) is a user error
+// at its card, file:line:column with the card echoed, not the solver's internal check: the
+// fuzzing of a plate's bulk data (2026-12-07) stopped `quarry check` with exit code 4 there.
+TEST(StructureAdapter, MisshapenElementsAreReportedAtTheirCards) {
+  const std::string plate = testing::plate_bulk_data({.divisions = 2});  // grid (i, j): 3j + i + 1
+  const auto replace_line = [](std::string s, const std::string& start, const std::string& line) {
+    const std::size_t at = s.find(start);
+    s.replace(at, s.find('\n', at) - at, line);
+    return s;
+  };
+  // Element 1 is grids 1, 2, 5, 4 around (0, 0)–(30, 30) mm; grid 5 pulled in to (6, 6) mm makes
+  // it a dart, re-entrant there (its neighbours stay convex).
+  const std::string dart = replace_line(plate, "GRID,5,", "GRID,5,,0.006,0.006,0.");
+  EXPECT_EQ(first_error(dart).rfind("shell element 1 (quadrilateral) is not convex at grid 5", 0),
+            0u)
+      << first_error(dart);
+  // Listed 1, 2, 4, 5 it crosses itself: a bow-tie, whose two halves' areas cancel.
+  const std::string bow_tie = replace_line(plate, "CQUAD4,1,", "CQUAD4,1,1,1,2,4,5");
+  EXPECT_EQ(first_error(bow_tie).rfind("shell element 1 (quadrilateral) is degenerate: area 0", 0),
+            0u)
+      << first_error(bow_tie);
+  // Grids 4 and 5 moved onto the line y = 0 of grids 1 and 2: element 1 has no area.
+  const std::string flat = replace_line(replace_line(plate, "GRID,5,", "GRID,5,,0.02,0.,0."),
+                                        "GRID,4,", "GRID,4,,0.01,0.,0.");
+  EXPECT_EQ(first_error(flat).rfind("shell element 1 (quadrilateral) is degenerate: area 0", 0), 0u)
+      << first_error(flat);
+  // Where: the card's first line, column 1 (its name).
+  try {
+    adapt_structure(read_bulk_data_string(dart, "model.bdf"), {});
+    ADD_FAILURE() << "the dart was accepted";
+  } catch (const UserError& e) {
+    const std::string text = e.diagnostics().format();
+    EXPECT_EQ(text.rfind("model.bdf:12:1: error: shell element 1", 0), 0u) << text;
+  }
+}
+
+}  // namespace
+}  // namespace quarry::fsi
+
+namespace quarry::fsi {
+namespace {
+
+// tests/models/plate.msh is tests/models/plate_fixed.bdf's mesh (GmshReader.
+// SameMeshAsTheBulkDataPlate); its deck entry states what the bulk data's cards say.
+MeshStructureSpec plate_mesh_entry() {
+  MeshStructureSpec entry;
+  entry.units = MeshLengthUnit::millimetre;
+  entry.thickness = 0.005;         // PSHELL T 5 mm
+  entry.youngs_modulus = 2.1e11;   // MAT1 E 2.1e5 MPa
+  entry.poisson_ratio = 0.3;
+  entry.density = 7850.0;          // RHO 7.85e-9 t/mm³
+  entry.yield_stress = 2.5e8;      // MATS1 LIMIT1 250 MPa
+  entry.hardening_modulus = 1.0e9; // MATS1 H 1000 MPa
+  entry.coupling_group = std::string("coupling surface");
+  SupportSpec edge;                // SPC1 123456 on grids 1, 4, 7: the edge x = 0
+  edge.name = std::string("edge");
+  edge.min = Vec3{0.0, 0.0, 0.0};
+  edge.max = Vec3{0.0, 0.2, 0.0};
+  entry.supports.push_back(edge);
+  return entry;
+}
+
+std::string models_dir() { return std::string(QUARRY_SOURCE_DIR) + "/tests/models/"; }
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A Gmsh mesh with its deck entry gives the solver the same model and coupling surface as the
+// bulk data that says the same: the run is then the same run (one code path from here on).
+TEST(StructureAdapter, GmshMeshAsTheBulkDataPlate) {
+  std::string bulk = file_text(models_dir() + "plate_fixed.bdf");
+  const std::string lone_spc = "SPC     1       3       3       0.\n";  // no box picks DOF 3 alone
+  ASSERT_NE(bulk.find(lone_spc), std::string::npos);
+  bulk.erase(bulk.find(lone_spc), lone_spc.size());
+  const CoupledStructure from_bulk = coupled_structure_from_text(bulk, "plate_fixed.bdf");
+  const CoupledStructure from_mesh =
+      read_coupled_mesh(models_dir() + "plate.msh", plate_mesh_entry());
+
+  const fem::ShellModel &a = from_bulk.adapted.model, &b = from_mesh.adapted.model;
+  ASSERT_EQ(a.nodes.size(), b.nodes.size());
+  for (std::size_t n = 0; n < a.nodes.size(); ++n) EXPECT_EQ(a.nodes[n], b.nodes[n]) << n;
+  ASSERT_EQ(a.elements.size(), b.elements.size());
+  for (std::size_t e = 0; e < a.elements.size(); ++e) {
+    EXPECT_EQ(a.elements[e].nodes, b.elements[e].nodes) << e;
+    EXPECT_EQ(a.elements[e].node_count, b.elements[e].node_count) << e;
+    EXPECT_EQ(a.elements[e].section, b.elements[e].section) << e;
+  }
+  ASSERT_EQ(a.sections.size(), 1u);
+  ASSERT_EQ(b.sections.size(), 1u);
+  EXPECT_DOUBLE_EQ(a.sections[0].thickness, b.sections[0].thickness);
+  EXPECT_EQ(a.sections[0].integration_points, b.sections[0].integration_points);
+  ASSERT_EQ(a.materials.size(), 1u);
+  ASSERT_EQ(b.materials.size(), 1u);
+  // The bulk data's values pass through the mm–t–s conversion: equal to the last bits or so.
+  EXPECT_DOUBLE_EQ(a.materials[0].youngs_modulus, b.materials[0].youngs_modulus);
+  EXPECT_DOUBLE_EQ(a.materials[0].poisson_ratio, b.materials[0].poisson_ratio);
+  EXPECT_DOUBLE_EQ(a.materials[0].density, b.materials[0].density);
+  EXPECT_DOUBLE_EQ(a.materials[0].yield_stress, b.materials[0].yield_stress);
+  EXPECT_DOUBLE_EQ(a.materials[0].hardening_modulus, b.materials[0].hardening_modulus);
+  ASSERT_EQ(a.boundary_conditions.size(), b.boundary_conditions.size());
+  for (std::size_t c = 0; c < a.boundary_conditions.size(); ++c) {
+    EXPECT_EQ(a.boundary_conditions[c].nodes, b.boundary_conditions[c].nodes) << c;
+    EXPECT_EQ(a.boundary_conditions[c].dofs, b.boundary_conditions[c].dofs) << c;
+  }
+  EXPECT_EQ(from_bulk.mesh.node_of_vertex, from_mesh.mesh.node_of_vertex);
+  EXPECT_EQ(from_bulk.mesh.vertices, from_mesh.mesh.vertices);
+  EXPECT_EQ(from_bulk.mesh.triangles, from_mesh.mesh.triangles);
+  EXPECT_EQ(from_bulk.mesh.quads, from_mesh.mesh.quads);
+  EXPECT_EQ(from_mesh.surface_ids, (std::vector<int>{2}));  // the group's physical tag
+  EXPECT_EQ(from_mesh.labels, (std::vector<std::string>{"coupling surface"}));
+  // No PERIOD or FILTER: the deck's, or the seed's defaults.
+  EXPECT_FALSE(from_mesh.period || from_mesh.filter);
+}
+
+// What the entry names and the mesh has not is refused at the entry's key.
+TEST(StructureAdapter, GmshEntryErrorsAtTheDecksKeys) {
+  const std::string path = models_dir() + "plate.msh";
+  MeshStructureSpec entry = plate_mesh_entry();
+  entry.coupling_group = Located<std::string>{"floor", {"deck.yaml", 12, 21}};
+  try {
+    mesh_structure(path, entry);
+    ADD_FAILURE() << "a group the mesh has not was accepted";
+  } catch (const UserError& e) {
+    const std::string text = e.diagnostics().format();
+    EXPECT_EQ(text.rfind("deck.yaml:12:21: error: the mesh", 0), 0u) << text;
+    EXPECT_NE(text.find("has no physical surface group \"floor\""), std::string::npos) << text;
+    EXPECT_NE(text.find("its surface groups: \"coupling surface\""), std::string::npos) << text;
+  }
+  entry = plate_mesh_entry();
+  entry.supports[0].name.where = {"deck.yaml", 14, 9};
+  entry.supports[0].min = Vec3{1.0, 0.0, 0.0};  // m: beyond the 0.2 m plate
+  entry.supports[0].max = Vec3{1.0, 0.2, 0.0};
+  try {
+    mesh_structure(path, entry);
+    ADD_FAILURE() << "a support holding no node was accepted";
+  } catch (const UserError& e) {
+    const std::string text = e.diagnostics().format();
+    EXPECT_EQ(text.rfind("deck.yaml:14:9: error: support \"edge\" holds no node", 0), 0u) << text;
+  }
+  // Read as metres, the 200 mm plate is 200 m wide: the 0.2 m box holds only the node at 0.
+  entry = plate_mesh_entry();
+  entry.units = MeshLengthUnit::metre;
+  const StructureModel metres = mesh_structure(path, entry);
+  ASSERT_EQ(metres.constraints.size(), 1u);
+  EXPECT_EQ(metres.constraints[0].nodes, (std::vector<int>{1}));
 }
 
 }  // namespace

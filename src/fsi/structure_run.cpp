@@ -68,8 +68,11 @@ CoupledStructures::CoupledStructures(World& world, std::ostream& log)
     entry->name = spec.name.value;
     AdapterOptions adapter;
     if (spec.constraint_set) adapter.constraint_set = spec.constraint_set->value;
-    entry->structure = read_coupled_structure(
-        spec.model.value, adapter, spec.surface ? std::optional<int>(spec.surface->value) : std::nullopt);
+    entry->structure =
+        spec.mesh ? read_coupled_mesh(spec.model.value, *spec.mesh, adapter)
+                  : read_coupled_structure(spec.model.value, adapter,
+                                           spec.surface ? std::optional<int>(spec.surface->value)
+                                                        : std::nullopt);
     const CoupledStructure& structure = entry->structure;
     entry->supports = fem::support_groups(structure.adapted.model);
 

@@ -40,6 +40,9 @@ const EnumChoices<CalculixAnalysis> kCalculixAnalyses{
 const EnumChoices<SupportFixity> kSupportFixities{
     "support fixity", {{"clamped", SupportFixity::clamped}, {"pinned", SupportFixity::pinned}}};
 
+const EnumChoices<MeshLengthUnit> kMeshLengthUnits{
+    "length unit of the mesh", {{"m", MeshLengthUnit::metre}, {"mm", MeshLengthUnit::millimetre}}};
+
 const EnumChoices<SurfaceKind> kSurfaceKinds{"surface type",
                                              {{"stl", SurfaceKind::stl},
                                               {"plane", SurfaceKind::plane},

@@ -19,6 +19,7 @@ extern const EnumChoices<SizeDistributionKind> kSizeDistributions;
 extern const EnumChoices<ExportFormat> kExportFormats;
 extern const EnumChoices<CalculixAnalysis> kCalculixAnalyses;
 extern const EnumChoices<SupportFixity> kSupportFixities;
+extern const EnumChoices<MeshLengthUnit> kMeshLengthUnits;
 extern const EnumChoices<SurfaceKind> kSurfaceKinds;
 extern const EnumChoices<MotionKind> kMotionKinds;
 extern const EnumChoices<RegionKind> kRegionKinds;

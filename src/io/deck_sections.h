@@ -34,6 +34,10 @@ void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors);
 // frame) when options.require_files; their problems are reported at the file's line:col.
 void read_particles_section(MapReader& root, const DeckParseOptions& options, SimulationSpec& spec);
 
+// deck_settings.cpp: one support, {name, box: {min, max}, fix: clamped|pinned} (the CalculiX
+// export's, a Gmsh structure's).
+SupportSpec read_support(MapReader& map);
+
 // deck_structures.cpp: the optional `structures:` section (two-way shell coupling, issue #17);
 // needs the materials, surfaces and end time read before it (names and PERIOD are checked).
 void read_structures_section(MapReader& root, const DeckParseOptions& options, const SimulationSpec& spec,

@@ -240,34 +240,6 @@ void read_size_distribution(MapReader& particle_type, SizeDistributionSpec& size
   }
 }
 
-// One support of the CalculiX model: {name, box: {min, max}, fix: clamped|pinned}.
-SupportSpec read_support(MapReader& map) {
-  SupportSpec support;
-  map.reject_unknown_keys({"name", "box", "fix"});
-  map.read("name", support.name, Presence::required);
-  map.read("fix", support.fix, kSupportFixities);
-  if (!map.require("box", "box: {min: [x, y, z], max: [x, y, z]} selects the nodes inside"))
-    return support;
-  MapReader box(map.context(), *map.find("box"), *map.find_key("box"), "box");
-  if (!box.is_map()) return support;
-  box.reject_unknown_keys({"min", "max"});
-  const bool has_lower = box.read("min", support.min, Presence::required);
-  const bool has_upper = box.read("max", support.max, Presence::required);
-  // A flat box is allowed (nodes on a plane edge): only min > max in some component is wrong.
-  if (has_lower && has_upper)
-    for (int axis = 0; axis < 3; ++axis)
-      if (support.max.value[axis] < support.min.value[axis]) {
-        map.context().error(support.max.where,
-                            fmt::format("support box max must be ≥ min in every component, got "
-                                        "max[{}] = {} m < min[{}] = {} m",
-                                        axis, support.max.value[axis], axis,
-                                        support.min.value[axis]),
-                            "swap the corners");
-        break;
-      }
-  return support;
-}
-
 CalculixSpec read_calculix(MapReader& map) {
   CalculixSpec calculix;
   map.reject_unknown_keys({"thickness", "youngs_modulus", "poisson_ratio", "density", "analysis",
@@ -294,6 +266,33 @@ CalculixSpec read_calculix(MapReader& map) {
 }
 
 }  // namespace
+
+SupportSpec read_support(MapReader& map) {
+  SupportSpec support;
+  map.reject_unknown_keys({"name", "box", "fix"});
+  map.read("name", support.name, Presence::required);
+  map.read("fix", support.fix, kSupportFixities);
+  if (!map.require("box", "box: {min: [x, y, z], max: [x, y, z]} selects the nodes inside"))
+    return support;
+  MapReader box(map.context(), *map.find("box"), *map.find_key("box"), "box");
+  if (!box.is_map()) return support;
+  box.reject_unknown_keys({"min", "max"});
+  const bool has_lower = box.read("min", support.min, Presence::required);
+  const bool has_upper = box.read("max", support.max, Presence::required);
+  // A flat box is allowed (nodes on a plane edge): only min > max in some component is wrong.
+  if (has_lower && has_upper)
+    for (int axis = 0; axis < 3; ++axis)
+      if (support.max.value[axis] < support.min.value[axis]) {
+        map.context().error(support.max.where,
+                            fmt::format("support box max must be ≥ min in every component, got "
+                                        "max[{}] = {} m < min[{}] = {} m",
+                                        axis, support.max.value[axis], axis,
+                                        support.min.value[axis]),
+                            "swap the corners");
+        break;
+      }
+  return support;
+}
 
 void read_export_section(MapReader& root, ExportSpec& fem_export) {
   const YAML::Node* value = root.find("export");

@@ -6,15 +6,49 @@
 
 #include <fmt/format.h>
 
+#include "io/deck_enums.h"
 #include "io/deck_sections.h"
 
 namespace quarry::deck_detail {
 
 namespace {
 
-const std::vector<std::string> kStructureKeys = {"name",   "model",  "material", "constraint_set",
-                                                 "surface", "period", "filter",   "mass_scaling_time_step",
-                                                 "damping", "drilling", "export"};
+// Keys of every entry; those that pick among bulk data's cards; what a Gmsh mesh's entry gives
+// in place of the bulk data's cards (MeshStructureSpec).
+const std::vector<std::string> kCommonKeys = {"name",   "model",   "material",
+                                              "period", "filter",  "mass_scaling_time_step",
+                                              "damping", "drilling", "export"};
+const std::vector<std::string> kBulkDataKeys = {"constraint_set", "surface"};
+const std::vector<std::string> kMeshKeys = {"units",         "thickness", "youngs_modulus",
+                                            "poisson_ratio", "density",   "yield_stress",
+                                            "hardening_modulus", "coupling_group", "supports"};
+
+std::vector<std::string> structure_keys() {
+  std::vector<std::string> keys = kCommonKeys;
+  keys.insert(keys.end(), kBulkDataKeys.begin(), kBulkDataKeys.end());
+  keys.insert(keys.end(), kMeshKeys.begin(), kMeshKeys.end());
+  return keys;
+}
+
+bool is_gmsh_path(const std::string& path) {
+  return std::filesystem::path(path).extension() == ".msh";
+}
+
+// A Gmsh mesh's section, material, supports and coupling group (MeshStructureSpec), in SI.
+MeshStructureSpec read_mesh_structure(MapReader& map) {
+  MeshStructureSpec mesh;
+  map.read("units", mesh.units, kMeshLengthUnits, Presence::required);
+  map.read("thickness", mesh.thickness, positive(), "m", Presence::required);
+  map.read("youngs_modulus", mesh.youngs_modulus, positive(), "Pa", Presence::required);
+  map.read("poisson_ratio", mesh.poisson_ratio, interval(0.0, true, 0.5, false), "1");
+  map.read("density", mesh.density, positive(), "kg/m³", Presence::required);
+  map.read("yield_stress", mesh.yield_stress, non_negative(), "Pa");
+  map.read("hardening_modulus", mesh.hardening_modulus, non_negative(), "Pa");
+  map.read("coupling_group", mesh.coupling_group, Presence::required);
+  for (MapReader& support_map : list_of_maps(map, "supports", "support"))
+    mesh.supports.push_back(read_support(support_map));
+  return mesh;
+}
 
 // The model path against the deck's folder, stored absolute; it must exist when files are
 // required (as STL files are).
@@ -49,7 +83,7 @@ void read_structures_section(MapReader& root, const DeckParseOptions& options, c
 
   for (MapReader& map : list_of_maps(root, "structures", "structure")) {
     if (!map.is_map()) continue;
-    map.reject_unknown_keys(kStructureKeys);
+    map.reject_unknown_keys(structure_keys());
     StructureSpec structure;
     structure.where = map.location();
     DeckContext& context = map.context();
@@ -63,6 +97,21 @@ void read_structures_section(MapReader& root, const DeckParseOptions& options, c
                     fmt::format("the name \"{}\" is taken by another surface or structure", structure.name.value),
                     "the structure's coupling surface is a surface of the world: give it a name of its own");
     read_model_path(map, options, structure.model);
+    // A Gmsh mesh needs its section, material, supports and coupling group from here; bulk
+    // data has cards for them, and the keys that pick among its cards mean nothing for a mesh.
+    const bool gmsh = is_gmsh_path(structure.model.value);
+    for (const std::string& key : gmsh ? kBulkDataKeys : kMeshKeys)
+      if (const YAML::Node* key_node = map.find_key(key))
+        context.error(context.where(*key_node),
+                      fmt::format("`{}` applies to a {} model; \"{}\" is {}", key,
+                                  gmsh ? "bulk data" : "Gmsh (.msh)",
+                                  std::filesystem::path(structure.model.value).filename().string(),
+                                  gmsh ? "a Gmsh mesh" : "bulk data"),
+                      gmsh ? "a Gmsh mesh names its coupling surface by `coupling_group` and its "
+                             "supports by `supports` boxes"
+                           : "the bulk data's cards give it (PSHELL, MAT1, MATS1, SPC, the EDEM "
+                             "card's COUPLING surface)");
+    if (gmsh) structure.mesh = read_mesh_structure(map);
     if (map.read("material", structure.material, Presence::required) &&
         std::find(materials.begin(), materials.end(), structure.material.value) == materials.end())
       context.error(structure.material.where, fmt::format("unknown material \"{}\"", structure.material.value),

@@ -91,6 +91,7 @@ const std::string& spelling(RegionKind v) { return deck_detail::spelling(deck_de
 const std::string& spelling(ExportFormat v) { return deck_detail::spelling(deck_detail::kExportFormats, v); }
 const std::string& spelling(CalculixAnalysis v) { return deck_detail::spelling(deck_detail::kCalculixAnalyses, v); }
 const std::string& spelling(SupportFixity v) { return deck_detail::spelling(deck_detail::kSupportFixities, v); }
+const std::string& spelling(MeshLengthUnit v) { return deck_detail::spelling(deck_detail::kMeshLengthUnits, v); }
 const std::string& spelling(MonitorKind v) { return deck_detail::spelling(deck_detail::kMonitorKinds, v); }
 const std::string& spelling(Axis v) { return deck_detail::spelling(deck_detail::kAxes, v); }
 
@@ -408,6 +409,18 @@ void write_output(DeckText& deck, const OutputSpec& output) {
   deck.line(2, "contacts: {}", boolean(output.contacts));
 }
 
+// `supports:` at `indent`: the CalculiX model's, a Gmsh structure's.
+void write_supports(DeckText& deck, int indent, const std::vector<SupportSpec>& supports) {
+  if (supports.empty()) {
+    deck.line(indent, "supports: []");
+    return;
+  }
+  deck.line(indent, "supports:");
+  for (const SupportSpec& support : supports)
+    deck.line(indent + 2, "- {{name: {}, box: {{min: {}, max: {}}}, fix: {}}}", text(support.name),
+              vector_text(support.min), vector_text(support.max), spelling(support.fix));
+}
+
 void write_calculix(DeckText& deck, const CalculixSpec& calculix) {
   deck.line(2, "calculix:");
   deck.line(4, "thickness: {}", number(calculix.thickness));
@@ -417,14 +430,7 @@ void write_calculix(DeckText& deck, const CalculixSpec& calculix) {
   if (calculix.density.value > 0.0) deck.line(4, "density: {}", number(calculix.density));
   deck.line(4, "analysis: {}", spelling(calculix.analysis));
   if (calculix.static_time) deck.line(4, "time: {}", number(*calculix.static_time));
-  if (calculix.supports.empty()) {
-    deck.line(4, "supports: []");
-    return;
-  }
-  deck.line(4, "supports:");
-  for (const SupportSpec& support : calculix.supports)
-    deck.line(6, "- {{name: {}, box: {{min: {}, max: {}}}, fix: {}}}", text(support.name),
-              vector_text(support.min), vector_text(support.max), spelling(support.fix));
+  write_supports(deck, 4, calculix.supports);
 }
 
 void write_export(DeckText& deck, const ExportSpec& fem_export) {
@@ -458,7 +464,19 @@ void write_structures(DeckText& deck, const std::vector<StructureSpec>& structur
     if (s.filter) deck.line(4, "filter: {}", number(*s.filter));
     deck.line(4, "mass_scaling_time_step: {}", number(s.mass_scaling_time_step));
     deck.line(4, "damping: {}", number(s.damping));
+    if (s.drilling) deck.line(4, "drilling: {}", number(*s.drilling));
     if (s.export_loads.value) deck.line(4, "export: true");
+    if (!s.mesh) continue;
+    const MeshStructureSpec& m = *s.mesh;
+    deck.line(4, "units: {}", spelling(m.units));
+    deck.line(4, "thickness: {}", number(m.thickness));
+    deck.line(4, "youngs_modulus: {}", number(m.youngs_modulus));
+    deck.line(4, "poisson_ratio: {}", number(m.poisson_ratio));
+    deck.line(4, "density: {}", number(m.density));
+    deck.line(4, "yield_stress: {}", number(m.yield_stress));
+    deck.line(4, "hardening_modulus: {}", number(m.hardening_modulus));
+    deck.line(4, "coupling_group: {}", text(m.coupling_group));
+    write_supports(deck, 4, m.supports);
   }
 }
 
