@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""Deck and STL fuzz test of `quarry check` (issue 19).
+"""Deck, STL and structural model fuzz test of `quarry check` (issue 19).
 
-Mutates the example decks and STL files a few hundred times with a fixed seed — values replaced
-by extremes (0, -1, 1e308, 1e-320, nan, huge integers, text), lines deleted, duplicated or
-truncated, bytes flipped, binary STL counts and lengths changed, ASCII STL records damaged — and
-runs `quarry check` on each. Every mutant must exit 0 (accepted) or 2 (refused with a message),
+Mutates the example decks, STL files and the shell models of two structure decks (bulk data and
+a Gmsh mesh) a few hundred times with a fixed seed — values replaced by extremes (0, -1, 1e308,
+1e-320, nan, huge integers, text), lines deleted, duplicated, swapped or truncated, bytes
+flipped, binary STL counts and lengths changed, ASCII STL records damaged, model fields and
+card names changed — and runs `quarry check` on each. Every mutant must exit 0 (accepted) or 2 (refused with a message),
 within the time limit and under the memory limit; nothing else (a crash, 3, 4, a hang, a blow-up)
 is allowed. A failing mutant is written to the work folder with its output so it can be replayed.
 
@@ -129,6 +130,48 @@ def mutate_ascii_stl(text, rng):
     return "\n".join(lines)
 
 
+MODEL_VALUES = ["0", "-1", "1e308", "-1e308", "nan", "inf", "9223372036854775807", "2147483647", "-2147483648",
+                "4294967296", "1.e+", "+", "*", "", "x", "THRU", "ALL", "\"", "3 3", "1e3000", "-0."]
+
+
+def mutate_model(text, rng):
+    """A bulk-data or Gmsh model with one to three edits: a field or token replaced, a line deleted,
+    duplicated, swapped or cut, a character replaced, a continuation mark or a large-field star."""
+    lines = text.split("\n")
+    for _ in range(rng.randint(1, 3)):
+        i = rng.randrange(len(lines))
+        line = lines[i]
+        kind = rng.randrange(8)
+        if kind <= 1 and line:  # a field (free, fixed 8-column or blank-separated) replaced
+            if "," in line:
+                fields = line.split(",")
+                fields[rng.randrange(len(fields))] = rng.choice(MODEL_VALUES)
+                lines[i] = ",".join(fields)
+            elif kind == 0:
+                k = rng.randrange(max(1, len(line) // 8))
+                lines[i] = line[:8 * k] + rng.choice(MODEL_VALUES)[:8].ljust(8) + line[8 * k + 8:]
+            else:
+                tokens = re.split(r"(\s+)", line)
+                tokens[rng.randrange(len(tokens))] = rng.choice(MODEL_VALUES)
+                lines[i] = "".join(tokens)
+        elif kind == 2 and len(lines) > 1:
+            del lines[i]
+        elif kind == 3:
+            lines.insert(i, line)
+        elif kind == 4:
+            lines[i] = line[:rng.randrange(len(line) + 1)]
+        elif kind == 5:
+            j = rng.randrange(len(lines))
+            lines[i], lines[j] = lines[j], lines[i]
+        elif kind == 6 and line:
+            k = rng.randrange(len(line))
+            lines[i] = line[:k] + rng.choice(["+", "*", ",", "\t", "$", "\x00", "\xff", "é", " "]) + line[k + 1:]
+        else:  # a card or section name changed
+            lines[i] = rng.choice(["+", "*", "CQUAD4", "CTRIA3", "GRID*", "$Nodes", "$EndElements", "ENDDATA"]) + \
+                line[len(line.split(",")[0].split(" ")[0]):]
+    return "\n".join(lines)
+
+
 def ascii_stl_from_binary(data):
     """An ASCII rendering of a binary STL (so that the text reader is fuzzed too)."""
     count = struct.unpack("<I", data[80:84])[0]
@@ -166,6 +209,14 @@ def main():
     decks["minimal.yaml"] = open(os.path.join(args.source_dir, "tests", "decks", "minimal.yaml")).read()
     hopper_stl = open(os.path.join(examples, "hopper", "hopper.stl"), "rb").read()
     hopper_deck = decks["hopper/hopper.yaml"]
+    # Structure decks whose model lies beside them: bulk data (plate_8x8.bdf) and a Gmsh mesh.
+    fsi = os.path.join(args.source_dir, "tests", "fsi")
+    models = [
+        (open(os.path.join(fsi, "plate_bed.yaml")).read(), "plate_8x8.bdf",
+         open(os.path.join(fsi, "plate_8x8.bdf")).read()),
+        (open(os.path.join(fsi, "plate_mesh.yaml")).read().replace("../models/plate.msh", "plate.msh"), "plate.msh",
+         open(os.path.join(args.source_dir, "tests", "models", "plate.msh")).read()),
+    ]
 
     outcomes = {}
     failures = []
@@ -185,6 +236,12 @@ def main():
                 open(os.path.join(folder, "hopper.stl"), "w", encoding="utf-8", errors="surrogateescape").write(text)
                 what = "ASCII STL mutant of hopper.stl"
             open(deck_path, "w").write(hopper_deck)
+        elif n % 3 == 1:  # a structural model mutant under its (unchanged) deck
+            deck, model_name, model = models[(n // 3) % 2]
+            open(os.path.join(folder, model_name), "w", encoding="utf-8", errors="surrogateescape").write(
+                mutate_model(model, rng))
+            open(deck_path, "w").write(deck)
+            what = f"model mutant of {model_name}"
         else:
             name = rng.choice(sorted(decks))
             open(deck_path, "w", encoding="utf-8", errors="surrogateescape").write(mutate_deck(decks[name], rng))
