@@ -154,6 +154,9 @@ struct StructureModel {
   std::map<int, IdSet> sets;                       // by SET id
   std::map<int, Surface> surfaces;                 // by SURF id
   std::vector<EdemCoupling> couplings;             // in file order
+  // Gmsh: the named physical groups of points and curves, as node sets (kind grid, id = the
+  // physical tag, members = node ids): a deck's supports name them. Empty for bulk data.
+  std::vector<IdSet> node_groups;
   std::vector<std::string> source_files;           // the files read, as named (CardLocation index)
   // Cards read but not used (e.g. PARAM, output requests) and warnings, one note per card name
   // at its first occurrence; print with notes.format().

@@ -15,11 +15,13 @@ namespace quarry {
 
 enum class SupportFixity { clamped, pinned };  // clamped: DOFs 1–6 fixed; pinned: DOFs 1–3
 
-// Nodes with a boundary condition: those inside the box [min, max] (m, inclusive). The
-// CalculiX export's supports, and a Gmsh structure's.
+// Nodes with a boundary condition: those inside the box [min, max] (m, inclusive), or (a Gmsh
+// structure's) those of a physical group of points or curves. The CalculiX export's supports,
+// and a Gmsh structure's.
 struct SupportSpec {
   Located<std::string> name;
   Located<Vec3> min, max;
+  Located<std::string> group;  // empty: the box
   Located<SupportFixity> fix{SupportFixity::clamped};
 };
 
@@ -37,7 +39,7 @@ struct MeshStructureSpec {
   Located<double> yield_stress{0.0};       // Pa; 0: elastic
   Located<double> hardening_modulus{0.0};  // Pa, the slope of stress against plastic strain
   Located<std::string> coupling_group;     // the physical surface group the particles touch
-  std::vector<SupportSpec> supports;       // none: a free structure
+  std::vector<SupportSpec> supports;       // boxes or groups; none: a free structure
 };
 
 struct StructureSpec {

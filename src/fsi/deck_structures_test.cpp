@@ -60,7 +60,8 @@ structures:
   - {name: plate, model: )" + mesh + R"(, material: steel, units: mm, thickness: 0.005,
      youngs_modulus: 2.1e11, poisson_ratio: 0.28, density: 7850, yield_stress: 2.5e8,
      hardening_modulus: 1.0e9, coupling_group: coupling surface, drilling: 0.2,
-     supports: [{name: edge, box: {min: [0, 0, 0], max: [0, 0.2, 0]}, fix: pinned}]}
+     supports: [{name: edge, box: {min: [0, 0, 0], max: [0, 0.2, 0]}, fix: pinned},
+                {name: side, group: clamped}]}
 )";
   const SimulationSpec spec = parse_deck_string(text, "deck.yaml");
   ASSERT_EQ(spec.structures.size(), 1u);
@@ -76,10 +77,13 @@ structures:
     EXPECT_DOUBLE_EQ(m.yield_stress.value, 2.5e8);
     EXPECT_DOUBLE_EQ(m.hardening_modulus.value, 1.0e9);
     EXPECT_EQ(m.coupling_group.value, "coupling surface");
-    ASSERT_EQ(m.supports.size(), 1u);
+    ASSERT_EQ(m.supports.size(), 2u);
     EXPECT_EQ(m.supports[0].name.value, "edge");
     EXPECT_EQ(m.supports[0].max.value, (Vec3{0.0, 0.2, 0.0}));
     EXPECT_EQ(m.supports[0].fix.value, SupportFixity::pinned);
+    EXPECT_TRUE(m.supports[0].group.value.empty());
+    EXPECT_EQ(m.supports[1].group.value, "clamped");
+    EXPECT_EQ(m.supports[1].fix.value, SupportFixity::clamped);
     ASSERT_TRUE(plate.drilling);
     EXPECT_DOUBLE_EQ(plate.drilling->value, 0.2);
   };

@@ -281,11 +281,30 @@ StructureModel mesh_structure(const std::string& path, const MeshStructureSpec& 
     SinglePointConstraint constraint;
     constraint.set_id = kId;
     constraint.dofs = support.fix.value == SupportFixity::clamped ? DofSet::all() : DofSet{0x07};
-    const Vec3 &lo = support.min.value, &hi = support.max.value;  // m
-    for (const auto& [id, grid] : model.nodes) {
-      const Vec3& p = grid.position;
-      if (p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z)
-        constraint.nodes.push_back(id);
+    if (!support.group.value.empty()) {
+      const auto named = std::find_if(model.node_groups.begin(), model.node_groups.end(),
+                                      [&](const IdSet& g) { return g.name == support.group.value; });
+      if (named == model.node_groups.end()) {
+        std::vector<std::string> groups;
+        for (const IdSet& g : model.node_groups) groups.push_back(fmt::format("\"{}\"", g.name));
+        throw UserError(support.group.where,
+                        fmt::format("the mesh \"{}\" has no physical group of points or curves "
+                                    "named \"{}\"",
+                                    path, support.group.value),
+                        groups.empty() ? std::string("give the supported edges or points a "
+                                                     "physical group in Gmsh, or use a box")
+                                       : fmt::format("its groups of points and curves: {}",
+                                                     fmt::join(groups, ", ")));
+      }
+      constraint.nodes = named->members;
+    } else {
+      const Vec3 &lo = support.min.value, &hi = support.max.value;  // m
+      for (const auto& [id, grid] : model.nodes) {
+        const Vec3& p = grid.position;
+        if (p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z &&
+            p.z <= hi.z)
+          constraint.nodes.push_back(id);
+      }
     }
     if (constraint.nodes.empty())
       throw UserError(support.name.where,

@@ -255,6 +255,20 @@ TEST(StructureAdapter, GmshMeshAsTheBulkDataPlate) {
   EXPECT_FALSE(from_mesh.period || from_mesh.filter);
 }
 
+// A support naming the mesh's physical group of curves "clamped" (the edge x = 0) holds the
+// same nodes as the box around that edge.
+TEST(StructureAdapter, GmshSupportByGroupAsByBox) {
+  MeshStructureSpec by_group = plate_mesh_entry();
+  by_group.supports[0].group = std::string("clamped");
+  const StructureModel group = mesh_structure(models_dir() + "plate.msh", by_group);
+  const StructureModel box = mesh_structure(models_dir() + "plate.msh", plate_mesh_entry());
+  ASSERT_EQ(group.constraints.size(), 1u);
+  ASSERT_EQ(box.constraints.size(), 1u);
+  EXPECT_EQ(group.constraints[0].nodes, (std::vector<int>{1, 4, 7}));
+  EXPECT_EQ(group.constraints[0].nodes, box.constraints[0].nodes);
+  EXPECT_EQ(group.constraints[0].dofs, box.constraints[0].dofs);
+}
+
 // What the entry names and the mesh has not is refused at the entry's key.
 TEST(StructureAdapter, GmshEntryErrorsAtTheDecksKeys) {
   const std::string path = models_dir() + "plate.msh";
@@ -279,6 +293,16 @@ TEST(StructureAdapter, GmshEntryErrorsAtTheDecksKeys) {
   } catch (const UserError& e) {
     const std::string text = e.diagnostics().format();
     EXPECT_EQ(text.rfind("deck.yaml:14:9: error: support \"edge\" holds no node", 0), 0u) << text;
+  }
+  entry = plate_mesh_entry();
+  entry.supports[0].group = Located<std::string>{"clamp", {"deck.yaml", 14, 30}};
+  try {
+    mesh_structure(path, entry);
+    ADD_FAILURE() << "a group the mesh has not was accepted as a support";
+  } catch (const UserError& e) {
+    const std::string text = e.diagnostics().format();
+    EXPECT_EQ(text.rfind("deck.yaml:14:30: error: the mesh", 0), 0u) << text;
+    EXPECT_NE(text.find("its groups of points and curves: \"clamped\""), std::string::npos) << text;
   }
   // Read as metres, the 200 mm plate is 200 m wide: the 0.2 m box holds only the node at 0.
   entry = plate_mesh_entry();

@@ -35,8 +35,8 @@ void read_monitors_section(MapReader& root, std::vector<MonitorSpec>& monitors);
 void read_particles_section(MapReader& root, const DeckParseOptions& options, SimulationSpec& spec);
 
 // deck_settings.cpp: one support, {name, box: {min, max}, fix: clamped|pinned} (the CalculiX
-// export's, a Gmsh structure's).
-SupportSpec read_support(MapReader& map);
+// export's), or with `groups` (a Gmsh structure's) {name, group: NAME, fix} in place of the box.
+SupportSpec read_support(MapReader& map, bool groups);
 
 // deck_structures.cpp: the optional `structures:` section (two-way shell coupling, issue #17);
 // needs the materials, surfaces and end time read before it (names and PERIOD are checked).

@@ -261,18 +261,29 @@ CalculixSpec read_calculix(MapReader& map) {
       calculix.static_time = time;
   }
   for (MapReader& support_map : list_of_maps(map, "supports", "support"))
-    calculix.supports.push_back(read_support(support_map));
+    calculix.supports.push_back(read_support(support_map, false));
   return calculix;
 }
 
 }  // namespace
 
-SupportSpec read_support(MapReader& map) {
+SupportSpec read_support(MapReader& map, bool groups) {
   SupportSpec support;
-  map.reject_unknown_keys({"name", "box", "fix"});
+  if (groups)
+    map.reject_unknown_keys({"name", "box", "group", "fix"});
+  else
+    map.reject_unknown_keys({"name", "box", "fix"});
   map.read("name", support.name, Presence::required);
   map.read("fix", support.fix, kSupportFixities);
-  if (!map.require("box", "box: {min: [x, y, z], max: [x, y, z]} selects the nodes inside"))
+  if (groups && map.read("group", support.group)) {
+    if (const YAML::Node* box = map.find_key("box"))
+      map.context().error(map.context().where(*box), "a support takes a box or a group, not both",
+                          "keep the group (the mesh's physical group of points or curves)");
+    return support;
+  }
+  if (!map.require("box", groups ? "box: {min: [x, y, z], max: [x, y, z]} selects the nodes "
+                                   "inside, or group: a physical group of points or curves"
+                                 : "box: {min: [x, y, z], max: [x, y, z]} selects the nodes inside"))
     return support;
   MapReader box(map.context(), *map.find("box"), *map.find_key("box"), "box");
   if (!box.is_map()) return support;

@@ -46,7 +46,7 @@ MeshStructureSpec read_mesh_structure(MapReader& map) {
   map.read("hardening_modulus", mesh.hardening_modulus, non_negative(), "Pa");
   map.read("coupling_group", mesh.coupling_group, Presence::required);
   for (MapReader& support_map : list_of_maps(map, "supports", "support"))
-    mesh.supports.push_back(read_support(support_map));
+    mesh.supports.push_back(read_support(support_map, true));
   return mesh;
 }
 

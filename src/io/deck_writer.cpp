@@ -417,8 +417,13 @@ void write_supports(DeckText& deck, int indent, const std::vector<SupportSpec>& 
   }
   deck.line(indent, "supports:");
   for (const SupportSpec& support : supports)
-    deck.line(indent + 2, "- {{name: {}, box: {{min: {}, max: {}}}, fix: {}}}", text(support.name),
-              vector_text(support.min), vector_text(support.max), spelling(support.fix));
+    if (!support.group.value.empty())
+      deck.line(indent + 2, "- {{name: {}, group: {}, fix: {}}}", text(support.name),
+                text(support.group), spelling(support.fix));
+    else
+      deck.line(indent + 2, "- {{name: {}, box: {{min: {}, max: {}}}, fix: {}}}",
+                text(support.name), vector_text(support.min), vector_text(support.max),
+                spelling(support.fix));
 }
 
 void write_calculix(DeckText& deck, const CalculixSpec& calculix) {

@@ -274,6 +274,7 @@ class GmshParser {
         for (std::size_t k = 0; k < physicals; ++k)
           tags.push_back(static_cast<int>(integer("a physical tag")));
         if (dimension == 2) surface_physicals_[tag] = std::move(tags);
+        else if (dimension < 2) lower_physicals_[{dimension, tag}] = std::move(tags);
         if (dimension > 0) {
           const std::size_t bounding = count("the number of bounding entities");
           for (std::size_t k = 0; k < bounding; ++k) integer("a bounding entity tag");
@@ -366,6 +367,21 @@ class GmshParser {
         }
         if (dimension < 2) {
           if (skipped_lower_dimension_++ == 0) first_skipped_ = tag_token;
+          // Its nodes join its entity's physical groups (supports named in the deck).
+          if (const auto groups = lower_physicals_.find({dimension, entity});
+              groups != lower_physicals_.end())
+            for (int k = 0; k < std::min(node_count, 4); ++k) {
+              const std::int64_t node = node_tags[static_cast<std::size_t>(k)];
+              if (node < 1 || node > std::numeric_limits<int>::max() ||
+                  !model_.nodes.count(static_cast<int>(node))) {
+                errors_.error(location(*node_tokens[static_cast<std::size_t>(k)]),
+                              fmt::format("element {} names node {}, which is not in $Nodes",
+                                          tag, node));
+                break;
+              }
+              for (const int group : groups->second)
+                group_nodes_[{dimension, group}].push_back(static_cast<int>(node));
+            }
           continue;
         }
         if (shell) add_shell(tag_token, tag, entity, type == 3 ? 4 : 3, node_tokens, node_tags);
@@ -437,6 +453,33 @@ class GmshParser {
       std::sort(members.begin(), members.end());
       members.erase(std::unique(members.begin(), members.end()), members.end());
     }
+    // The named physical groups of points and curves: their elements' nodes.
+    std::map<std::string, const Token*> node_names;
+    for (const auto& [key, named] : physical_names_) {
+      if (key.first >= 2) continue;
+      const auto [entry, inserted] = node_names.emplace(named.first, &named.second);
+      if (!inserted) {
+        errors_.error(location(named.second),
+                      fmt::format("two physical groups of points or curves are named \"{}\"",
+                                  named.first),
+                      fmt::format("first on line {}; the deck names groups, so each name must "
+                                  "be unique",
+                                  entry->second->line));
+        continue;
+      }
+      IdSet group;
+      group.id = key.second;
+      group.kind = SetKind::grid;
+      group.name = named.first;
+      group.where = {0, named.second.line};
+      if (const auto nodes = group_nodes_.find(key); nodes != group_nodes_.end()) {
+        group.members = nodes->second;
+        std::sort(group.members.begin(), group.members.end());
+        group.members.erase(std::unique(group.members.begin(), group.members.end()),
+                            group.members.end());
+      }
+      model_.node_groups.push_back(std::move(group));
+    }
   }
 
   std::string display_name_;
@@ -448,6 +491,8 @@ class GmshParser {
   StructureModel model_;
   std::map<std::pair<int, int>, std::pair<std::string, Token>> physical_names_;  // (dim, tag)
   std::map<int, std::vector<int>> surface_physicals_;  // surface entity -> physical tags
+  // (dimension, point or curve entity) -> physical tags; (dimension, physical tag) -> nodes.
+  std::map<std::pair<int, int>, std::vector<int>> lower_physicals_, group_nodes_;
   std::set<int> element_ids_;
   std::vector<int> entity_of_shell_;  // parallel to model_.shells
   std::size_t skipped_lower_dimension_ = 0;

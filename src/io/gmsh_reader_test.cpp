@@ -138,6 +138,22 @@ TEST(GmshReader, SameMeshAsTheBulkDataPlate) {
       << mesh.notes.format();
 }
 
+// A named physical group of points or curves is a node set (a deck's support names it): the
+// plate's "clamped" edge, two lines along x = 0.
+TEST(GmshReader, PhysicalGroupsOfCurvesAreNodeSets) {
+  GmshReadOptions options;
+  options.units = UnitSystem::mm_tonne_second;
+  const StructureModel mesh =
+      read_gmsh((source_dir() / "tests" / "models" / "plate.msh").string(), options);
+  ASSERT_EQ(mesh.node_groups.size(), 1u);
+  const IdSet& clamped = mesh.node_groups.front();
+  EXPECT_EQ(clamped.name, "clamped");
+  EXPECT_EQ(clamped.id, 7);
+  EXPECT_EQ(clamped.kind, SetKind::grid);
+  EXPECT_EQ(clamped.members, (std::vector<int>{1, 4, 7}));
+  EXPECT_EQ(mesh.where(clamped.where).line, 6);
+}
+
 // A mesh cut after any character either reads or fails with a UserError; nothing else escapes.
 TEST(GmshReader, EveryPrefixReadsOrFailsCleanly) {
   GmshReadOptions options;
