@@ -298,20 +298,18 @@ StructureModel mesh_structure(const std::string& path, const MeshStructureSpec& 
       }
       constraint.nodes = named->members;
     } else {
-      const Vec3 &lo = support.min.value, &hi = support.max.value;  // m
-      for (const auto& [id, grid] : model.nodes) {
-        const Vec3& p = grid.position;
-        if (p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z &&
-            p.z <= hi.z)
-          constraint.nodes.push_back(id);
-      }
+      const Aabb box{support.min.value, support.max.value};  // m, inclusive
+      for (const auto& [id, grid] : model.nodes)
+        if (box.contains(grid.position)) constraint.nodes.push_back(id);
     }
     if (constraint.nodes.empty())
       throw UserError(support.name.where,
                       fmt::format("support \"{}\" holds no node of the mesh \"{}\"",
                                   support.name.value, path),
-                      "its box is in m, inclusive, and the mesh's coordinates are converted from "
-                      "its `units` first: widen the box to take the supported nodes");
+                      support.group.value.empty()
+                          ? "its box is in m, inclusive, and the mesh's coordinates are converted "
+                            "from its `units` first: widen the box to take the supported nodes"
+                          : "its physical group has no elements of points or curves in the mesh");
     model.constraints.push_back(std::move(constraint));
   }
   return model;

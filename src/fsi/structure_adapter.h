@@ -88,12 +88,12 @@ CoupledStructure prepare_coupling(const StructureModel& structure, const Adapter
 // A Gmsh mesh (io/gmsh_reader.h) made the StructureModel that bulk data saying the same would
 // give, from what its deck entry states (MeshStructureSpec): one section (PSHELL 1: thickness,
 // MID1 = MID2 = MID3 = 1) and one material (MAT1 1, with MATS1 where yield_stress > 0) on
-// every element, the supports as SPC set 1 (each box's nodes, DOFs 123456 clamped or 123
-// pinned), and an EDEM coupling (no PERIOD or FILTER: the deck's, or the seed's defaults) of
-// the physical surface group `coupling_group`, labelled with its name. Throws UserError at the
-// deck's key: a group the mesh has not (the hint lists those it has), a support box holding no
-// node; and read_gmsh's errors at the mesh's line and column. Cost: one read, O(nodes ·
-// supports).
+// every element, the supports as SPC set 1 (each box's nodes or each named group's of points
+// or curves, DOFs 123456 clamped or 123 pinned), and an EDEM coupling (no PERIOD or FILTER:
+// the deck's, or the seed's defaults) of the physical surface group `coupling_group`, labelled
+// with its name. Throws UserError at the deck's key: a group the mesh has not (the hint lists
+// those it has), a support holding no node; and read_gmsh's errors at the mesh's line and
+// column. Cost: one read, O(nodes · supports).
 StructureModel mesh_structure(const std::string& path, const MeshStructureSpec& spec);
 // mesh_structure then prepare_coupling.
 CoupledStructure read_coupled_mesh(const std::string& path, const MeshStructureSpec& spec,

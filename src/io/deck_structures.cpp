@@ -108,7 +108,7 @@ void read_structures_section(MapReader& root, const DeckParseOptions& options, c
                                   std::filesystem::path(structure.model.value).filename().string(),
                                   gmsh ? "a Gmsh mesh" : "bulk data"),
                       gmsh ? "a Gmsh mesh names its coupling surface by `coupling_group` and its "
-                             "supports by `supports` boxes"
+                             "supports by `supports` (physical groups or boxes)"
                            : "the bulk data's cards give it (PSHELL, MAT1, MATS1, SPC, the EDEM "
                              "card's COUPLING surface)");
     if (gmsh) structure.mesh = read_mesh_structure(map);

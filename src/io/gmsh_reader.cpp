@@ -372,13 +372,7 @@ class GmshParser {
               groups != lower_physicals_.end())
             for (int k = 0; k < std::min(node_count, 4); ++k) {
               const std::int64_t node = node_tags[static_cast<std::size_t>(k)];
-              if (node < 1 || node > std::numeric_limits<int>::max() ||
-                  !model_.nodes.count(static_cast<int>(node))) {
-                errors_.error(location(*node_tokens[static_cast<std::size_t>(k)]),
-                              fmt::format("element {} names node {}, which is not in $Nodes",
-                                          tag, node));
-                break;
-              }
+              if (!known_node(tag, node, *node_tokens[static_cast<std::size_t>(k)])) break;
               for (const int group : groups->second)
                 group_nodes_[{dimension, group}].push_back(static_cast<int>(node));
             }
@@ -387,6 +381,29 @@ class GmshParser {
         if (shell) add_shell(tag_token, tag, entity, type == 3 ? 4 : 3, node_tokens, node_tags);
       }
     }
+  }
+
+  // Whether element `tag`'s node tag `node` (at `token`) is in $Nodes; an error there if not.
+  bool known_node(std::int64_t tag, std::int64_t node, const Token& token) {
+    if (node >= 1 && node <= std::numeric_limits<int>::max() &&
+        model_.nodes.count(static_cast<int>(node)))
+      return true;
+    errors_.error(location(token),
+                  fmt::format("element {} names node {}, which is not in $Nodes", tag, node));
+    return false;
+  }
+
+  // Whether `name` (at `where`) is the first group of its kind (`groups`, for the message) so
+  // named; an error there if not, since the deck names groups.
+  bool first_named(std::map<std::string, const Token*>& seen, const std::string& name,
+                   const Token& where, std::string_view groups) {
+    const auto [entry, inserted] = seen.emplace(name, &where);
+    if (!inserted)
+      errors_.error(location(where), fmt::format("two {} are named \"{}\"", groups, name),
+                    fmt::format("first on line {}; the deck names groups, so each name must "
+                                "be unique",
+                                entry->second->line));
+    return inserted;
   }
 
   void add_shell(const Token& tag_token, std::int64_t tag, int entity, int node_count,
@@ -403,12 +420,7 @@ class GmshParser {
     for (int k = 0; k < node_count; ++k) {
       const std::size_t index = static_cast<std::size_t>(k);
       const std::int64_t node = node_tags[index];
-      if (node < 1 || node > std::numeric_limits<int>::max() ||
-          !model_.nodes.count(static_cast<int>(node))) {
-        errors_.error(location(*node_tokens[index]),
-                      fmt::format("element {} names node {}, which is not in $Nodes", tag, node));
-        return;
-      }
+      if (!known_node(tag, node, *node_tokens[index])) return;
       element.nodes[index] = static_cast<int>(node);
     }
     if (!element_ids_.insert(element.id).second) {
@@ -422,16 +434,9 @@ class GmshParser {
   // One element set per physical group of dimension 2.
   void build_sets() {
     std::map<std::string, const Token*> names_in_use;
-    for (const auto& [key, named] : physical_names_) {
-      if (key.first != 2) continue;
-      const auto [entry, inserted] = names_in_use.emplace(named.first, &named.second);
-      if (!inserted)
-        errors_.error(location(named.second),
-                      fmt::format("two surface physical groups are named \"{}\"", named.first),
-                      fmt::format("first on line {}; the deck names groups, so each name must "
-                                  "be unique",
-                                  entry->second->line));
-    }
+    for (const auto& [key, named] : physical_names_)
+      if (key.first == 2)
+        first_named(names_in_use, named.first, named.second, "surface physical groups");
     for (const auto& [entity, tags] : surface_physicals_) {
       for (const int tag : tags) {
         IdSet& set = model_.sets[tag];
@@ -456,17 +461,9 @@ class GmshParser {
     // The named physical groups of points and curves: their elements' nodes.
     std::map<std::string, const Token*> node_names;
     for (const auto& [key, named] : physical_names_) {
-      if (key.first >= 2) continue;
-      const auto [entry, inserted] = node_names.emplace(named.first, &named.second);
-      if (!inserted) {
-        errors_.error(location(named.second),
-                      fmt::format("two physical groups of points or curves are named \"{}\"",
-                                  named.first),
-                      fmt::format("first on line {}; the deck names groups, so each name must "
-                                  "be unique",
-                                  entry->second->line));
+      if (key.first >= 2 || !first_named(node_names, named.first, named.second,
+                                         "physical groups of points or curves"))
         continue;
-      }
       IdSet group;
       group.id = key.second;
       group.kind = SetKind::grid;
