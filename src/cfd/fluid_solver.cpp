@@ -10,6 +10,9 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+
+#include "core/diagnostics.h"
 
 namespace quarry::cfd {
 
@@ -493,38 +496,49 @@ void FluidSolver::update_boundaries() {
   fill_pressure_ghosts();
 }
 
-// Physics guard: a linear solve that stopped short, or a velocity that is no longer finite.
+// Physics guard: a linear solve that stopped short, or a velocity that is no longer finite. A
+// PhysicsError (exit code 3, PHYSICS through the ABI): the state or the deck's physics went
+// wrong, not the program. A residual that is not finite means the system's right-hand side
+// already held a NaN or an infinity (a source out of range), not that the solver was too slow.
 void FluidSolver::check_step_health(double dt) const {
   constexpr std::array<const char*, 3> kAxes{"x", "y", "z"};
+  const auto non_finite = [&](const std::string& solve, double residual) {
+    return PhysicsError(fmt::format(
+        "fluid solver, step {}: the {} solve met a value that is not finite (relative residual "
+        "{}) at dt = {} s; the fluid's sources are out of range: check gravity, the boundary "
+        "velocities and the particles' state (a particle that is no longer finite gives a "
+        "non-finite drag)",
+        step_count_, solve, residual, dt));
+  };
   for (int a = 0; a < 3; ++a) {
     const SolveReport& momentum = report_.momentum[a];
-    if (!momentum.converged) {
-      throw std::runtime_error(
-          fmt::format("fluid solver, step {}: the {}-momentum solve did not converge in {} "
-                      "iterations (relative residual "
-                      "{:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations or check β and "
-                      "the boundary velocities",
-                      step_count_, kAxes[static_cast<std::size_t>(a)], momentum.iterations,
-                      momentum.relative_residual, options_.velocity_tolerance, dt));
-    }
+    if (momentum.converged) continue;
+    const std::string solve = fmt::format("{}-momentum", kAxes[static_cast<std::size_t>(a)]);
+    if (!std::isfinite(momentum.relative_residual))
+      throw non_finite(solve, momentum.relative_residual);
+    throw PhysicsError(fmt::format(
+        "fluid solver, step {}: the {} solve did not converge in {} iterations (relative "
+        "residual {:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations or check β and the "
+        "boundary velocities",
+        step_count_, solve, momentum.iterations, momentum.relative_residual,
+        options_.velocity_tolerance, dt));
   }
   if (!report_.pressure.converged) {
-    throw std::runtime_error(
-        fmt::format("fluid solver, step {}: the pressure solve did not converge in {} iterations "
-                    "(relative residual "
-                    "{:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations, or check for "
-                    "fluid regions cut off "
-                    "from every outlet whose volume changes (Σ ∂ε/∂t ≠ 0)",
-                    step_count_, report_.pressure.iterations, report_.pressure.relative_residual,
-                    options_.pressure_tolerance, dt));
+    if (!std::isfinite(report_.pressure.relative_residual))
+      throw non_finite("pressure", report_.pressure.relative_residual);
+    throw PhysicsError(fmt::format(
+        "fluid solver, step {}: the pressure solve did not converge in {} iterations (relative "
+        "residual {:.3e}, tolerance {:.1e}) at dt = {} s; raise max_iterations, or check for "
+        "fluid regions cut off from every outlet whose volume changes (Σ ∂ε/∂t ≠ 0)",
+        step_count_, report_.pressure.iterations, report_.pressure.relative_residual,
+        options_.pressure_tolerance, dt));
   }
   if (!std::isfinite(report_.divergence)) {
-    throw std::runtime_error(
-        fmt::format("fluid solver, step {}: the velocity is no longer finite after a step of dt = "
-                    "{} s; keep dt at "
-                    "about half of stable_time_step() (CFL, and for central advection 2ν/|u|² where there is "
-                    "no drag; hybrid advection needs only the CFL limit)",
-                    step_count_, dt));
+    throw PhysicsError(fmt::format(
+        "fluid solver, step {}: the velocity is no longer finite after a step of dt = {} s; keep "
+        "dt at about half of stable_time_step() (CFL, and for central advection 2ν/|u|² where "
+        "there is no drag; hybrid advection needs only the CFL limit)",
+        step_count_, dt));
   }
 }
 

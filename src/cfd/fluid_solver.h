@@ -85,7 +85,7 @@ class FluidSolver {
   // Advances the fluid by dt (s) > 0 with the inputs as they are set now. After it the face
   // velocities satisfy ∇·(εu) + ∂ε/∂t = 0 to the pressure tolerance; the void fraction set for
   // this step becomes the old one of the next. Cost: a few multigrid-CG solves of the cell count.
-  // Throws std::runtime_error (the state is then that of the failed step) when a linear solve
+  // Throws PhysicsError (the state is then that of the failed step) when a linear solve
   // does not converge or the velocity is no longer finite, with the values and a hint.
   void step(double dt);
   // The team of the next steps' loops and linear solves (the run loop's thread governor

@@ -15,6 +15,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/diagnostics.h"
+
 namespace quarry::cfd {
 namespace {
 
@@ -468,7 +470,21 @@ TEST(FluidSolverTest, RefusesBadInputAndReportsAFailedSolve) {
   inlet.face(0, 0).velocity = {1.0, 0.0, 0.0};
   inlet.face(0, 1).kind = BoundaryKind::pressure_outlet;
   FluidSolver stalled(grid, FluidProperties{}, inlet, options);
-  EXPECT_THROW(stalled.step(0.01), std::runtime_error);
+  // A physics fault of the run (exit code 3), not an internal error (4).
+  EXPECT_THROW(stalled.step(0.01), PhysicsError);
+
+  // A source out of range (gravity of 1e308 m/s², a value a deck fuzzer found accepted): the
+  // momentum solve's right-hand side overflows; said as such, not as a solve too slow.
+  FluidSolverOptions huge;
+  huge.gravity = {0.0, 1e308, -9.81};
+  FluidSolver overflowing(grid, FluidProperties{}, inlet, huge);
+  try {
+    overflowing.step(0.01);
+    ADD_FAILURE() << "a step with gravity 1e308 m/s² passed";
+  } catch (const PhysicsError& e) {
+    EXPECT_NE(std::strstr(e.what(), "not finite"), nullptr) << e.what();
+    EXPECT_NE(std::strstr(e.what(), "check gravity"), nullptr) << e.what();
+  }
 }
 
 // A velocity inlet facing a pressure outlet across a box periodic in y and z: plug flow, which

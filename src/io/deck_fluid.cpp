@@ -44,6 +44,62 @@ const EnumChoices<FluidBlockedKind> kFluidBlockedKinds{
 
 const std::array<const char*, 6> kFaceKeys{"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
 
+// An incompressible fluid that flows in must leave somewhere: with no pressure_outlet the
+// pressure equation ∇·(εa∇φ) = ∇·(εu*) has no solution unless the inlets' volume flows sum to
+// zero (a deck fuzzer's packed bed without its outlet stopped a few steps into the run, its
+// pressure solve at the iteration limit). Flows in m³/s over whole faces of the grid.
+void check_inflow_has_an_outlet(DeckContext& context, const FluidSpec& spec) {
+  double net = 0.0, gross = 0.0;  // m³/s into the domain
+  const Located<Vec3>* first_inlet = nullptr;
+  for (int face = 0; face < 6; ++face) {
+    const FluidFaceSpec& f = spec.faces[static_cast<std::size_t>(face)];
+    if (f.type.value == FluidBoundaryType::pressure_outlet) return;
+    if (f.type.value != FluidBoundaryType::velocity_inlet) continue;
+    const int axis = face / 2;
+    const double area = spec.cells.value[(axis + 1) % 3] * spec.cells.value[(axis + 2) % 3] *
+                        spec.cell_size.value * spec.cell_size.value;  // m²
+    const double inward = (face % 2 == 0 ? 1.0 : -1.0) * f.velocity.value[axis];  // m/s
+    net += area * inward;
+    gross += area * std::abs(inward);
+    if (!first_inlet && inward != 0.0) first_inlet = &f.velocity;
+  }
+  if (!first_inlet || !(std::abs(net) > 1e-9 * gross)) return;
+  context.error(first_inlet->where,
+                fmt::format("fluid flows {} through the velocity inlets ({:.4g} m³/s net) but no "
+                            "face is a pressure_outlet: an incompressible fluid cannot {} a closed "
+                            "domain",
+                            net > 0.0 ? "in" : "out", std::abs(net), net > 0.0 ? "enter" : "leave"),
+                "make a face a pressure_outlet (usually the one opposite the inlet), or give the "
+                "inlets velocities whose flows sum to zero");
+}
+
+// A boundary velocity the fluid step cannot carry: the explicit advection needs the Courant
+// number c = dt Σ_a |u_a| / Δx ≤ 1 (FluidSolver::stable_time_step), and the fluid next to an
+// inlet or a moving wall moves at least as fast as the face (an inlet's interstitial speed U/ε
+// exceeds its superficial U). Above it the first steps blow up (a fuzzed inlet of 1e308 m/s
+// stopped in the momentum solve); refused here with the step and speed that would do.
+void check_boundary_courant(DeckContext& context, const FluidSpec& spec) {
+  const double dt = spec.time_step.value, h = spec.cell_size.value;  // s, m
+  if (!(dt > 0.0) || !(h > 0.0)) return;  // reported where they are read
+  for (int face = 0; face < 6; ++face) {
+    const FluidFaceSpec& f = spec.faces[static_cast<std::size_t>(face)];
+    const FluidBoundaryType type = f.type.value;
+    if (type != FluidBoundaryType::velocity_inlet && type != FluidBoundaryType::wall) continue;
+    const Vec3& u = f.velocity.value;  // m/s
+    const double speed_sum = std::abs(u.x) + std::abs(u.y) + std::abs(u.z);  // m/s
+    const double courant = dt * speed_sum / h;
+    if (!(courant > 1.0)) continue;
+    context.error(f.velocity.where,
+                  fmt::format("the fluid at {} moves {:.4g} cells per fluid step (|u_x| + |u_y| "
+                              "+ |u_z| = {:.4g} m/s, time_step {:.4g} s, cells of {:.4g} m): the "
+                              "explicit advection needs at most 1 (CFL)",
+                              kFaceKeys[static_cast<std::size_t>(face)], courant, speed_sum, dt, h),
+                  fmt::format("a fluid time_step of at most {:.3g} s (half of it is safer), or a "
+                              "boundary speed of at most {:.3g} m/s",
+                              h / speed_sum, h / dt));
+  }
+}
+
 void read_face(MapReader& boundaries, int face, FluidFaceSpec& spec) {
   const std::string key = kFaceKeys[static_cast<std::size_t>(face)];
   MapReader map(boundaries.context(), *boundaries.find(key), *boundaries.find_key(key), key);
@@ -207,6 +263,8 @@ void read_fluid_section(MapReader& root, const DeckParseOptions& options,
                                   kFaceKeys[static_cast<std::size_t>(2 * axis + 1)]),
                       "a periodic face is paired with the opposite one");
     }
+    check_inflow_has_an_outlet(context, spec);
+    check_boundary_courant(context, spec);
   }
 
   std::vector<std::string> law_names;

@@ -245,5 +245,51 @@ TEST(DeckFluid, RefusesBadBlockedEntriesAtTheirKey) {
   EXPECT_NE(errors.find("missing required key \"surface\""), std::string::npos) << errors;
 }
 
+// An inflow needs a way out: with no pressure_outlet the inlets' volume flows must sum to zero
+// (an incompressible fluid; bad deck fluid_outlet_01). Flow in at y_min and out at y_max through
+// two inlets of the same face area and speed passes; in alone, or in at both, is refused at the
+// first inlet's velocity with the net flow: 2 × (4 × 12 cells × 0.25 mm²) × 0.01 m/s =
+// 2.4e-7 m³/s.
+TEST(DeckFluid, AnInflowWithNoOutletMustBalance) {
+  const auto errors_with = [](const std::string& y_max) {
+    std::string deck = kFluidDeck;
+    const std::string outlet = "    z_max: {type: pressure_outlet, reference_pressure: 101325, ";
+    deck.erase(deck.find(outlet), deck.find('\n', deck.find(outlet)) + 1 - deck.find(outlet));
+    const std::string wall = "    y_max: {type: wall, velocity: [0, 0, 0.002]}";
+    deck.replace(deck.find(wall), wall.size(), "    y_max: " + y_max);
+    try {
+      parse_deck_string(deck, "fluid.yaml");
+    } catch (const UserError& e) {
+      return e.diagnostics().format();
+    }
+    return std::string{};
+  };
+  EXPECT_EQ(errors_with("{type: velocity_inlet, velocity: [0, 0.01, 0]}"), "");
+  std::string errors = errors_with("{type: wall}");
+  EXPECT_NE(errors.find("fluid.yaml:19:45: error: fluid flows in through the velocity inlets "
+                        "(1.2e-07 m³/s net) but no face is a pressure_outlet"),
+            std::string::npos)
+      << errors;
+  errors = errors_with("{type: velocity_inlet, velocity: [0, -0.01, 0]}");
+  EXPECT_NE(errors.find("(2.4e-07 m³/s net)"), std::string::npos) << errors;
+}
+
+// A boundary the fluid step cannot carry: dt_f Σ|u_a| / Δx > 1 (CFL). 0.01 m/s with a step of
+// 5e-5 s in cells of 0.5 mm is 0.001 of a cell per step; 20 m/s is 2 cells.
+TEST(DeckFluid, BoundaryVelocitiesWithinTheFluidStepsCfl) {
+  std::string deck = kFluidDeck;
+  deck.replace(deck.find("[0, 0.01, 0]"), std::string("[0, 0.01, 0]").size(), "[0, 20, 0]");
+  try {
+    parse_deck_string(deck, "fluid.yaml");
+    ADD_FAILURE() << "an inlet of 20 m/s at 2 cells per fluid step passed";
+  } catch (const UserError& e) {
+    const std::string errors = e.diagnostics().format();
+    EXPECT_NE(errors.find("yaml:19:45: error: the fluid at y_min moves 2 cells per fluid step"),
+              std::string::npos)
+        << errors;
+    EXPECT_NE(errors.find("a fluid time_step of at most 2.5e-05 s"), std::string::npos) << errors;
+  }
+}
+
 }  // namespace
 }  // namespace quarry
