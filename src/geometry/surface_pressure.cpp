@@ -65,9 +65,16 @@ std::vector<double> coarse_grained_pressure(const Surface& surface,
   require(width > 0.0 && std::isfinite(width), "coarse_grained_pressure: the width must be > 0");
   const double cutoff = 3.0 * width;  // m
   const double min_cosine = 0.5;      // cos 60°
-  const auto cell_of = [cutoff](const Vec3& x) {
-    return cell_key(std::llround(std::floor(x.x / cutoff)), std::llround(std::floor(x.y / cutoff)),
-                    std::llround(std::floor(x.z / cutoff)));
+  // A vertex's cell along one axis, clamped to ±2^40 cells so that the neighbours (±1) stay far
+  // inside the integers (a box of 1e19 m in a fuzzed deck overflowed here); vertices beyond
+  // share the edge cell, where the exact distance test still separates them.
+  const auto axis_cell = [cutoff](double coordinate) {
+    constexpr double kLimit = 1099511627776.0;  // 2^40
+    const double cell = std::floor(coordinate / cutoff);
+    return static_cast<long long>(cell > kLimit ? kLimit : cell > -kLimit ? cell : -kLimit);
+  };
+  const auto cell_of = [&axis_cell](const Vec3& x) {
+    return cell_key(axis_cell(x.x), axis_cell(x.y), axis_cell(x.z));
   };
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;  // vertices per cell
   for (std::size_t v = 0; v < surface.vertex_count(); ++v)
@@ -77,9 +84,7 @@ std::vector<double> coarse_grained_pressure(const Surface& surface,
   std::vector<double> pressure(surface.vertex_count(), 0.0);  // Pa
   for (std::size_t u = 0; u < pressure.size(); ++u) {
     const Vec3& x = surface.vertices[u];
-    const long long cx = std::llround(std::floor(x.x / cutoff));
-    const long long cy = std::llround(std::floor(x.y / cutoff));
-    const long long cz = std::llround(std::floor(x.z / cutoff));
+    const long long cx = axis_cell(x.x), cy = axis_cell(x.y), cz = axis_cell(x.z);
     double weighted_force = 0.0, weighted_area = 0.0;  // N, m² (times the kernel)
     for (long long dx = -1; dx <= 1; ++dx)
       for (long long dy = -1; dy <= 1; ++dy)
