@@ -10,6 +10,8 @@
 #include <string>
 #include <unordered_map>
 
+#include "core/hashed_cell.h"
+
 namespace quarry {
 
 namespace {
@@ -65,14 +67,7 @@ std::vector<double> coarse_grained_pressure(const Surface& surface,
   require(width > 0.0 && std::isfinite(width), "coarse_grained_pressure: the width must be > 0");
   const double cutoff = 3.0 * width;  // m
   const double min_cosine = 0.5;      // cos 60°
-  // A vertex's cell along one axis, clamped to ±2^40 cells so that the neighbours (±1) stay far
-  // inside the integers (a box of 1e19 m in a fuzzed deck overflowed here); vertices beyond
-  // share the edge cell, where the exact distance test still separates them.
-  const auto axis_cell = [cutoff](double coordinate) {
-    constexpr double kLimit = 1099511627776.0;  // 2^40
-    const double cell = std::floor(coordinate / cutoff);
-    return static_cast<long long>(cell > kLimit ? kLimit : cell > -kLimit ? cell : -kLimit);
-  };
+  const auto axis_cell = [cutoff](double coordinate) { return hashed_cell(coordinate / cutoff); };
   const auto cell_of = [&axis_cell](const Vec3& x) {
     return cell_key(axis_cell(x.x), axis_cell(x.y), axis_cell(x.z));
   };
@@ -84,11 +79,11 @@ std::vector<double> coarse_grained_pressure(const Surface& surface,
   std::vector<double> pressure(surface.vertex_count(), 0.0);  // Pa
   for (std::size_t u = 0; u < pressure.size(); ++u) {
     const Vec3& x = surface.vertices[u];
-    const long long cx = axis_cell(x.x), cy = axis_cell(x.y), cz = axis_cell(x.z);
+    const std::int64_t cx = axis_cell(x.x), cy = axis_cell(x.y), cz = axis_cell(x.z);
     double weighted_force = 0.0, weighted_area = 0.0;  // N, m² (times the kernel)
-    for (long long dx = -1; dx <= 1; ++dx)
-      for (long long dy = -1; dy <= 1; ++dy)
-        for (long long dz = -1; dz <= 1; ++dz) {
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
           const auto cell = cells.find(cell_key(cx + dx, cy + dy, cz + dz));
           if (cell == cells.end()) continue;
           for (const std::uint32_t v : cell->second) {

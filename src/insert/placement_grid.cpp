@@ -3,7 +3,8 @@
 #include "insert/placement_grid.h"
 
 #include <cassert>
-#include <cmath>
+
+#include "core/hashed_cell.h"
 
 namespace quarry {
 
@@ -19,11 +20,7 @@ PlacementGrid::PlacementGrid(double cell_size, std::size_t expected_count)
 }
 
 std::int64_t PlacementGrid::cell_coordinate(double x) const {
-  // Clamped to ±2^40 cells so that the neighbours (±1) stay far inside int64: a region of
-  // 1e18 m in a deck is only slow to fill, never undefined (a run-fuzzed deck overflowed here).
-  constexpr double kLimit = 1099511627776.0;  // 2^40
-  const double cell = std::floor(x * inverse_cell_size_);
-  return static_cast<std::int64_t>(cell > kLimit ? kLimit : cell > -kLimit ? cell : -kLimit);
+  return hashed_cell(x * inverse_cell_size_);
 }
 
 std::size_t PlacementGrid::bucket(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {

@@ -257,7 +257,7 @@ def fuzz_runs(args, rng):
                        "--output-dir", os.path.join(folder, "out"))
             code, _, peak_mb, output = run_check_measured(args.quarry, deck_path, args.max_seconds, command)
             outcomes[code] = outcomes.get(code, 0) + 1
-            problems = problems_of(code, output, peak_mb, (0, 2, 3), args.max_mb, "run exit")
+            problems += problems_of(code, output, peak_mb, (0, 2, 3), args.max_mb, "run exit")
         settle(folder, f"mutant of {deck_name}", problems, output, failures)
     return report(f"{args.runs} deck mutants (seed {args.seed}), {ran} accepted and run for {args.run_time} s: "
                   f"run outcomes {outcomes}", failures)
