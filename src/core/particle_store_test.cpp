@@ -42,6 +42,42 @@ TEST(ParticleStore, RemoveFlaggedKeepsOrderAndCustomProperties) {
   EXPECT_EQ(s.custom[k].values[0], 40.0);
 }
 
+// The removal moves the kept particles after the first removed one run by run; every pattern of
+// runs (none removed, the first, the last, neighbours, all) must leave what one particle at a
+// time would: the kept particles in order, every array and component with them.
+TEST(ParticleStore, RemoveFlaggedMovesEveryRunOfKeptParticles) {
+  const std::vector<std::vector<char>> patterns = {
+      {0, 0, 0, 0, 0, 0, 0}, {1, 0, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 0, 1}, {0, 1, 1, 0, 0, 1, 0},
+      {1, 1, 0, 1, 0, 1, 1}, {1, 1, 1, 1, 1, 1, 1}, {0, 0, 1, 0, 1, 0, 0}};
+  for (const std::vector<char>& remove : patterns) {
+    ParticleStore s;
+    const auto flow = s.register_custom("flow", 3, 0.0, "m/s");
+    s.enable_external_loads();
+    for (int i = 0; i < 7; ++i) {
+      s.add(static_cast<ParticleId>(100 + i), 0, 0, {double(i), 0, 0}, {0, double(i), 0}, 0.001,
+            1000.0, 0.1 * i);
+      s.external_force[i] = {0, 0, double(i)};
+      for (int c = 0; c < 3; ++c) s.custom[flow].values[3 * i + c] = 10.0 * i + c;
+    }
+    s.remove_flagged(remove);
+    std::size_t k = 0;
+    for (int i = 0; i < 7; ++i) {
+      if (remove[static_cast<std::size_t>(i)]) continue;
+      ASSERT_LT(k, s.size());
+      EXPECT_EQ(s.id[k], static_cast<ParticleId>(100 + i));
+      EXPECT_EQ(s.position[k].x, double(i));
+      EXPECT_EQ(s.velocity[k].y, double(i));
+      EXPECT_EQ(s.creation_time[k], 0.1 * i);
+      EXPECT_EQ(s.external_force[k].z, double(i));
+      for (int c = 0; c < 3; ++c) EXPECT_EQ(s.custom[flow].values[3 * k + c], 10.0 * i + c);
+      ++k;
+    }
+    EXPECT_EQ(s.size(), k);
+    EXPECT_EQ(s.external_force.size(), k);
+    EXPECT_EQ(s.custom[flow].values.size(), 3 * k);
+  }
+}
+
 TEST(ParticleStore, RegisteringTwiceReturnsTheSameIndex) {
   ParticleStore s;
   s.add(1, 0, 0, {}, {}, 0.001, 1000.0, 0.0);

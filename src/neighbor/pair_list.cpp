@@ -513,24 +513,37 @@ void remove_from_pair_list(PairList& list, const std::vector<char>& removed) {
   const std::size_t kept = static_cast<std::size_t>(std::count(removed.begin(), removed.end(), 0));
   const bool rolling = !list.rolling_torque.empty();
   const bool jkr = !list.jkr_attached.empty();
-  // In place, front to back: an entry or row only ever moves to a lower position.
+  // In place, front to back: an entry or row only ever moves to a lower position. Until the
+  // first pair is dropped (out == k), a partner before the first removed particle keeps its
+  // index and its place: a row's partners ascend, so those are the row's head, passed over.
+  const auto first = static_cast<std::uint32_t>(
+      std::find(removed.begin(), removed.end(), 1) - removed.begin());
   std::size_t out = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t begin = list.offsets[i], end = list.offsets[i + 1];
     if (removed[i]) continue;
     list.offsets[new_index[i]] = static_cast<std::uint32_t>(out);
-    for (std::uint32_t k = begin; k < end; ++k) {
+    std::uint32_t k = begin;
+    if (out == begin) {
+      while (k < end && list.partner[k] < first) ++k;
+      out = k;
+    }
+    for (; k < end; ++k) {
       const std::uint32_t j = list.partner[k];
       if (removed[j]) continue;
       list.partner[out] = new_index[j];  // ascending still: new_index keeps the order
-      list.tangential_displacement[out] = list.tangential_displacement[k];
-      list.normal_force[out] = list.normal_force[k];
-      if (rolling) list.rolling_torque[out] = list.rolling_torque[k];
-      if (jkr) list.jkr_attached[out] = list.jkr_attached[k];
+      if (out != k) {  // up to the first pair dropped, the pairs' histories stay in place
+        list.tangential_displacement[out] = list.tangential_displacement[k];
+        list.normal_force[out] = list.normal_force[k];
+        if (rolling) list.rolling_torque[out] = list.rolling_torque[k];
+        if (jkr) list.jkr_attached[out] = list.jkr_attached[k];
+      }
       ++out;
     }
-    list.reference_positions[new_index[i]] = list.reference_positions[i];
-    list.ids_at_build[new_index[i]] = list.ids_at_build[i];
+    if (new_index[i] != i) {
+      list.reference_positions[new_index[i]] = list.reference_positions[i];
+      list.ids_at_build[new_index[i]] = list.ids_at_build[i];
+    }
   }
   list.offsets.resize(kept + 1);
   list.offsets[kept] = static_cast<std::uint32_t>(out);

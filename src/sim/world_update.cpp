@@ -94,9 +94,14 @@ void build_surface_candidates(World& world) {
 // renumbered as ParticleStore::remove_flagged renumbers them (keeping the order).
 void remove_from_candidates(SurfaceCandidates& c, const std::vector<char>& removed) {
   const std::vector<std::uint32_t> new_index = indices_after_removal(removed);
-  // In place, front to back: entries only move to lower positions.
-  std::size_t rows = 0, entries = 0;
-  for (std::size_t q = 0; q < c.particles.size(); ++q) {
+  // In place, front to back: entries only move to lower positions. The rows before the first
+  // removed particle's stay as they are (same index, same place).
+  const auto first = static_cast<std::uint32_t>(
+      std::find(removed.begin(), removed.end(), 1) - removed.begin());
+  std::size_t rows = 0;
+  while (rows < c.particles.size() && c.particles[rows] < first) ++rows;
+  std::size_t entries = c.offsets[rows];
+  for (std::size_t q = rows; q < c.particles.size(); ++q) {
     const std::uint32_t i = c.particles[q], begin = c.offsets[q], end = c.offsets[q + 1];
     if (removed[i]) continue;
     c.offsets[rows] = static_cast<std::uint32_t>(entries);
