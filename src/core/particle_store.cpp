@@ -56,7 +56,8 @@ void ParticleStore::remove_flagged(const std::vector<char>& remove) {
   // move down run by run, one block copy (memmove) per run and array instead of one per value:
   // a hopper's outflow removes a few particles per step from arrays of thousands.
   const std::size_t n = remove.size();
-  const std::size_t first = static_cast<std::size_t>(std::find(remove.begin(), remove.end(), 1) - remove.begin());
+  const auto first = static_cast<std::size_t>(std::find(remove.begin(), remove.end(), 1) -
+                                              remove.begin());
   struct Run {
     std::size_t begin, end;  // kept particles [begin, end)
   };
