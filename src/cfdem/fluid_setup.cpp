@@ -4,12 +4,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "cfdem/fluid_blocked.h"
 #include "cfdem/fluid_monitors.h"
 #include "cfdem/fluid_output.h"
 #include "core/diagnostics.h"
+#include "insert/size_distribution.h"
 
 namespace quarry::cfdem {
 
@@ -25,7 +27,60 @@ cfd::BoundaryKind boundary_kind(FluidBoundaryType type) {
   return cfd::BoundaryKind::wall;
 }
 
+// The particle side's drag is explicit in v (FluidCoupling::check_relaxation): a particle whose
+// relaxation time m/β_p is shorter than the DEM step stops the run. Where even the weakest drag
+// the law can give the smallest particle, m/β_min = ρ_p d²/(18 c μ), is that short, every step
+// would: the deck is refused here, at its viscosity, before the run.
+void check_drag_relaxation(const World& world, const FluidSpec& spec, cfd::DragLaw law,
+                           double minimum_void_fraction) {
+  const SimulationSpec& deck = world.spec;
+  const double factor = weakest_drag_factor(law, minimum_void_fraction);
+  const double mu = spec.viscosity.value;  // Pa·s
+  double longest = INFINITY;               // s, the smallest particle's longest relaxation time
+  std::string which;
+  // A particle of type `type` and diameter d that the deck inserts.
+  const auto consider = [&](const ParticleTypeSpec& type, double d) {
+    const auto material =
+        std::find_if(deck.materials.begin(), deck.materials.end(),
+                     [&](const MaterialSpec& m) { return m.name.value == type.material.value; });
+    if (type.fixed.value || material == deck.materials.end()) return;  // fixed: not integrated
+    const double tau = material->density.value * d * d / (18.0 * factor * mu);
+    if (tau >= longest) return;
+    longest = tau;
+    which = fmt::format("'{}' (d = {:.4g} mm, ρ = {:.4g} kg/m³)", type.name.value, d * 1e3,
+                        material->density.value);
+  };
+  std::vector<double> smallest(deck.particle_types.size());  // m, each type's least diameter
+  for (std::size_t t = 0; t < smallest.size(); ++t)
+    smallest[t] = 2.0 * SizeSampler(deck.particle_types[t].size).min_radius();
+  for (const FactorySpec& factory : deck.factories)
+    for (std::size_t t = 0; t < smallest.size(); ++t)
+      if (deck.particle_types[t].name.value == factory.particle_type.value)
+        consider(deck.particle_types[t], smallest[t]);
+  for (const InitialParticle& p : deck.initial_particles)
+    if (p.type < smallest.size())
+      consider(deck.particle_types[p.type], p.radius > 0.0 ? 2.0 * p.radius : smallest[p.type]);
+  if (!(longest < world.dt)) return;
+  throw UserError(spec.viscosity.where,
+                  fmt::format("with viscosity {:.4g} Pa·s the smallest particle of type {} has a "
+                              "drag relaxation time of at most m/β = {:.3g} s under the {} drag "
+                              "law (at any slip and void fraction), below the DEM time step "
+                              "{:.3g} s: the drag would overshoot at every step",
+                              mu, which, longest, spec.drag_law.value, world.dt),
+                  fmt::format("the viscosity is dynamic, in Pa·s (water 0.001, air 1.8e-5); a "
+                              "DEM time step below {:.3g} s would take it",
+                              longest));
+}
+
 }  // namespace
+
+double weakest_drag_factor(cfd::DragLaw law, double minimum_void_fraction) {
+  switch (law) {
+    case cfd::DragLaw::stokes: return minimum_void_fraction;  // the seed's factor ε
+    case cfd::DragLaw::di_felice: return 23.04 / 24.0;        // C_d → 4.8²/Re as Re → 0
+    default: return 1.0;
+  }
+}
 
 FluidCouplingOptions coupling_options_from_spec(const World& world) {
   const FluidSpec& spec = *world.spec.fluid;
@@ -71,6 +126,7 @@ FluidCouplingOptions coupling_options_from_spec(const World& world) {
     const std::optional<cfd::DragLaw> law = cfd::drag_law_from_name(spec.drag_law.value);
     if (!law) throw UserError(spec.drag_law.where, "unknown drag law \"" + spec.drag_law.value + "\"");
     options.drag_law = *law;
+    check_drag_relaxation(world, spec, *law, options.minimum_void_fraction);
   }
   return options;
 }
