@@ -4,14 +4,12 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
 
 #include "cfdem/fluid_blocked.h"
 #include "cfdem/fluid_monitors.h"
 #include "cfdem/fluid_output.h"
 #include "core/diagnostics.h"
-#include "insert/size_distribution.h"
 
 namespace quarry::cfdem {
 
@@ -38,28 +36,24 @@ void check_drag_relaxation(const World& world, const FluidSpec& spec, cfd::DragL
   const double mu = spec.viscosity.value;  // Pa·s
   double longest = INFINITY;               // s, the smallest particle's longest relaxation time
   std::string which;
-  // A particle of type `type` and diameter d that the deck inserts.
-  const auto consider = [&](const ParticleTypeSpec& type, double d) {
-    const auto material =
-        std::find_if(deck.materials.begin(), deck.materials.end(),
-                     [&](const MaterialSpec& m) { return m.name.value == type.material.value; });
-    if (type.fixed.value || material == deck.materials.end()) return;  // fixed: not integrated
-    const double tau = material->density.value * d * d / (18.0 * factor * mu);
+  // A particle of type t and diameter d (m) that the deck inserts; the world's types carry
+  // the densities, the fixed flags and the size samplers.
+  const auto consider = [&](std::size_t t, double d) {
+    const ParticleTypeInfo& type = world.types[t];
+    if (type.fixed || !(type.density > 0.0)) return;  // fixed: not integrated
+    const double tau = type.density * d * d / (18.0 * factor * mu);
     if (tau >= longest) return;
     longest = tau;
-    which = fmt::format("'{}' (d = {:.4g} mm, ρ = {:.4g} kg/m³)", type.name.value, d * 1e3,
-                        material->density.value);
+    which = fmt::format("'{}' (d = {:.4g} mm, ρ = {:.4g} kg/m³)", world.type_names[t], d * 1e3,
+                        type.density);
   };
-  std::vector<double> smallest(deck.particle_types.size());  // m, each type's least diameter
-  for (std::size_t t = 0; t < smallest.size(); ++t)
-    smallest[t] = 2.0 * SizeSampler(deck.particle_types[t].size).min_radius();
+  const auto smallest = [&](std::size_t t) { return 2.0 * world.size_samplers[t].min_radius(); };
   for (const FactorySpec& factory : deck.factories)
-    for (std::size_t t = 0; t < smallest.size(); ++t)
-      if (deck.particle_types[t].name.value == factory.particle_type.value)
-        consider(deck.particle_types[t], smallest[t]);
+    for (std::size_t t = 0; t < world.types.size(); ++t)
+      if (world.type_names[t] == factory.particle_type.value) consider(t, smallest(t));
   for (const InitialParticle& p : deck.initial_particles)
-    if (p.type < smallest.size())
-      consider(deck.particle_types[p.type], p.radius > 0.0 ? 2.0 * p.radius : smallest[p.type]);
+    if (p.type < world.types.size())
+      consider(p.type, p.radius > 0.0 ? 2.0 * p.radius : smallest(p.type));
   if (!(longest < world.dt)) return;
   throw UserError(spec.viscosity.where,
                   fmt::format("with viscosity {:.4g} Pa·s the smallest particle of type {} has a "

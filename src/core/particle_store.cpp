@@ -56,8 +56,7 @@ void ParticleStore::remove_flagged(const std::vector<char>& remove) {
   // move down run by run, one block copy (memmove) per run and array instead of one per value:
   // a hopper's outflow removes a few particles per step from arrays of thousands.
   const std::size_t n = remove.size();
-  const auto first = static_cast<std::size_t>(std::find(remove.begin(), remove.end(), 1) -
-                                              remove.begin());
+  const std::size_t first = first_removed(remove);
   struct Run {
     std::size_t begin, end;  // kept particles [begin, end)
   };
@@ -80,6 +79,10 @@ void ParticleStore::remove_flagged(const std::vector<char>& remove) {
     array.resize(kept);
   });
   layout_epoch += 1;
+}
+
+std::size_t first_removed(const std::vector<char>& removed) {
+  return static_cast<std::size_t>(std::find(removed.begin(), removed.end(), 1) - removed.begin());
 }
 
 std::vector<std::uint32_t> indices_after_removal(const std::vector<char>& removed) {

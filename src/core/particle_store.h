@@ -116,5 +116,8 @@ struct ParticleStore {
 // removed particle gets the index its next kept one will have. For what holds particle indices
 // across a removal (the wall contacts, the neighbour lists).
 std::vector<std::uint32_t> indices_after_removal(const std::vector<char>& removed);
+// The index of the first particle flagged in `removed` (its size if none): what lies before it
+// keeps its index and its place through a removal.
+std::size_t first_removed(const std::vector<char>& removed);
 
 }  // namespace quarry

@@ -516,8 +516,7 @@ void remove_from_pair_list(PairList& list, const std::vector<char>& removed) {
   // In place, front to back: an entry or row only ever moves to a lower position. Until the
   // first pair is dropped (out == k), a partner before the first removed particle keeps its
   // index and its place: a row's partners ascend, so those are the row's head, passed over.
-  const auto first = static_cast<std::uint32_t>(
-      std::find(removed.begin(), removed.end(), 1) - removed.begin());
+  const auto first = static_cast<std::uint32_t>(first_removed(removed));
   std::size_t out = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const std::uint32_t begin = list.offsets[i], end = list.offsets[i + 1];

@@ -96,8 +96,7 @@ void remove_from_candidates(SurfaceCandidates& c, const std::vector<char>& remov
   const std::vector<std::uint32_t> new_index = indices_after_removal(removed);
   // In place, front to back: entries only move to lower positions. The rows before the first
   // removed particle's stay as they are (same index, same place).
-  const auto first = static_cast<std::uint32_t>(
-      std::find(removed.begin(), removed.end(), 1) - removed.begin());
+  const auto first = static_cast<std::uint32_t>(first_removed(removed));
   std::size_t rows = 0;
   while (rows < c.particles.size() && c.particles[rows] < first) ++rows;
   std::size_t entries = c.offsets[rows];
