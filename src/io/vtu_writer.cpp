@@ -9,9 +9,12 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <deque>
+#include <span>
 #include <stdexcept>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 namespace quarry {
 
@@ -50,86 +53,123 @@ void append_little_endian(std::string& out, T value) {
   append_little_endian(out, value.z);
 }
 
-// The bytes of `count` values of T at `data` in little-endian order: one copy on a
-// little-endian host, the values one by one otherwise (docs/performance.md, "The output stage
-// of the rigid flagship").
+// The bytes of `count` values of T at `data` in little-endian order, for a big-endian host (a
+// little-endian one writes the arrays as they lie: AppendedArrays).
 template <class T>
 std::string little_endian_bytes(const T* data, std::size_t count) {
   static_assert(std::is_trivially_copyable_v<T>);
   std::string payload;
-  if constexpr (std::endian::native == std::endian::little) {
-    payload.resize(count * sizeof(T));
-    if (count > 0) std::memcpy(payload.data(), data, count * sizeof(T));
-  } else {
-    payload.reserve(count * sizeof(T));
-    for (std::size_t k = 0; k < count; ++k) append_little_endian(payload, data[k]);
-  }
+  payload.reserve(count * sizeof(T));
+  for (std::size_t k = 0; k < count; ++k) append_little_endian(payload, data[k]);
   return payload;
 }
 
-template <class T>
-std::string scalar_payload(std::span<const T> values) {
-  return little_endian_bytes(values.data(), values.size());
-}
-
-std::string vec3_payload(std::span<const Vec3> values) {
-  return little_endian_bytes(values.data(), values.size());
-}
-
-// Zeros when `values` is empty (an optional per-vertex array never sized), else the values.
-std::string vec3_payload_or_zeros(std::span<const Vec3> values, std::size_t count) {
-  if (values.empty()) return vec3_payload(std::vector<Vec3>(count));
-  return vec3_payload(values);
-}
-
-// Collects the XML of one Piece section and the appended binary blocks its arrays point to.
+// Collects the XML of one Piece section and where the bytes of each appended block are; the
+// file is assembled once at the end (assemble_vtu), every array copied straight from its own
+// memory into a string of the file's size. Building each block as a string of its own, then
+// appending it to a growing string of blocks and that to the file, copied a frame's megabyte
+// three times into fresh memory (docs/performance.md, "The output stage of the rigid
+// flagship"). The arrays given must outlive the assembly.
 class AppendedArrays {
  public:
-  // Returns one <DataArray .../> element whose data is `payload`, appended as a block.
+  // One <DataArray .../> element whose data is the `values` (components interleaved).
+  template <class T>
   std::string element(std::string_view vtk_type, std::string_view name, int components,
-                      const std::string& payload, std::string_view extra_attributes = {}) {
-    const std::size_t offset = blocks_.size();
-    append_little_endian(blocks_, static_cast<std::uint64_t>(payload.size()));
-    blocks_ += payload;
+                      std::span<const T> values, std::string_view extra_attributes = {}) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    if constexpr (std::endian::native == std::endian::little) {
+      return add(vtk_type, name, components,
+                 {reinterpret_cast<const char*>(values.data()), values.size_bytes()},
+                 extra_attributes);
+    } else {
+      return element(vtk_type, name, components, little_endian_bytes(values.data(), values.size()),
+                     extra_attributes);
+    }
+  }
+  template <class T>
+  std::string element(std::string_view vtk_type, std::string_view name, int components,
+                      const std::vector<T>& values, std::string_view extra_attributes = {}) {
+    return element(vtk_type, name, components, std::span<const T>(values), extra_attributes);
+  }
+  // The same with bytes made for this file (VTK string arrays, a big-endian host's copies),
+  // which the collection keeps until the assembly.
+  std::string element(std::string_view vtk_type, std::string_view name, int components,
+                      std::string&& payload, std::string_view extra_attributes = {}) {
+    const std::string& kept = owned_.emplace_back(std::move(payload));
+    return add(vtk_type, name, components, kept, extra_attributes);
+  }
+
+  // The raw appended data: each block's 8-byte byte count, then its bytes.
+  std::size_t size() const { return size_; }
+  void append_to(std::string& out) const {
+    for (const std::string_view block : blocks_) {
+      append_little_endian(out, static_cast<std::uint64_t>(block.size()));
+      out.append(block);
+    }
+  }
+
+ private:
+  std::string add(std::string_view vtk_type, std::string_view name, int components,
+                  std::string_view bytes, std::string_view extra_attributes) {
+    const std::size_t offset = size_;
+    blocks_.push_back(bytes);
+    size_ += sizeof(std::uint64_t) + bytes.size();
     return fmt::format(
         "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\"{} format=\"appended\" "
         "offset=\"{}\"/>\n",
         vtk_type, xml_escaped(name), components, extra_attributes, offset);
   }
-  const std::string& blocks() const { return blocks_; }
 
- private:
-  std::string blocks_;
+  std::vector<std::string_view> blocks_;
+  std::deque<std::string> owned_;  // a deque: its strings never move
+  std::size_t size_ = 0;           // bytes of the appended data so far
 };
 
+// The cells' three arrays (Int64 connectivity and offsets, UInt8 types), each cell `corners`
+// points long, cell c on points first(c) + k.
 struct CellBlocks {
-  std::string connectivity, offsets, types;  // Int64, Int64, UInt8 payloads
+  std::vector<std::int64_t> connectivity, offsets;
+  std::vector<std::uint8_t> types;
+  CellBlocks(std::size_t cells, int corners, std::uint8_t type)
+      : connectivity(cells * corners), offsets(cells), types(cells, type) {
+    for (std::size_t c = 0; c < cells; ++c)
+      offsets[c] = static_cast<std::int64_t>(corners * (c + 1));
+  }
+  std::string elements(AppendedArrays& arrays) const {
+    std::string xml = arrays.element("Int64", "connectivity", 1, connectivity);
+    xml += arrays.element("Int64", "offsets", 1, offsets);
+    xml += arrays.element("UInt8", "types", 1, types);
+    return xml;
+  }
 };
 
 std::string assemble_vtu(const std::string& field_data, std::size_t point_count,
                          std::size_t cell_count, const std::string& point_data,
                          const std::string& cell_data, const std::string& points,
                          const std::string& cells, const AppendedArrays& arrays) {
-  std::string xml;
-  xml.reserve(arrays.blocks().size() + 4096);
-  xml += "<?xml version=\"1.0\"?>\n";
-  xml +=
+  std::string head;
+  head += "<?xml version=\"1.0\"?>\n";
+  head +=
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
       "header_type=\"UInt64\">\n";
-  xml += "<UnstructuredGrid>\n";
-  xml += field_data;
-  xml +=
+  head += "<UnstructuredGrid>\n";
+  head += field_data;
+  head +=
       fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", point_count, cell_count);
-  xml += "<PointData>\n" + point_data + "</PointData>\n";
-  xml += "<CellData>\n" + cell_data + "</CellData>\n";
-  xml += "<Points>\n" + points + "</Points>\n";
-  xml += "<Cells>\n" + cells + "</Cells>\n";
-  xml += "</Piece>\n</UnstructuredGrid>\n";
+  head += "<PointData>\n" + point_data + "</PointData>\n";
+  head += "<CellData>\n" + cell_data + "</CellData>\n";
+  head += "<Points>\n" + points + "</Points>\n";
+  head += "<Cells>\n" + cells + "</Cells>\n";
+  head += "</Piece>\n</UnstructuredGrid>\n";
   // Raw appended data starts right after the underscore; offsets count from there.
-  xml += "<AppendedData encoding=\"raw\">\n_";
-  xml += arrays.blocks();
-  xml += "\n</AppendedData>\n</VTKFile>\n";
-  return xml;
+  head += "<AppendedData encoding=\"raw\">\n_";
+  constexpr std::string_view tail = "\n</AppendedData>\n</VTKFile>\n";
+  std::string file;
+  file.reserve(head.size() + arrays.size() + tail.size());
+  file += head;
+  arrays.append_to(file);
+  file += tail;
+  return file;
 }
 
 template <class Array>
@@ -182,7 +222,7 @@ std::string particles_vtu(const ParticleStore& particles,
       names_payload.push_back('\0');
     }
     field_data = "<FieldData>\n" +
-                 arrays.element("String", "type_names", 1, names_payload,
+                 arrays.element("String", "type_names", 1, std::move(names_payload),
                                 fmt::format(" NumberOfTuples=\"{}\"", type_names.size())) +
                  "</FieldData>\n";
   }
@@ -195,8 +235,8 @@ std::string particles_vtu(const ParticleStore& particles,
   }
 
   std::string point_data;
-  point_data += arrays.element("UInt64", "id", 1, scalar_payload<ParticleId>(particles.id));
-  point_data += arrays.element("Int32", "type", 1, scalar_payload<std::int32_t>(type_index));
+  point_data += arrays.element("UInt64", "id", 1, particles.id);
+  point_data += arrays.element("Int32", "type", 1, type_index);
   if (!type_names.empty()) {
     // The type's name per particle as a VTK string array (NUL-terminated strings back to back):
     // ParaView colours points by a string array directly, one colour per name.
@@ -208,39 +248,33 @@ std::string particles_vtu(const ParticleStore& particles,
       names_payload += type_names[particles.type[i]];
       names_payload.push_back('\0');
     }
-    point_data += arrays.element("String", "type_name", 1, names_payload,
+    point_data += arrays.element("String", "type_name", 1, std::move(names_payload),
                                  fmt::format(" NumberOfTuples=\"{}\"", count));
   }
-  point_data += arrays.element("Float64", "radius", 1, scalar_payload<double>(particles.radius));
-  point_data += arrays.element("Float64", "mass", 1, scalar_payload<double>(mass));
-  point_data += arrays.element("Float64", "velocity", 3, vec3_payload(particles.velocity));
+  point_data += arrays.element("Float64", "radius", 1, particles.radius);
+  point_data += arrays.element("Float64", "mass", 1, mass);
+  point_data += arrays.element("Float64", "velocity", 3, particles.velocity);
   point_data +=
-      arrays.element("Float64", "angular_velocity", 3, vec3_payload(particles.angular_velocity));
-  point_data += arrays.element("Float64", "force", 3, vec3_payload(particles.force));
-  point_data += arrays.element("Float64", "torque", 3, vec3_payload(particles.torque));
+      arrays.element("Float64", "angular_velocity", 3, particles.angular_velocity);
+  point_data += arrays.element("Float64", "force", 3, particles.force);
+  point_data += arrays.element("Float64", "torque", 3, particles.torque);
   if (contacts) {
     point_data += arrays.element("Int32", "coordination_number", 1,
-                                 scalar_payload<std::int32_t>(contacts->coordination_number));
+                                 contacts->coordination_number);
     point_data += arrays.element("Float64", "max_overlap_ratio", 1,
-                                 scalar_payload<double>(contacts->max_overlap_ratio));
+                                 contacts->max_overlap_ratio);
   }
   for (const auto& property : particles.custom)
     point_data += arrays.element("Float64", property.name, static_cast<int>(property.components),
-                                 scalar_payload<double>(property.values));
+                                 property.values);
 
   const std::string points =
-      arrays.element("Float64", "Points", 3, vec3_payload(particles.position));
+      arrays.element("Float64", "Points", 3, particles.position);
 
-  CellBlocks cell_blocks;
-  for (std::size_t i = 0; i < count; ++i) {
-    append_little_endian(cell_blocks.connectivity, static_cast<std::int64_t>(i));
-    append_little_endian(cell_blocks.offsets, static_cast<std::int64_t>(i + 1));
-    append_little_endian(cell_blocks.types, vtk_vertex);
-  }
-  std::string cells;
-  cells += arrays.element("Int64", "connectivity", 1, cell_blocks.connectivity);
-  cells += arrays.element("Int64", "offsets", 1, cell_blocks.offsets);
-  cells += arrays.element("UInt8", "types", 1, cell_blocks.types);
+  CellBlocks cell_blocks(count, 1, vtk_vertex);
+  for (std::size_t i = 0; i < count; ++i)
+    cell_blocks.connectivity[i] = static_cast<std::int64_t>(i);
+  const std::string cells = cell_blocks.elements(arrays);
 
   return assemble_vtu(field_data, count, count, point_data, {}, points, cells, arrays);
 }
@@ -252,7 +286,7 @@ std::string contacts_vtu(std::span<const ContactLine> contacts) {
   std::vector<double> magnitude, overlap;
   std::vector<std::uint8_t> kind;
   ends.reserve(2 * count);
-  CellBlocks cell_blocks;
+  CellBlocks cell_blocks(count, 2, vtk_line);
   for (std::size_t c = 0; c < count; ++c) {
     const ContactLine& line = contacts[c];
     ends.push_back(line.from);
@@ -262,22 +296,17 @@ std::string contacts_vtu(std::span<const ContactLine> contacts) {
     magnitude.push_back(norm(line.normal_force));
     overlap.push_back(line.overlap);
     kind.push_back(static_cast<std::uint8_t>(line.kind));
-    append_little_endian(cell_blocks.connectivity, static_cast<std::int64_t>(2 * c));
-    append_little_endian(cell_blocks.connectivity, static_cast<std::int64_t>(2 * c + 1));
-    append_little_endian(cell_blocks.offsets, static_cast<std::int64_t>(2 * (c + 1)));
-    append_little_endian(cell_blocks.types, vtk_line);
+    cell_blocks.connectivity[2 * c] = static_cast<std::int64_t>(2 * c);
+    cell_blocks.connectivity[2 * c + 1] = static_cast<std::int64_t>(2 * c + 1);
   }
   std::string cell_data;
-  cell_data += arrays.element("Float64", "normal_force", 3, vec3_payload(normal_force));
-  cell_data += arrays.element("Float64", "tangential_force", 3, vec3_payload(tangential_force));
-  cell_data += arrays.element("Float64", "normal_force_magnitude", 1, scalar_payload<double>(magnitude));
-  cell_data += arrays.element("Float64", "overlap", 1, scalar_payload<double>(overlap));
-  cell_data += arrays.element("UInt8", "kind", 1, scalar_payload<std::uint8_t>(kind));
-  const std::string points = arrays.element("Float64", "Points", 3, vec3_payload(ends));
-  std::string cells;
-  cells += arrays.element("Int64", "connectivity", 1, cell_blocks.connectivity);
-  cells += arrays.element("Int64", "offsets", 1, cell_blocks.offsets);
-  cells += arrays.element("UInt8", "types", 1, cell_blocks.types);
+  cell_data += arrays.element("Float64", "normal_force", 3, normal_force);
+  cell_data += arrays.element("Float64", "tangential_force", 3, tangential_force);
+  cell_data += arrays.element("Float64", "normal_force_magnitude", 1, magnitude);
+  cell_data += arrays.element("Float64", "overlap", 1, overlap);
+  cell_data += arrays.element("UInt8", "kind", 1, kind);
+  const std::string points = arrays.element("Float64", "Points", 3, ends);
+  const std::string cells = cell_blocks.elements(arrays);
   return assemble_vtu({}, ends.size(), count, {}, cell_data, points, cells, arrays);
 }
 
@@ -305,48 +334,49 @@ std::string surface_vtu(const Surface& surface, std::span<const double> pressure
   AppendedArrays arrays;
   std::vector<std::int64_t> element_id(triangle_count);
   std::vector<double> shear_magnitude(triangle_count);
-  CellBlocks cell_blocks;
+  CellBlocks cell_blocks(triangle_count, 3, vtk_triangle);
   for (std::size_t t = 0; t < triangle_count; ++t) {
     element_id[t] = static_cast<std::int64_t>(t);
     shear_magnitude[t] = norm(shear[t]);  // Pa
-    for (const std::uint32_t vertex : surface.triangles[t]) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t vertex = surface.triangles[t][k];
       if (vertex >= vertex_count) {
         throw std::invalid_argument(fmt::format(
             "VTU writer: triangle {} of surface '{}' uses vertex {} but there are only {}", t,
             surface.name, vertex, vertex_count));
       }
-      append_little_endian(cell_blocks.connectivity, static_cast<std::int64_t>(vertex));
+      cell_blocks.connectivity[3 * t + k] = vertex;
     }
-    append_little_endian(cell_blocks.offsets, static_cast<std::int64_t>(3 * (t + 1)));
-    append_little_endian(cell_blocks.types, vtk_triangle);
   }
 
   std::string cell_data;
-  cell_data += arrays.element("Int64", "element_id", 1, scalar_payload<std::int64_t>(element_id));
-  cell_data += arrays.element("Float64", "pressure", 1, scalar_payload<double>(pressure));
-  cell_data += arrays.element("Float64", "shear_stress", 3, vec3_payload(shear));
+  cell_data += arrays.element("Int64", "element_id", 1, element_id);
+  cell_data += arrays.element("Float64", "pressure", 1, pressure);
+  cell_data += arrays.element("Float64", "shear_stress", 3, shear);
   cell_data +=
-      arrays.element("Float64", "shear_magnitude", 1, scalar_payload<double>(shear_magnitude));
-  cell_data += arrays.element("Float64", "force", 3, vec3_payload(force));
-  cell_data += arrays.element("Float64", "normal", 3, vec3_payload(surface.triangle_normals));
+      arrays.element("Float64", "shear_magnitude", 1, shear_magnitude);
+  cell_data += arrays.element("Float64", "force", 3, force);
+  cell_data += arrays.element("Float64", "normal", 3, surface.triangle_normals);
 
   std::string point_data;
-  point_data += arrays.element("Float64", "vertex_force", 3,
-                               vec3_payload_or_zeros(nodal_force, vertex_count));
-  point_data += arrays.element("Float64", "velocity", 3,
-                               vec3_payload_or_zeros(surface.vertex_velocities, vertex_count));
+  // Zeros for an optional per-vertex array never sized.
+  const std::vector<Vec3> zeros(
+      nodal_force.empty() || surface.vertex_velocities.empty() ? vertex_count : 0);
+  const auto or_zeros = [&zeros](std::span<const Vec3> values) {
+    return values.empty() ? zeros : values;
+  };
+  point_data += arrays.element("Float64", "vertex_force", 3, or_zeros(nodal_force));
+  point_data += arrays.element("Float64", "velocity", 3, or_zeros(surface.vertex_velocities));
   if (!pressure_nodal.empty())
-    point_data += arrays.element("Float64", "pressure_nodal", 1, scalar_payload<double>(pressure_nodal));
+    point_data += arrays.element("Float64", "pressure_nodal", 1, pressure_nodal);
   if (!pressure_smoothed.empty())
-    point_data += arrays.element("Float64", "pressure_smoothed", 1, scalar_payload<double>(pressure_smoothed));
-  if (!displacement.empty()) point_data += arrays.element("Float64", "displacement", 3, vec3_payload(displacement));
+    point_data += arrays.element("Float64", "pressure_smoothed", 1, pressure_smoothed);
+  if (!displacement.empty())
+    point_data += arrays.element("Float64", "displacement", 3, displacement);
 
-  const std::string points = arrays.element("Float64", "Points", 3, vec3_payload(surface.vertices));
+  const std::string points = arrays.element("Float64", "Points", 3, surface.vertices);
 
-  std::string cells;
-  cells += arrays.element("Int64", "connectivity", 1, cell_blocks.connectivity);
-  cells += arrays.element("Int64", "offsets", 1, cell_blocks.offsets);
-  cells += arrays.element("UInt8", "types", 1, cell_blocks.types);
+  const std::string cells = cell_blocks.elements(arrays);
 
   return assemble_vtu({}, vertex_count, triangle_count, point_data, cell_data, points, cells,
                       arrays);
