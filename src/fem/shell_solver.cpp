@@ -113,6 +113,7 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   // each element whose L_c/c is below the target by (target / (L_c/c))², since c ∝ 1/√ρ: the
   // element's step becomes exactly the target.
   density_.resize(elements);
+  step_screen_.resize(elements);
   state_offset_.resize(elements + 1);
   int offset = 0;
   for (std::size_t e = 0; e < elements; ++e) {
@@ -129,6 +130,11 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
       if (step < target) density *= (target / step) * (target / step);
     }
     density_[e] = density;
+    // (L_c / c)² = screen × |cross|² / longest² (stable_time_step): L_c = A / longest (quad),
+    // 2A / longest (triangle), A = ½ |cross|, 1 / c² = ρ (1 − ν²) / E.
+    const double nu = material.poisson_ratio;
+    step_screen_[e] = (element.node_count == 4 ? 0.25 : 1.0) * density * (1.0 - nu * nu) /
+                      material.youngs_modulus;
     added_mass_ += (density - material.density) * section.thickness * area;
     const double node_mass = density * section.thickness * area / element.node_count;
     const double t = section.thickness;
@@ -259,10 +265,33 @@ std::array<Vec3, 4> ShellSolver::gather(const std::vector<Vec3>& field, int elem
   return out;
 }
 
+// The coupling asks at every PERIOD, and each element's exact estimate (its frame, local
+// coordinates and area: characteristic_length) cost 2.4 % of the two-way flagship. So a screen
+// first: the squared step from the area as ½ |x31 × x42| (½ |x21 × x31| for a triangle), the
+// same area as the frame's in exact arithmetic (the frame's normal is that cross product's
+// direction), so the two differ by round-off only. Only elements whose screen lies within
+// kMargin of the least go through the exact estimate, in element order as before: the same
+// element and step, to the bit, as estimating every element (a NaN is never chosen, as before).
 StableTimeStep ShellSolver::stable_time_step() const {
+  constexpr double kMargin = 1e-9;  // relative; round-off of either form is ~1e-15
+  const std::size_t elements = model_.elements.size();
+  std::vector<double> screen(elements);  // s²
+  double least = INFINITY;  // s²
+  for (std::size_t e = 0; e < elements; ++e) {
+    const ShellElement& element = model_.elements[e];
+    const std::array<Vec3, 4> x = gather(positions_, static_cast<int>(e));
+    const int n = element.node_count;
+    const Vec3 normal = n == 4 ? cross(x[2] - x[0], x[3] - x[1]) : cross(x[1] - x[0], x[2] - x[0]);
+    double longest = 0.0;  // m²
+    for (int i = 0; i < n; ++i) longest = std::max(longest, norm2(x[(i + 1) % n] - x[i]));
+    screen[e] = step_screen_[e] * norm2(normal) / longest;
+    if (screen[e] < least) least = screen[e];
+  }
+  const double bound = least * (1.0 + kMargin);
   StableTimeStep best;
   best.time_step = INFINITY;
-  for (std::size_t e = 0; e < model_.elements.size(); ++e) {
+  for (std::size_t e = 0; e < elements; ++e) {
+    if (!(screen[e] <= bound)) continue;
     const ShellElement& element = model_.elements[e];
     const ShellMaterial& material =
         model_.materials[model_.sections[element.section].material];

@@ -50,6 +50,56 @@ TEST(ShellStableStep, IsTheCharacteristicLengthOverThePlateWaveSpeed) {
   EXPECT_NEAR(limited.characteristic_length, 0.005 * 0.01 / 0.01, 1e-15);
 }
 
+// stable_time_step screens the elements by a cheaper form of the same step (the area from the
+// diagonals' cross product) and estimates exactly only those near the least: it must name the
+// element and the step that estimating every element in order gives, to the bit, also where
+// several elements tie within round-off (a narrow column of equal cells) and on warped, jittered
+// quads and triangles of two materials.
+TEST(ShellStableStep, TheScreenedSearchGivesTheExhaustiveAnswerToTheBit) {
+  const auto exhaustive = [](const ShellModel& model, std::span<const Vec3> x) {
+    StableTimeStep best;
+    best.time_step = INFINITY;
+    for (std::size_t e = 0; e < model.elements.size(); ++e) {
+      const ShellElement& element = model.elements[e];
+      std::array<Vec3, 4> corners{};
+      for (int i = 0; i < element.node_count; ++i) corners[i] = x[element.nodes[i]];
+      const ShellMaterial& m = model.materials[model.sections[element.section].material];
+      const double speed =
+          std::sqrt(m.youngs_modulus / (m.density * (1.0 - m.poisson_ratio * m.poisson_ratio)));
+      const double length = characteristic_length(corners, element.node_count);
+      if (length / speed < best.time_step) best = {length / speed, static_cast<int>(e), length, speed};
+    }
+    return best;
+  };
+  const auto expect_same = [&](const ShellModel& model, const char* what) {
+    ShellSolver solver(model);
+    const StableTimeStep screened = solver.stable_time_step();
+    const StableTimeStep all = exhaustive(model, solver.positions());
+    EXPECT_EQ(screened.element, all.element) << what;
+    EXPECT_EQ(screened.time_step, all.time_step) << what;
+    EXPECT_EQ(screened.characteristic_length, all.characteristic_length) << what;
+  };
+  // Ties: column 3 of 12 × 8 cells shrunk to 2 mm, its eight cells equal but for round-off.
+  ShellModel narrow = testing::rectangle(12, 8, 0.12, 0.08, 0.002);
+  for (int j = 0; j <= 8; ++j) narrow.nodes[j * 13 + 4].x = 0.032;
+  expect_same(narrow, "narrow column");
+  // Jittered and warped: every node moved by up to 2 mm in plane and 1 mm out of it.
+  std::uint64_t seed = 12345;
+  const auto uniform = [&seed] {  // in [−1, 1)
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(seed >> 11) / 4503599627370496.0 - 1.0;
+  };
+  for (const testing::MeshKind kind : {testing::MeshKind::quads, testing::MeshKind::triangles}) {
+    ShellModel mesh = testing::rectangle(12, 8, 0.12, 0.08, 0.002, kind);
+    for (Vec3& node : mesh.nodes) node += Vec3{2e-3 * uniform(), 2e-3 * uniform(), 1e-3 * uniform()};
+    // A second, lighter material on every third element.
+    mesh.materials.push_back({70e9, 0.33, 2700.0, 0.0, 0.0});
+    mesh.sections.push_back({0.003, 5, ThicknessRule::lobatto, 1});
+    for (std::size_t e = 0; e < mesh.elements.size(); e += 3) mesh.elements[e].section = 1;
+    expect_same(mesh, kind == testing::MeshKind::quads ? "jittered quads" : "jittered triangles");
+  }
+}
+
 TEST(ShellStableStep, MassScalingReachesTheTargetAndReportsTheAddedMass) {
   ShellModel model = testing::rectangle(4, 3, 0.08, 0.03, 0.002);
   for (int j = 0; j <= 3; ++j) model.nodes[j * 5 + 3].x = 0.045;
