@@ -37,6 +37,7 @@ struct LoadExporter::SurfaceOutput {
   std::unique_ptr<MedLoadWriter> med;
   std::vector<std::string> med_groups;   // node group names in the MED file
   std::unique_ptr<PvdSeries> vtu_series;
+  PressureSmoother smoother;             // the VTU records' coarse-grained pressure
   std::ofstream csv;
 
   SurfaceOutput(std::size_t index, const Surface& surface)
@@ -166,7 +167,7 @@ void LoadExporter::write_record(const Surface& surface, SurfaceOutput& output, d
     const std::string file = fmt::format("{}_loads_{:06}.vtu", output.name, record - 1);
     const std::vector<double> nodal = nodal_pressure(surface, frame.nodal_force);
     const std::vector<double> smoothed = smoothing_width_ > 0.0
-                                             ? coarse_grained_pressure(surface, nodal, smoothing_width_)
+                                             ? output.smoother.smooth(surface, nodal, smoothing_width_)
                                              : std::vector<double>{};
     write_file_atomically(directory_ / file,
                           surface_vtu(surface, frame.pressure, frame.shear_stress, frame.force, frame.nodal_force,

@@ -4,6 +4,7 @@
 // ~ a particle gives a smooth stress field whose mean is the load per area.
 #include "geometry/surface_pressure.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -60,10 +61,16 @@ std::vector<double> nodal_pressure(const Surface& surface, std::span<const Vec3>
   return pressure;
 }
 
-std::vector<double> coarse_grained_pressure(const Surface& surface,
-                                            std::span<const double> nodal_pressure, double width) {
-  require(nodal_pressure.size() == surface.vertex_count(),
-          "coarse_grained_pressure: surface '" + surface.name + "' has another number of vertices");
+bool PressureSmoother::made_for(const Surface& surface, double width) const {
+  return width == width_ && surface.vertices.size() == vertices_.size() &&
+         surface.triangle_count() == triangles_ &&
+         std::equal(vertices_.begin(), vertices_.end(), surface.vertices.begin(),
+                    [](const Vec3& a, const Vec3& b) {
+                      return a.x == b.x && a.y == b.y && a.z == b.z;
+                    });
+}
+
+void PressureSmoother::make(const Surface& surface, double width) {
   require(width > 0.0 && std::isfinite(width), "coarse_grained_pressure: the width must be > 0");
   const double cutoff = 3.0 * width;  // m
   const double min_cosine = 0.5;      // cos 60°
@@ -75,12 +82,15 @@ std::vector<double> coarse_grained_pressure(const Surface& surface,
   for (std::size_t v = 0; v < surface.vertex_count(); ++v)
     cells[cell_of(surface.vertices[v])].push_back(static_cast<std::uint32_t>(v));
   const std::vector<Vec3> normals = vertex_normals(surface);
-  const std::vector<double> areas = tributary_areas(surface);
-  std::vector<double> pressure(surface.vertex_count(), 0.0);  // Pa
-  for (std::size_t u = 0; u < pressure.size(); ++u) {
+  areas_ = tributary_areas(surface);
+  offsets_.assign(1, 0);
+  neighbours_.clear();
+  weights_.clear();
+  weighted_areas_.assign(surface.vertex_count(), 0.0);
+  for (std::size_t u = 0; u < surface.vertex_count(); ++u) {
     const Vec3& x = surface.vertices[u];
     const std::int64_t cx = axis_cell(x.x), cy = axis_cell(x.y), cz = axis_cell(x.z);
-    double weighted_force = 0.0, weighted_area = 0.0;  // N, m² (times the kernel)
+    double weighted_area = 0.0;  // m² (times the kernel)
     for (std::int64_t dx = -1; dx <= 1; ++dx)
       for (std::int64_t dy = -1; dy <= 1; ++dy)
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
@@ -90,13 +100,39 @@ std::vector<double> coarse_grained_pressure(const Surface& surface,
             const double r2 = norm2(surface.vertices[v] - x);  // m²
             if (r2 >= cutoff * cutoff || dot(normals[v], normals[u]) < min_cosine) continue;
             const double weight = std::exp(-0.5 * r2 / (width * width));
-            weighted_force += weight * nodal_pressure[v] * areas[v];
-            weighted_area += weight * areas[v];
+            neighbours_.push_back(v);
+            weights_.push_back(weight);
+            weighted_area += weight * areas_[v];
           }
         }
-    if (weighted_area > 0.0) pressure[u] = weighted_force / weighted_area;
+    weighted_areas_[u] = weighted_area;
+    offsets_.push_back(neighbours_.size());
+  }
+  vertices_ = surface.vertices;
+  triangles_ = surface.triangle_count();
+  width_ = width;
+}
+
+std::vector<double> PressureSmoother::smooth(const Surface& surface,
+                                             std::span<const double> nodal_pressure, double width) {
+  require(nodal_pressure.size() == surface.vertex_count(),
+          "coarse_grained_pressure: surface '" + surface.name + "' has another number of vertices");
+  if (!made_for(surface, width)) make(surface, width);
+  std::vector<double> pressure(surface.vertex_count(), 0.0);  // Pa
+  for (std::size_t u = 0; u < pressure.size(); ++u) {
+    double weighted_force = 0.0;  // N (times the kernel)
+    for (std::size_t k = offsets_[u]; k < offsets_[u + 1]; ++k) {
+      const std::uint32_t v = neighbours_[k];
+      weighted_force += weights_[k] * nodal_pressure[v] * areas_[v];
+    }
+    if (weighted_areas_[u] > 0.0) pressure[u] = weighted_force / weighted_areas_[u];
   }
   return pressure;
+}
+
+std::vector<double> coarse_grained_pressure(const Surface& surface,
+                                            std::span<const double> nodal_pressure, double width) {
+  return PressureSmoother().smooth(surface, nodal_pressure, width);
 }
 
 }  // namespace quarry

@@ -5,6 +5,8 @@
 // pressure (a Gaussian average over the surface of width ~ a particle; converges to the mean).
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -41,5 +43,29 @@ std::vector<double> nodal_pressure(const Surface& surface, std::span<const Vec3>
 // Cost: O(vertices × vertices within 3w), through a uniform grid of cell 3w.
 std::vector<double> coarse_grained_pressure(const Surface& surface,
                                             std::span<const double> nodal_pressure, double width);
+
+// coarse_grained_pressure for a series of frames of one surface: the neighbours within 3w and
+// their weights depend on the vertices alone, so they are found once and kept while the
+// surface's vertices and the width stay as they were (a fixed wall: the whole run; a moving
+// one: made anew each frame). The same values, to the bit, as coarse_grained_pressure. Cost of
+// a frame once made: O(vertices × vertices within 3w) multiply-adds, no search and no exp.
+class PressureSmoother {
+ public:
+  std::vector<double> smooth(const Surface& surface, std::span<const double> nodal_pressure,
+                             double width);
+
+ private:
+  bool made_for(const Surface& surface, double width) const;
+  void make(const Surface& surface, double width);
+
+  std::vector<Vec3> vertices_;  // m: those the tables were made for
+  std::size_t triangles_ = 0;
+  double width_ = 0.0;                      // m
+  std::vector<double> areas_;               // m², tributary, per vertex
+  std::vector<std::size_t> offsets_;        // vertex u's neighbours: [offsets_[u], offsets_[u + 1])
+  std::vector<std::uint32_t> neighbours_;   // within 3w, normals within 60°, in search order
+  std::vector<double> weights_;             // exp(−r² / (2 w²)) per neighbour
+  std::vector<double> weighted_areas_;      // m²: Σ W A_v per vertex
+};
 
 }  // namespace quarry

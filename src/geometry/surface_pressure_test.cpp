@@ -1,6 +1,7 @@
 // Nodal and coarse-grained surface pressure against closed forms: a uniform pressure is
 // reproduced exactly, the nodal pressure conserves the total normal load, a point load gives
-// the Gaussian's peak F / (2π w²), and a loaded floor is not averaged with the wall beside it.
+// the Gaussian's peak F / (2π w²), and a loaded floor is not averaged with the wall beside it;
+// a smoother kept over a run's frames answers as a fresh one.
 #include "geometry/surface_pressure.h"
 
 #include <gtest/gtest.h>
@@ -125,6 +126,42 @@ TEST(SurfacePressure, FloorIsNotAveragedWithTheWallBesideIt) {
   EXPECT_THROW(coarse_grained_pressure(s, nodal, 0.0), std::invalid_argument);
   EXPECT_THROW(coarse_grained_pressure(s, pressure, 0.01), std::invalid_argument);
   EXPECT_THROW(nodal_pressure(s, std::vector<Vec3>(3)), std::invalid_argument);
+}
+
+// A smoother kept over the frames of a run gives, frame after frame, what a fresh one gives,
+// bit for bit; when the surface's vertices move (a moving wall, a deforming structure) or the
+// width changes, it finds its neighbours and weights again instead of using the old ones.
+TEST(SurfacePressure, AKeptSmootherAnswersAsAFreshOneAndFollowsTheSurface) {
+  Surface s = plate(0.3, 12);
+  PressureSmoother kept;
+  const auto expect_fresh = [&](const std::vector<double>& nodal,
+                                double width) -> std::vector<double> {
+    const std::vector<double> again = kept.smooth(s, nodal, width);
+    const std::vector<double> fresh = PressureSmoother().smooth(s, nodal, width);
+    EXPECT_EQ(again.size(), fresh.size());
+    for (std::size_t v = 0; v < again.size() && v < fresh.size(); ++v)
+      EXPECT_EQ(again[v], fresh[v]) << v;
+    return again;
+  };
+  std::vector<double> pressure(s.triangle_count());
+  for (int frame = 0; frame < 3; ++frame) {  // loads that change from frame to frame
+    for (std::size_t t = 0; t < pressure.size(); ++t)
+      pressure[t] = 1000.0 * static_cast<double>((t * 7 + frame * 13) % 11);  // Pa
+    expect_fresh(nodal_pressure(s, nodal_forces_of(s, pressure)), 0.02);
+  }
+  const std::vector<double> nodal = nodal_pressure(s, nodal_forces_of(s, pressure));
+  const std::vector<double> before = expect_fresh(nodal, 0.02);
+  for (Vec3& x : s.vertices) x = x * 1.5;  // the same loads on a larger plate
+  s.update_normals_and_areas();
+  const std::vector<double> moved = expect_fresh(nodal, 0.02);
+  const std::vector<double> wider = expect_fresh(nodal, 0.03);
+  std::size_t differ = 0, differ_wider = 0;
+  for (std::size_t v = 0; v < nodal.size(); ++v) {
+    differ += moved[v] != before[v];
+    differ_wider += wider[v] != moved[v];
+  }
+  EXPECT_GT(differ, nodal.size() / 2);
+  EXPECT_GT(differ_wider, nodal.size() / 2);
 }
 
 }  // namespace

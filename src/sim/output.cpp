@@ -148,6 +148,7 @@ Output::Output(World& world, const OutputOptions& options)
   checkpoint_every_ = every_steps(out.checkpoint_interval.value, world.dt);
   for (WorldSurface& s : world.surfaces) {
     surface_series_.emplace_back(directory_ / (s.mesh.name + ".pvd"));
+    smoothers_.emplace_back();
     // Frames show triangles: the window is per triangle whatever the input's elements.
     if (!s.output_window.sized()) s.output_window = LoadWindow(s.mesh);
   }
@@ -260,7 +261,7 @@ void Output::write_frame(World& world) {
     // deviation = the largest particle radius (converges to the mean load; issue #20).
     const std::vector<double> nodal = nodal_pressure(surface.mesh, means.nodal_force);
     const std::vector<double> smoothed = world.max_radius > 0.0
-                                             ? coarse_grained_pressure(surface.mesh, nodal, world.max_radius)
+                                             ? smoothers_[s].smooth(surface.mesh, nodal, world.max_radius)
                                              : std::vector<double>{};
     write_file_atomically(directory_ / file, surface_vtu(surface.mesh, means.pressure, means.shear_stress,
                                                          means.force, means.nodal_force, nodal, smoothed));

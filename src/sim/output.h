@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/surface_pressure.h"
 #include "io/csv_table.h"
 #include "io/pvd_series.h"
 #include "sim/world.h"
@@ -98,6 +99,7 @@ class Output {
   PvdSeries particle_series_;
   std::optional<PvdSeries> contact_series_;  // output.contacts: contacts.pvd
   std::vector<PvdSeries> surface_series_;
+  std::vector<PressureSmoother> smoothers_;  // per surface: its frames' coarse-grained pressure
   std::string checkpoint_path_;
   bool checkpoint_written_ = false;
   bool frame_pending_ = false;     // a step was taken since the last frame
