@@ -60,10 +60,14 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
   choice.hertz_time = std::numeric_limits<double>::infinity();
   choice.impact_speed = expected_impact_speed(spec);
 
-  // Surface materials that particles can hit.
+  // Surface materials that particles can hit (walls and coupled structures).
   std::vector<const MaterialSpec*> wall_materials;
   for (const auto& s : spec.surfaces)
     if (const MaterialSpec* m = find_material(spec, s.material.value)) wall_materials.push_back(m);
+  for (const auto& s : spec.structures)
+    if (const MaterialSpec* m = find_material(spec, s.material.value)) wall_materials.push_back(m);
+  const Vec3& g = spec.simulation.gravity.value;
+  const double gravity = std::hypot(g.x, g.y, g.z);  // m/s²; without overflow for 1e308
 
   for (const auto& type : spec.particle_types) {
     const MaterialSpec* material = find_material(spec, type.material.value);
@@ -103,6 +107,32 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
         choice.peak_overlap_limiter = what;
       }
     };
+    // At rest under its own weight: the largest particle of the type on each wall and on one
+    // of its own kind, both of the wall's and its own stiffness (resting_overlap below).
+    if (!type.fixed.value && !wall_materials.empty() && gravity > 0.0) {
+      const double largest = sizes.max_radius();  // m: δ/R grows as R^(2/3)
+      const double weight = largest_mass * gravity;  // N
+      auto rest_on = [&](const MaterialProperties& other, double effective_radius,
+                         const std::string& what) {
+        InteractionSpec neutral;
+        const InteractionParameters p = make_interaction(own, other, neutral);
+        // Hertz F = 4/3 E* √R* δ^(3/2) (Johnson 1985 eq. 4.22) at F = m g.
+        const double overlap = std::pow(
+            3.0 * weight / (4.0 * p.effective_youngs_modulus * std::sqrt(effective_radius)),
+            2.0 / 3.0);  // m
+        if (overlap / largest > choice.resting_overlap_fraction) {
+          choice.resting_overlap_fraction = overlap / largest;
+          choice.resting_overlap_limiter = what;
+        }
+      };
+      rest_on(own, 0.5 * largest,
+              fmt::format("a '{}' particle of R = {:.4g} mm on another", type.name.value,
+                          largest * 1e3));
+      for (const MaterialSpec* wall : wall_materials)
+        rest_on(properties_of(*wall), largest,
+                fmt::format("a '{}' particle of R = {:.4g} mm on a '{}' surface", type.name.value,
+                            largest * 1e3, wall->name.value));
+    }
     if (choice.impact_speed > 0.0) {
       consider(own, 0.5 * mass, 0.5 * radius,
                fmt::format("two '{}' particles, R = {:.4g} mm", type.name.value, radius * 1e3));
@@ -185,6 +215,27 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
              "simulation.max_overlap_fraction above {:.3g}; if the impacts are slower, say so with "
              "simulation.impact_speed",
              stiffer, choice.peak_overlap_fraction)});
+  }
+  // Gravity the contacts cannot carry (a gravity of 1e308 m/s² passed check, and its run
+  // stopped at its first contact): a particle at rest on a surface, or on another resting
+  // there, presses in by the Hertz static overlap of its weight. Beyond the guard every
+  // particle that comes to rest stops the run. δ ∝ E*^(−2/3), so E × (δ/δ_guard)^(3/2) brings
+  // it to the guard.
+  if (guard > 0.0 && !(choice.resting_overlap_fraction <= guard) &&
+      !choice.resting_overlap_limiter.empty()) {
+    const double stiffer = std::pow(choice.resting_overlap_fraction / guard, 1.5);
+    choice.problems.push_back(
+        {Severity::error, spec.simulation.gravity.where,
+         fmt::format("gravity {:.4g} m/s² presses {} in by {:.3g} % of its radius at rest "
+                     "(Hertz), beyond the overlap guard {:.0f} %: every particle that comes to "
+                     "rest would stop the run",
+                     std::hypot(spec.simulation.gravity.value.x, spec.simulation.gravity.value.y,
+                                spec.simulation.gravity.value.z),
+                     choice.resting_overlap_limiter,
+                     100.0 * choice.resting_overlap_fraction, 100.0 * guard),
+         fmt::format("gravity is in m/s² (9.81 on Earth); a gravity this strong needs the "
+                     "Young's modulus {:.3g}-fold, or simulation.max_overlap_fraction above {:.3g}",
+                     stiffer, choice.resting_overlap_fraction)});
   }
   return choice;
 }

@@ -24,6 +24,11 @@ struct TimeStepChoice {
   // the contact it is for; compared with simulation.max_overlap_fraction (a warning above it).
   double peak_overlap_fraction = 0.0;
   std::string peak_overlap_limiter;
+  // Hertz static overlap over the radius (1) of the largest moving particle at rest under its
+  // weight, on a surface or on another of its kind (the worst), and that contact; an error at
+  // simulation.gravity above the overlap guard. Zero without surfaces.
+  double resting_overlap_fraction = 0.0;
+  std::string resting_overlap_limiter;
   // The heaviest particle the deck's moving types can hold (kg; its largest radius) and its
   // type: the overlap guard asks whether it could have pressed a pair as far as it finds it.
   double heaviest_mass = 0.0;
