@@ -20,6 +20,7 @@
 #include "cfdem/fluid_monitors.h"
 #include "cfdem/fluid_output.h"
 #include "cfdem/fluid_setup.h"
+#include "cfdem/fluid_test_support.h"
 #include "geometry/icosphere.h"
 #include "geometry/stl_reader.h"
 #include "io/deck.h"
@@ -75,13 +76,7 @@ World channel_world(const std::string& deck, int threads = 1) {
 
 // The formatted errors of building the coupling from the deck ("" when it builds).
 std::string setup_errors(const std::string& deck) {
-  try {
-    World world = channel_world(deck);
-    coupling_options_from_spec(world);
-  } catch (const UserError& e) {
-    return e.diagnostics().format();
-  }
-  return {};
+  return testing::fluid_setup_errors(deck, "channel.yaml");
 }
 
 // "channel.yaml:line:col" of the `occurrence`-th `needle` in `text`.

@@ -2,6 +2,7 @@
 // each built-in law's drag that it rests on, verified against the laws themselves, and the
 // deck refused at its viscosity exactly where that bound falls below the DEM step.
 #include "cfdem/fluid_setup.h"
+#include "cfdem/fluid_test_support.h"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -78,13 +79,7 @@ fluid:
 }
 
 std::string setup_errors(const std::string& deck) {
-  try {
-    const World world = build_world(parse_deck_string(deck, "bed.yaml"));
-    coupling_options_from_spec(world);
-  } catch (const UserError& e) {
-    return e.diagnostics().format();
-  }
-  return {};
+  return testing::fluid_setup_errors(deck, "bed.yaml");
 }
 
 // The 0.7 mm type (m/β ≤ 4.0 µs at 0.99 μ*: refused, were it inserted) is defined but inserted by
