@@ -266,7 +266,8 @@ std::array<Vec3, 4> ShellSolver::gather(const std::vector<Vec3>& field, int elem
 }
 
 // The coupling asks at every PERIOD, and each element's exact estimate (its frame, local
-// coordinates and area: characteristic_length) cost 2.4 % of the two-way flagship. So a screen
+// coordinates and area: characteristic_length) was a visible share of the two-way flagship's
+// profile (docs/performance.md). So a screen
 // first: the squared step from the area as ½ |x31 × x42| (½ |x21 × x31| for a triangle), the
 // same area as the frame's in exact arithmetic (the frame's normal is that cross product's
 // direction), so the two differ by round-off only. Only elements whose screen lies within

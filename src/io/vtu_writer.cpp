@@ -125,8 +125,8 @@ class AppendedArrays {
   std::size_t size_ = 0;           // bytes of the appended data so far
 };
 
-// The cells' three arrays (Int64 connectivity and offsets, UInt8 types), each cell `corners`
-// points long, cell c on points first(c) + k.
+// The cells' three arrays (Int64 connectivity and offsets, UInt8 types) for cells of `corners`
+// points each: the offsets and types are set here, the caller fills the connectivity.
 struct CellBlocks {
   std::vector<std::int64_t> connectivity, offsets;
   std::vector<std::uint8_t> types;

@@ -229,9 +229,7 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
          fmt::format("gravity {:.4g} m/s² presses {} in by {:.3g} % of its radius at rest "
                      "(Hertz), beyond the overlap guard {:.0f} %: every particle that comes to "
                      "rest would stop the run",
-                     std::hypot(spec.simulation.gravity.value.x, spec.simulation.gravity.value.y,
-                                spec.simulation.gravity.value.z),
-                     choice.resting_overlap_limiter,
+                     gravity, choice.resting_overlap_limiter,
                      100.0 * choice.resting_overlap_fraction, 100.0 * guard),
          fmt::format("gravity is in m/s² (9.81 on Earth); a gravity this strong needs the "
                      "Young's modulus {:.3g}-fold, or simulation.max_overlap_fraction above {:.3g}",
