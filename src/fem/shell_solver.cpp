@@ -113,7 +113,6 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
   // each element whose L_c/c is below the target by (target / (L_c/c))², since c ∝ 1/√ρ: the
   // element's step becomes exactly the target.
   density_.resize(elements);
-  step_screen_.resize(elements);
   state_offset_.resize(elements + 1);
   int offset = 0;
   for (std::size_t e = 0; e < elements; ++e) {
@@ -130,11 +129,6 @@ ShellSolver::ShellSolver(ShellModel model, ShellSolverOptions options)
       if (step < target) density *= (target / step) * (target / step);
     }
     density_[e] = density;
-    // (L_c / c)² = screen × |cross|² / longest² (stable_time_step): L_c = A / longest (quad),
-    // 2A / longest (triangle), A = ½ |cross|, 1 / c² = ρ (1 − ν²) / E.
-    const double nu = material.poisson_ratio;
-    step_screen_[e] = (element.node_count == 4 ? 0.25 : 1.0) * density * (1.0 - nu * nu) /
-                      material.youngs_modulus;
     added_mass_ += (density - material.density) * section.thickness * area;
     const double node_mass = density * section.thickness * area / element.node_count;
     const double t = section.thickness;
@@ -280,12 +274,18 @@ StableTimeStep ShellSolver::stable_time_step() const {
   double least = INFINITY;  // s²
   for (std::size_t e = 0; e < elements; ++e) {
     const ShellElement& element = model_.elements[e];
+    const ShellMaterial& material =
+        model_.materials[model_.sections[element.section].material];
     const std::array<Vec3, 4> x = gather(positions_, static_cast<int>(e));
     const int n = element.node_count;
     const Vec3 normal = n == 4 ? cross(x[2] - x[0], x[3] - x[1]) : cross(x[1] - x[0], x[2] - x[0]);
     double longest = 0.0;  // m²
     for (int i = 0; i < n; ++i) longest = std::max(longest, norm2(x[(i + 1) % n] - x[i]));
-    screen[e] = step_screen_[e] * norm2(normal) / longest;
+    // (L_c / c)²: L_c = A / longest (quad), 2A / longest (triangle), A = ½ |normal|, and
+    // 1 / c² = ρ (1 − ν²) / E.
+    const double nu = material.poisson_ratio;
+    screen[e] = (n == 4 ? 0.25 : 1.0) * density_[e] * (1.0 - nu * nu) / material.youngs_modulus *
+                norm2(normal) / longest;
     if (screen[e] < least) least = screen[e];
   }
   const double bound = least * (1.0 + kMargin);

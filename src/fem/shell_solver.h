@@ -175,7 +175,6 @@ class ShellSolver {
   std::vector<ThicknessPoints> rules_;            // per section
   std::vector<SectionProperties> properties_;     // per section
   std::vector<double> density_;                   // per element, after mass scaling (kg/m³)
-  std::vector<double> step_screen_;               // per element: stable_time_step's (s²/m²)
   std::vector<int> state_offset_;                 // per element, its first point in element order
   // Histories in storage order: slots_[e] is where element e's values start in each array,
   // and the distance between its consecutive values (kQuadLanes in a batch's interleaved

@@ -90,18 +90,22 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
     // Hertz contact time: smallest particle against its own kind and against each wall.
     const MaterialProperties own = properties_of(*material);
     const double mass = sphere_mass(material->density, radius);
+    // E* (Pa) of this type against `other` (a surface's material or its own).
+    const auto effective_youngs = [&own](const MaterialProperties& other) {
+      InteractionSpec neutral;
+      return make_interaction(own, other, neutral).effective_youngs_modulus;
+    };
     auto consider = [&](const MaterialProperties& other, double effective_mass,
                         double effective_radius, const std::string& what) {
-      InteractionSpec neutral;
-      const InteractionParameters p = make_interaction(own, other, neutral);
-      const double t = hertz_contact_time(effective_mass, effective_radius,
-                                          p.effective_youngs_modulus, choice.impact_speed);
+      const double youngs = effective_youngs(other);  // Pa
+      const double t = hertz_contact_time(effective_mass, effective_radius, youngs,
+                                          choice.impact_speed);
       if (t < choice.hertz_time) {
         choice.hertz_time = t;
         choice.hertz_limiter = what;
       }
-      const double overlap = hertz_peak_overlap(effective_mass, effective_radius,
-                                                p.effective_youngs_modulus, choice.impact_speed);
+      const double overlap = hertz_peak_overlap(effective_mass, effective_radius, youngs,
+                                                choice.impact_speed);
       if (overlap / radius > choice.peak_overlap_fraction) {
         choice.peak_overlap_fraction = overlap / radius;
         choice.peak_overlap_limiter = what;
@@ -114,11 +118,9 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec) {
       const double weight = largest_mass * gravity;  // N
       auto rest_on = [&](const MaterialProperties& other, double effective_radius,
                          const std::string& what) {
-        InteractionSpec neutral;
-        const InteractionParameters p = make_interaction(own, other, neutral);
         // Hertz F = 4/3 E* √R* δ^(3/2) (Johnson 1985 eq. 4.22) at F = m g.
         const double overlap = std::pow(
-            3.0 * weight / (4.0 * p.effective_youngs_modulus * std::sqrt(effective_radius)),
+            3.0 * weight / (4.0 * effective_youngs(other) * std::sqrt(effective_radius)),
             2.0 / 3.0);  // m
         if (overlap / largest > choice.resting_overlap_fraction) {
           choice.resting_overlap_fraction = overlap / largest;
