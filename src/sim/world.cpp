@@ -209,8 +209,8 @@ void report_geometry_outside_domain(World& world, const SurfaceSpec& s,
 // 9e18 m away passed check, and its run stopped at step 1 on a particle struck at 3.9 km/s). A
 // surface that moves more than half the smallest radius in one step strikes a particle within
 // one step, unresolved, as the run's tunnelling guard would find (the same half radius): an
-// error at the motion. One faster than the impact speed the time step was sized for (the
-// Hertz contact time, time_step_choice.h) is a warning: its impacts are not checked.
+// error at the motion. The bound (max_vertex_speed) holds at all times: a motion that starts
+// later is checked too.
 void check_surface_speed(const World& world, const SurfaceSpec& s, const Surface& surface) {
   const MotionSpec& motion = s.motion;
   const double speed = max_vertex_speed(motion, surface);  // m/s

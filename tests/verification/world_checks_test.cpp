@@ -5,8 +5,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "io/deck.h"
 #include "sim/exchange.h"
@@ -125,6 +128,57 @@ TEST(WorldChecks, GeometryOutsideTheDomainIsReported) {
 // impacts overlap more than the 10 % guard: check warns with the Hertz peak, the guard and the
 // modulus that would meet it. Peak overlap of two equal spheres, δ = (15 m* v² / (16 E* √R*))^(2/5)
 // with m* = m/2, R* = R/2, E* = E / (2 (1 − ν²)) (Johnson 1985, eq. 11.23): 12.7 % of R.
+// A prescribed motion is refused when its fastest vertex moves more than half the smallest
+// radius (5 mm beads) in one step, the run's tunnelling measure, at the key that sets its speed:
+// a translation |v|, a vibration 2π f |A|, a rotation |ω| × the farthest vertex from the axis.
+// Just below the bound the same motions are built.
+TEST(WorldChecks, ASurfaceMovingMoreThanHalfTheSmallestRadiusPerStepIsRefused) {
+  const SimulationSpec plain = deck_with(kPour + "count: 20}", kFloor);
+  const double dt = choose_time_step(plain).dt;  // s
+  const double limit = 0.5 * 0.005 / dt;               // m/s
+  const auto floor_line = [](const std::string& motion) {
+    return "{name: floor, type: plane, point: [0, 0, 0], normal: [0, 0, 1], size: 0.2, "
+           "material: glass, motion: " + motion + "}";
+  };
+  const auto floor_moving = [&](const std::string& motion) {
+    return deck_with(kPour + "count: 20}", floor_line(motion));
+  };
+  const auto translation = [&](double speed) {
+    return fmt::format("{{type: translation, velocity: [{:.17g}, 0, 0]}}", speed);
+  };
+  // A square plate of side 0.2 m turning about the z axis through its centre: the corners are
+  // 0.1 √2 m from the axis.
+  const double arm = 0.1 * std::sqrt(2.0);  // m
+  const auto rotation = [&](double speed) {
+    return fmt::format("{{type: rotation, axis_point: [0, 0, 0], axis_direction: [0, 0, 1], "
+                       "angular_velocity: {:.17g}}}", speed / arm);
+  };
+  const auto vibration = [&](double speed) {  // 100 Hz, amplitude along z
+    return fmt::format("{{type: vibration, amplitude: [0, 0, {:.17g}], frequency: 100}}",
+                       speed / (2.0 * std::numbers::pi * 100.0));
+  };
+  const std::vector<std::pair<std::function<std::string(double)>, std::string>> cases{
+      {translation, "velocity"}, {rotation, "angular_velocity"}, {vibration, "amplitude"}};
+  for (const auto& [motion, key] : cases) {
+    EXPECT_NO_THROW(build_world(floor_moving(motion(0.9 * limit)))) << key;
+    try {
+      build_world(floor_moving(motion(1.1 * limit)));
+      ADD_FAILURE() << "expected a UserError for " << key;
+    } catch (const UserError& e) {
+      const std::string text = e.diagnostics().format();
+      EXPECT_NE(text.find("surface 'floor' moves at up to"), std::string::npos) << text;
+      EXPECT_NE(text.find("more than half the radius of the smallest particle (0.005 m)"),
+                std::string::npos)
+          << text;
+      // At the key's value on the surface's line (11; the line is "  - " + the surface).
+      const std::string line = "  - " + floor_line(motion(1.1 * limit));
+      const std::size_t column = line.find(key + ": ") + key.size() + 2 + 1;
+      EXPECT_NE(text.find(fmt::format("deck.yaml:11:{}: error:", column)), std::string::npos)
+          << text;
+    }
+  }
+}
+
 TEST(WorldChecks, CheckWarnsWhenHertzPredictsAnOverlapAboveTheGuard) {
   const std::string deck = R"(simulation:
   end_time: 0.5
