@@ -128,6 +128,43 @@ TEST(WorldChecks, GeometryOutsideTheDomainIsReported) {
 // impacts overlap more than the 10 % guard: check warns with the Hertz peak, the guard and the
 // modulus that would meet it. Peak overlap of two equal spheres, δ = (15 m* v² / (16 E* √R*))^(2/5)
 // with m* = m/2, R* = R/2, E* = E / (2 (1 − ν²)) (Johnson 1985, eq. 11.23): 12.7 % of R.
+// Surfaces are not wrapped across periodic faces: a floor that reaches past the face x = 0 of a
+// periodic cell 0.1 m long but ends inside the cell is warned about (a particle wrapping through
+// the face would land inside it); one spanning the period and a diameter (10 mm) beyond each
+// face, or one wholly inside the cell, is not.
+TEST(WorldChecks, ASurfaceCutByAPeriodicFaceIsWarnedAbout) {
+  const auto warnings_with_floor = [](double centre_x, double size) {
+    const SimulationSpec spec = parse_deck_string(fmt::format(R"(simulation:
+  end_time: 0.5
+  domain: {{min: [0, 0, -0.01], max: [0.1, 0.1, 0.1], periodic: [x, y]}}
+materials:
+  - {{name: glass, density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.25}}
+interactions:
+  - {{materials: [glass, glass]}}
+particle_types:
+  - {{name: bead, material: glass, size: {{distribution: fixed, radius: 0.005}}}}
+surfaces:
+  - {{name: floor, type: plane, point: [{}, 0.05, 0], normal: [0, 0, 1], size: {}, material: glass}}
+)",
+                                                              centre_x, size),
+                                                  "deck.yaml");
+    std::string cut;
+    for (const std::string& w : build_world(spec).warnings)
+      if (w.find("surfaces are not wrapped") != std::string::npos) cut += w + "\n";
+    return cut;
+  };
+  EXPECT_EQ(warnings_with_floor(0.05, 0.14), "");  // spans x and y by 20 mm beyond each face
+  EXPECT_EQ(warnings_with_floor(0.05, 0.04), "");  // wholly inside the cell
+  const std::string cut = warnings_with_floor(0.0, 0.14);  // x from -0.07 to 0.07
+  EXPECT_NE(cut.find("surface 'floor' reaches past a periodic face of the domain along x but "
+                     "spans only -0.07 to 0.07 m of the period 0 to 0.1 m"),
+            std::string::npos)
+      << cut;
+  EXPECT_EQ(cut.find("along y"), std::string::npos) << cut;  // y still spans -0.02 to 0.12
+  // Reaching past both faces but by less than a diameter on one side.
+  EXPECT_NE(warnings_with_floor(0.054, 0.1 + 2 * 0.012).find("along x"), std::string::npos);
+}
+
 // A prescribed motion is refused when its fastest vertex moves more than half the smallest
 // radius (5 mm beads) in one step, the run's tunnelling measure, at the key that sets its speed:
 // a translation |v|, a vibration 2π f |A|, a rotation |ω| × the farthest vertex from the axis.
