@@ -215,11 +215,11 @@ void report_surface_across_periodic_faces(World& world, const SurfaceSpec& s,
   if (record.moving() || record.mesh.vertices.empty()) return;
   const Aabb& domain = world.spec.simulation.domain.value;
   const double margin = 2.0 * world.max_radius;  // m, a diameter
+  const Aabb extent = record.mesh.bounds();       // m
   static constexpr std::array<const char*, 3> kAxes{"x", "y", "z"};
   for (int a = 0; a < 3; ++a) {
     if (!world.spec.simulation.periodic.value[static_cast<std::size_t>(a)]) continue;
-    double lo = INFINITY, hi = -INFINITY;  // m, the surface's extent along the axis
-    for (const Vec3& v : record.mesh.vertices) lo = std::min(lo, v[a]), hi = std::max(hi, v[a]);
+    const double lo = extent.lo[a], hi = extent.hi[a];  // m, along the axis
     const bool crosses = lo < domain.lo[a] || hi > domain.hi[a];
     const bool spans = lo <= domain.lo[a] - margin && hi >= domain.hi[a] + margin;
     if (!crosses || spans) continue;
