@@ -200,6 +200,7 @@ struct DeckCalibration {
   double rebuild_seconds = 0, particles_at_end = 0;  // one rebuild of the lists at the end
   double rebuild_particle_steps = 0;  // sum of the particle count over the steps that rebuilt
   double frame_seconds = 0, finish_seconds = 0;  // s: a frame (and the monitor rows before it), the end
+  FastestSurface fastest_surface;  // of the deck's world: it adds to the expected impact speed
 };
 DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& attach, double budget) {
   namespace fs = std::filesystem;
@@ -207,6 +208,7 @@ DeckCalibration calibrate_deck(const SimulationSpec& spec, const AttachToWorld& 
   DeckCalibration c;
   const fs::path scratch = scratch_folder(spec);
   World world = build_world(spec);
+  c.fastest_surface = world.fastest_surface;
   const std::shared_ptr<void> attached = attach ? attach(world) : nullptr;
   const double end = spec.simulation.end_time.value;
   const auto running = [&] { return world.time < end - 0.5 * world.dt; };
@@ -377,6 +379,12 @@ Estimate estimate_run(const SimulationSpec& spec, const AttachToWorld& attach) {
     e.fluidised = fluid_carries_particles(spec, e.inlet_velocity, e.fluidisation_velocity);
     bed = calibrate_bed(spec, types[smallest_type].type_index, e.calibration_particles, kBedBudget, e.fluidised);
     e.seconds_per_particle_step = bed.seconds_per_particle_step;
+  }
+  if (deck.fastest_surface.speed > 0.0) {  // the contact time at the impacts moving walls add
+    const TimeStepChoice moving = choose_time_step(spec, deck.fastest_surface);
+    e.hertz_time = moving.hertz_time;
+    e.hertz_limiter = moving.hertz_limiter;
+    e.impact_speed = moving.impact_speed;
   }
   if (e.dt > 0 && e.steps > 0) {
     e.deck_steps = deck.steps;

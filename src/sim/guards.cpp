@@ -48,7 +48,7 @@ OverlapDiagnosis diagnose_overlap(const World& world, const InteractionParameter
                                    std::sqrt(effective_radius) * std::pow(overlap, 2.5);  // J
   const double equivalent =
       std::sqrt(normal_speed * normal_speed + 2.0 * elastic / effective_mass);  // m/s
-  const TimeStepChoice choice = choose_time_step(world.spec);
+  const TimeStepChoice choice = choose_time_step(world.spec, world.fastest_surface);
   const double expected = choice.impact_speed;  // m/s
   const double guard = world.spec.simulation.max_overlap_fraction.value;
   // The stiffening that keeps this pair's peak overlap, all of its energy stored elastically,

@@ -36,7 +36,16 @@ struct TimeStepChoice {
   std::vector<Diagnostic> problems;   // warnings (< 10 steps) and errors (< 6 steps)
 };
 
+// The fastest vertex of the deck's prescribed surface motions (max_vertex_speed over the
+// surfaces) and its surface: a wall moving at V meets a particle falling at v at up to v + V.
+struct FastestSurface {
+  double speed = 0.0;  // m/s
+  std::string name;
+};
+
 // Computes the choice; problems are returned, not thrown (check prints them, run throws).
-TimeStepChoice choose_time_step(const SimulationSpec& spec);
+// Without a deck impact_speed the expected one is estimated, `fastest`'s speed added (it is
+// known once the surfaces are built: World::fastest_surface). The step does not depend on it.
+TimeStepChoice choose_time_step(const SimulationSpec& spec, const FastestSurface& fastest = {});
 
 }  // namespace quarry

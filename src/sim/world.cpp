@@ -239,10 +239,11 @@ void report_surface_across_periodic_faces(World& world, const SurfaceSpec& s,
 // one step, unresolved, as the run's tunnelling guard would find (the same half radius): an
 // error at the motion. The bound (max_vertex_speed) holds at all times: a motion that starts
 // later is checked too.
-void check_surface_speed(const World& world, const SurfaceSpec& s, const Surface& surface) {
+// Returns that speed (m/s).
+double check_surface_speed(const World& world, const SurfaceSpec& s, const Surface& surface) {
   const MotionSpec& motion = s.motion;
   const double speed = max_vertex_speed(motion, surface);  // m/s
-  if (!(speed > 0.0) && std::isfinite(speed)) return;
+  if (!(speed > 0.0) && std::isfinite(speed)) return speed;
   double smallest = INFINITY;  // m, the smallest radius any particle of the deck can have
   for (const SizeSampler& sampler : world.size_samplers)
     smallest = std::min(smallest, sampler.min_radius());
@@ -264,6 +265,7 @@ void check_surface_speed(const World& world, const SurfaceSpec& s, const Surface
                                 s.name.value, speed, speed * world.dt, world.dt, smallest),
                     fmt::format("check the motion ({}), or use a time step ≤ {:.3g} s", units,
                                 0.1 * smallest / speed));
+  return speed;
 }
 
 }  // namespace
@@ -299,7 +301,8 @@ std::size_t add_surface(World& world, const SurfaceSpec& s, const Surface* given
     record.driver.kind = SurfaceDriverKind::prescribed;
     record.driver.motion = s.motion;
     apply_motion(s.motion, world.time, surface);
-    check_surface_speed(world, s, surface);
+    const double speed = check_surface_speed(world, s, surface);  // m/s
+    if (speed > world.fastest_surface.speed) world.fastest_surface = {speed, s.name.value};
   } else if (s.coupled.value) {
     record.driver.kind = SurfaceDriverKind::coupled;  // at rest until the partner sets its vertices
   }
@@ -383,6 +386,14 @@ void set_periodic_axes(World& world) {
   world.pairs.periodic = PeriodicBox::of(domain, periodic.value);
 }
 
+// The time-step choice's errors, thrown together at their deck locations.
+void throw_errors(const TimeStepChoice& choice) {
+  Diagnostics problems;
+  for (const auto& d : choice.problems)
+    if (d.severity == Severity::error) problems.error(d.where, d.message, d.hint);
+  if (problems.has_errors()) throw UserError(problems);
+}
+
 }  // namespace
 
 World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes) {
@@ -408,15 +419,11 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   }
   world.size_random = Random(spec.simulation.seed ^ 0xA5A5A5A55A5A5A5Aull);
 
-  // Time step (throws with the deck location if the contact time is under-resolved).
-  const TimeStepChoice choice = choose_time_step(spec);
-  Diagnostics problems;
-  for (const auto& d : choice.problems)
-    if (d.severity == Severity::error) problems.error(d.where, d.message, d.hint);
-  if (problems.has_errors()) throw UserError(problems);
-  for (const auto& d : choice.problems)
-    if (d.severity == Severity::warning) world.warnings.push_back(d.message);
-  world.dt = choice.dt;
+  // Time step (throws with the deck location if the contact time is under-resolved). Its
+  // warnings wait for the surfaces: a moving wall may raise the expected impact speed.
+  const TimeStepChoice still = choose_time_step(spec);
+  throw_errors(still);
+  world.dt = still.dt;
 
   // Largest and smallest radius any particle can have (m): sizes the grids and the skin.
   double min_radius = 1e300;
@@ -451,6 +458,12 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   world.spec.surfaces.clear();  // add_surface appends each again
   for (std::size_t s = 0; s < spec.surfaces.size(); ++s)
     add_surface(world, spec.surfaces[s], meshes.empty() ? nullptr : &meshes.at(s));
+  // The Hertz checks again at the impact speed the moving walls add (the step is the same).
+  const TimeStepChoice choice =
+      world.fastest_surface.speed > 0.0 ? choose_time_step(spec, world.fastest_surface) : still;
+  throw_errors(choice);
+  for (const auto& d : choice.problems)
+    if (d.severity == Severity::warning) world.warnings.push_back(d.message);
 
   for (std::size_t f = 0; f < spec.factories.size(); ++f) {
     const auto& fs = spec.factories[f];

@@ -28,6 +28,7 @@
 #include "insert/random.h"
 #include "insert/size_distribution.h"
 #include "neighbor/pair_list.h"
+#include "sim/time_step_choice.h"
 
 namespace quarry {
 
@@ -310,6 +311,9 @@ struct World {
     double floor = 0.0, ceiling = 0.0;  // m
   } skin_choice;
   double max_radius = 0.0;  // m, largest particle radius that can exist
+  // The fastest vertex of the prescribed surface motions (add_surface): it adds to the expected
+  // impact speed (choose_time_step) that `check` and the overlap guard judge impacts by.
+  FastestSurface fastest_surface;
   ParticleId next_id = 1;
   std::uint64_t removed_outside = 0;  // particles that left the domain
   std::uint64_t steps_since_sort = 0;
