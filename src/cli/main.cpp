@@ -88,20 +88,10 @@ int command_check(const std::string& deck) {
   SimulationSpec spec = parse_deck(deck);
   // The time step's errors before anything else of the deck; its warnings once the surfaces
   // are built (a moving wall raises the expected impact speed), at the same deck locations.
-  const auto report = [](const TimeStepChoice& choice, Severity severity) {
-    Diagnostics d;
-    for (const auto& p : choice.problems) {
-      if (p.severity != severity) continue;
-      if (p.severity == Severity::error) d.error(p.where, p.message, p.hint);
-      else d.warning(p.where, p.message, p.hint);
-    }
-    if (d.has_errors()) throw UserError(d);
-    std::cerr << d.format();
-  };
-  report(choose_time_step(spec), Severity::error);
+  throw_time_step_errors(choose_time_step(spec));
   World world = build_world(spec);
   const TimeStepChoice choice = choose_time_step(spec, world.fastest_surface);
-  report(choice, Severity::warning);
+  std::cerr << problems_of(choice, Severity::warning).format();
   // The fluid: section's checks (grid, time step, UDF, blocked cells) and the structures' (their
   // models read and adapted, their line each, then the exchange's stability at the PERIOD the
   // run will hold, for the particles the deck's types can be).

@@ -252,4 +252,19 @@ TimeStepChoice choose_time_step(const SimulationSpec& spec, const FastestSurface
   return choice;
 }
 
+Diagnostics problems_of(const TimeStepChoice& choice, Severity severity) {
+  Diagnostics out;
+  for (const Diagnostic& p : choice.problems) {
+    if (p.severity != severity) continue;
+    if (severity == Severity::error) out.error(p.where, p.message, p.hint);
+    else out.warning(p.where, p.message, p.hint);
+  }
+  return out;
+}
+
+void throw_time_step_errors(const TimeStepChoice& choice) {
+  const Diagnostics errors = problems_of(choice, Severity::error);
+  if (errors.has_errors()) throw UserError(errors);
+}
+
 }  // namespace quarry

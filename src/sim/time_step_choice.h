@@ -48,4 +48,9 @@ struct FastestSurface {
 // known once the surfaces are built: World::fastest_surface). The step does not depend on it.
 TimeStepChoice choose_time_step(const SimulationSpec& spec, const FastestSurface& fastest = {});
 
+// The choice's problems of one severity at their deck locations (`check` prints the warnings).
+Diagnostics problems_of(const TimeStepChoice& choice, Severity severity);
+// Throws the choice's errors together as one UserError; nothing if it has none.
+void throw_time_step_errors(const TimeStepChoice& choice);
+
 }  // namespace quarry

@@ -386,14 +386,6 @@ void set_periodic_axes(World& world) {
   world.pairs.periodic = PeriodicBox::of(domain, periodic.value);
 }
 
-// The time-step choice's errors, thrown together at their deck locations.
-void throw_errors(const TimeStepChoice& choice) {
-  Diagnostics problems;
-  for (const auto& d : choice.problems)
-    if (d.severity == Severity::error) problems.error(d.where, d.message, d.hint);
-  if (problems.has_errors()) throw UserError(problems);
-}
-
 }  // namespace
 
 World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes) {
@@ -422,7 +414,7 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   // Time step (throws with the deck location if the contact time is under-resolved). Its
   // warnings wait for the surfaces: a moving wall may raise the expected impact speed.
   const TimeStepChoice still = choose_time_step(spec);
-  throw_errors(still);
+  throw_time_step_errors(still);
   world.dt = still.dt;
 
   // Largest and smallest radius any particle can have (m): sizes the grids and the skin.
@@ -461,7 +453,7 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
   // The Hertz checks again at the impact speed the moving walls add (the step is the same).
   const TimeStepChoice choice =
       world.fastest_surface.speed > 0.0 ? choose_time_step(spec, world.fastest_surface) : still;
-  throw_errors(choice);
+  throw_time_step_errors(choice);
   for (const auto& d : choice.problems)
     if (d.severity == Severity::warning) world.warnings.push_back(d.message);
 
