@@ -124,10 +124,6 @@ TEST(WorldChecks, GeometryOutsideTheDomainIsReported) {
   EXPECT_TRUE(warned) << expected;
 }
 
-// A deck of soft spheres (issue 19: E = 5 MPa, R = 4 mm, impacts at 1.5 m/s) whose sound
-// impacts overlap more than the 10 % guard: check warns with the Hertz peak, the guard and the
-// modulus that would meet it. Peak overlap of two equal spheres, δ = (15 m* v² / (16 E* √R*))^(2/5)
-// with m* = m/2, R* = R/2, E* = E / (2 (1 − ν²)) (Johnson 1985, eq. 11.23): 12.7 % of R.
 // Surfaces are not wrapped across periodic faces: a floor that reaches past the face x = 0 of a
 // periodic cell 0.1 m long but ends inside the cell is warned about (a particle wrapping through
 // the face would land inside it); one spanning the period and a diameter (10 mm) beyond each
@@ -216,6 +212,10 @@ TEST(WorldChecks, ASurfaceMovingMoreThanHalfTheSmallestRadiusPerStepIsRefused) {
   }
 }
 
+// A deck of soft spheres (issue 19: E = 5 MPa, R = 4 mm, impacts at 1.5 m/s) whose sound
+// impacts overlap more than the 10 % guard: check warns with the Hertz peak, the guard and the
+// modulus that would meet it. Peak overlap of two equal spheres, δ = (15 m* v² / (16 E* √R*))^(2/5)
+// with m* = m/2, R* = R/2, E* = E / (2 (1 − ν²)) (Johnson 1985, eq. 11.23): 12.7 % of R.
 TEST(WorldChecks, CheckWarnsWhenHertzPredictsAnOverlapAboveTheGuard) {
   const std::string deck = R"(simulation:
   end_time: 0.5
