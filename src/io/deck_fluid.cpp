@@ -211,6 +211,11 @@ void read_blocked_entry(MapReader& map, FluidBlockedSpec& entry) {
 
 }  // namespace
 
+// Pa·s: below every real fluid (hydrogen gas 8.8e-6 Pa·s at 20 °C, CRC Handbook, "Viscosity of
+// gases"); far smaller values make the Reynolds numbers of the drag laws and the advection's
+// cell Péclet numbers overflow to infinity, and the fluid step to NaN.
+constexpr double kLeastViscosity = 1e-7;
+
 void read_fluid_section(MapReader& root, const DeckParseOptions& options,
                         std::optional<FluidSpec>& fluid) {
   const YAML::Node* value = root.find("fluid");
@@ -223,7 +228,14 @@ void read_fluid_section(MapReader& root, const DeckParseOptions& options,
   map.reject_unknown_keys({"density", "viscosity", "time_step", "grid", "boundaries", "model", "advection",
                            "drag_law", "drag_udf", "monitors", "blocked"});
   map.read("density", spec.density, positive(), "kg/m³");
-  map.read("viscosity", spec.viscosity, positive(), "Pa·s");
+  if (map.read("viscosity", spec.viscosity, positive(), "Pa·s") &&
+      spec.viscosity.value < kLeastViscosity)
+    context.error(spec.viscosity.where,
+                  fmt::format("\"viscosity\" must be at least {}, got {}",
+                              with_unit(kLeastViscosity, "Pa·s"),
+                              with_unit(spec.viscosity.value, "Pa·s")),
+                  "the viscosity is dynamic, in Pa·s: the least viscous gas, hydrogen, has "
+                  "8.8e-6 Pa·s at 20 °C (air 1.8e-5, water 0.001)");
   map.read("time_step", spec.time_step, positive(), "s", Presence::required);
   map.read("model", spec.model, kFluidModels);
   map.read("advection", spec.advection, kFluidAdvections);

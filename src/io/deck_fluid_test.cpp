@@ -286,5 +286,23 @@ TEST(DeckFluid, BoundaryVelocitiesWithinTheFluidStepsCfl) {
   EXPECT_NE(errors.find("a fluid time_step of at most 2.5e-05 s"), std::string::npos) << errors;
 }
 
+// A viscosity below any real fluid's (fuzzing found 1e-320 Pa·s, which passed as > 0 and made
+// the first fluid step NaN): refused at its key. Hydrogen gas, the least viscous, has
+// 8.8e-6 Pa·s at 20 °C (CRC Handbook), so 2e-6 (a rarefied gas) stays accepted.
+TEST(DeckFluid, RefusesAViscosityBelowAnyRealFluid) {
+  const auto with_viscosity = [](const std::string& value) {
+    std::string deck = kFluidDeck;
+    deck.replace(deck.find("0.00102"), std::string("0.00102").size(), value);
+    return deck_errors(deck);
+  };
+  EXPECT_EQ(with_viscosity("2e-6"), "");
+  const std::string errors = with_viscosity("1e-320");
+  EXPECT_NE(errors.find("fluid.yaml:13:14: error: \"viscosity\" must be at least 1e-07 Pa·s, got "
+                        "1e-320 Pa·s"),
+            std::string::npos)
+      << errors;
+  EXPECT_NE(errors.find("hydrogen, has 8.8e-6 Pa·s"), std::string::npos) << errors;
+}
+
 }  // namespace
 }  // namespace quarry
