@@ -336,6 +336,34 @@ void build_search_grid(const World& world, WorldSurface& s) {
 
 namespace {
 
+// A factory's particles are centred at least their radius inside its region; a region that
+// reaches further out of the domain than the largest radius places particles outside it, which
+// leave at once (the mass asked for is never delivered) and, in a fluid run, pile into the
+// fluid grid's edge cells. Periodic axes wrap the positions and are not checked.
+void check_factory_inside_domain(const World& world, const FactorySpec& factory,
+                                 const Region& region) {
+  const Aabb bounds = region.bounds();                      // m
+  const Aabb& domain = world.spec.simulation.domain.value;  // m
+  const RegionSpec& r = factory.region;
+  for (int a = 0; a < 3; ++a) {
+    if (world.spec.simulation.periodic.value[a]) continue;
+    const bool low = bounds.lo[a] < domain.lo[a] - world.max_radius;
+    const bool high = bounds.hi[a] > domain.hi[a] + world.max_radius;
+    if (!low && !high) continue;
+    const RegionKind kind = r.kind.value;
+    const SourceLocation& where = kind == RegionKind::box        ? (low ? r.min.where : r.max.where)
+                                  : kind == RegionKind::cylinder ? r.base.where
+                                                                 : r.position.where;
+    throw UserError(where,
+                    fmt::format("factory '{}': its region reaches {} = {:.6g} m, outside the "
+                                "domain ({:.6g} to {:.6g} m): particles placed there would leave "
+                                "at once",
+                                factory.name.value, "xyz"[a], low ? bounds.lo[a] : bounds.hi[a],
+                                domain.lo[a], domain.hi[a]),
+                    "keep the region inside simulation.domain, or widen the domain");
+  }
+}
+
 // A JKR contact adheres down to the overlap δ_c < 0, i.e. across a gap of up to |δ_c|; the
 // pair list and the surface candidates hold only what lies within the skin, so the skin must
 // exceed that gap (|δ_c| grows with R*^{1/3}: the largest radius against a wall bounds it).
@@ -468,6 +496,7 @@ World build_world(const SimulationSpec& spec, const std::vector<Surface>& meshes
     world.factories.emplace_back(fs, world.types[type],
                                  spec.simulation.seed + 0x9E3779B97F4A7C15ull * (f + 1));
     world.factories.back().set_periodic(world.pairs.periodic);
+    check_factory_inside_domain(world, fs, world.factories.back().region());
   }
   // Factories are polled every 2 ms of simulated time (or every step if dt is larger).
   world.insertion_interval_steps = std::max(1, static_cast<int>(std::lround(2e-3 / world.dt)));
