@@ -61,9 +61,9 @@ void settle(World& world, const Options& options) {
 
 int run_bench(const Options& options) {
   const bool have_bed = !options.bed_file.empty() && std::filesystem::exists(options.bed_file);
-  // The lattice only when it is to be settled: alive while a saved bed was read, it had set
-  // the process's peak memory at 200k (the load's 110 MiB, now 95; the run's own peak, 110 MiB,
-  // is in its list builds).
+  // The lattice only when it is to be settled: kept alive while a saved bed is read, it would
+  // add its particles to the process's peak memory that the harness reports
+  // (docs/performance.md, "The settled bed at 200k on the Zen 5 host").
   World world = have_bed ? std::move(quarry::sim::read_checkpoint(options.bed_file).world)
                          : bench::make_lattice_world(options.bed);
   world.threading.threads = options.threads;
